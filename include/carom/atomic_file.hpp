@@ -1,0 +1,30 @@
+// An output file that appears whole or not at all: written to a temporary file beside the
+// target, then renamed over it. A failed or interrupted run never leaves a partial or clobbered
+// file behind.
+#pragma once
+
+#include <fstream>
+#include <string>
+
+namespace carom {
+
+class AtomicFile {
+ public:
+  // Creates the temporary file; throws std::runtime_error if the directory is not writable.
+  explicit AtomicFile(std::string path);
+  ~AtomicFile();  // removes the temporary file unless committed
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  std::ostream& stream() { return stream_; }
+  // Flushes, syncs and renames the file into place; throws std::runtime_error on failure.
+  void commit();
+
+ private:
+  std::string path_;
+  std::string temporary_;
+  std::ofstream stream_;
+  bool committed_ = false;
+};
+
+}  // namespace carom

@@ -1,0 +1,47 @@
+// The classic input format the seed and its users' files use: whitespace-separated numbers,
+// line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`.
+#pragma once
+
+#include <cstddef>
+#include <istream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "carom/system.hpp"
+
+namespace carom {
+
+// A problem with an input file, located at a line (0 when it concerns the file as a whole).
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, std::size_t line, const std::string& message);
+  const std::string& file() const { return file_; }
+  std::size_t line() const { return line_; }
+
+ private:
+  std::string file_;
+  std::size_t line_;
+};
+
+struct ClassicInput {
+  System<2> system;
+  double radius = 0.0;               // the file's R, shared by every disk
+  std::vector<std::size_t> line_of;  // the line each particle was read from
+};
+
+// Reads and validates a classic file: CRLF or LF line endings, tabs and repeated spaces, numbers
+// such as `-.02`, `+1` or `1e-3`, blank lines and `#` comment lines, and no final newline are all
+// accepted. Anything else (wrong counts, non-numbers, NaN or infinity, N < 1, R <= 0, a box that
+// is not positive, a disk outside the box or overlapping a wall or another disk beyond round-off)
+// throws InputError naming `name` and the line. Touching is allowed. Every disk starts at t = 0.
+ClassicInput read_classic(std::istream& in, const std::string& name);
+
+// As above from a file; "-" reads standard input.
+ClassicInput read_classic_file(const std::string& path);
+
+// Parses a whole token as a finite double (`-.5`, `+1`, `1e-3`); throws std::invalid_argument
+// with a message saying what is wrong ("is not a number", "is not finite", "is out of range").
+double parse_finite_double(std::string_view token);
+
+}  // namespace carom

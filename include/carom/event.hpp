@@ -1,0 +1,52 @@
+// A collision event and the total order in which events are processed.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <tuple>
+
+namespace carom {
+
+// A processed or pending collision: particle `first` with `partner`, a particle index (>= 0)
+// or a wall label (< 0). For a pair, first < partner.
+struct Event {
+  double time = 0.0;
+  std::uint32_t first = 0;
+  std::int32_t partner = 0;
+
+  bool is_wall() const { return partner < 0; }
+  friend bool operator==(const Event&, const Event&) = default;
+};
+
+// Events are processed by time; ties (a corner, a symmetric start, several contacts at once)
+// go to the lower particle index, then to walls before particles (walls by |label|, particles
+// by index). Packing the tie-break into one integer makes comparisons cheap and lets both
+// engines order events identically.
+struct EventKey {
+  double time;
+  std::uint64_t order;
+
+  friend bool operator<(const EventKey& a, const EventKey& b) {
+    return std::tie(a.time, a.order) < std::tie(b.time, b.order);
+  }
+  friend bool operator==(const EventKey&, const EventKey&) = default;
+};
+
+template <std::size_t D>
+constexpr std::uint64_t partner_rank(std::int32_t partner) {
+  return partner < 0 ? static_cast<std::uint64_t>(-partner - 1)
+                     : 2 * D + static_cast<std::uint64_t>(partner);
+}
+
+template <std::size_t D>
+constexpr EventKey key_of(const Event& e) {
+  return {e.time, (static_cast<std::uint64_t>(e.first) << 32) | partner_rank<D>(e.partner)};
+}
+
+// Orders a pair so that first < partner, as the Event invariant requires.
+constexpr Event pair_event(double time, std::uint32_t i, std::uint32_t j) {
+  return i < j ? Event{time, i, static_cast<std::int32_t>(j)}
+               : Event{time, j, static_cast<std::int32_t>(i)};
+}
+
+}  // namespace carom

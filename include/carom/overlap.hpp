@@ -1,0 +1,26 @@
+// Geometric checks of a configuration: do particles overlap each other or the walls?
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <utility>
+
+#include "carom/system.hpp"
+
+namespace carom {
+
+// Overlaps smaller than this fraction of the contact distance are round-off, not overlaps:
+// particles that touch in decimal (as the seed's cases start) may overlap by an ulp in binary.
+inline constexpr double kOverlapTolerance = 1e-9;
+
+// The first pair (i < j, lowest i then j) whose centres are closer than their contact distance
+// beyond kOverlapTolerance at time `time`, using a cell grid: O(N).
+template <std::size_t D>
+std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<D>& system,
+                                                                     double time);
+
+// Whether particle p reaches through the wall `label` beyond kOverlapTolerance.
+template <std::size_t D>
+bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label);
+
+}  // namespace carom

@@ -1,0 +1,61 @@
+// The simulated system: a box, the particles in it and the labels that name walls.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "carom/vec.hpp"
+
+namespace carom {
+
+// One hard disk (D = 2) or sphere (D = 3). The stored state is the one the seed prints: the
+// position at `time`, the moment the particle last collided (or the start). Other particles are
+// never touched by an event; their current position is derived on demand (see position_at).
+template <std::size_t D>
+struct Particle {
+  Vec<D> position;
+  Vec<D> velocity;
+  double time = 0.0;
+  double radius = 0.0;
+  double mass = 1.0;
+  std::uint64_t wall_collisions = 0;
+  std::uint64_t pair_collisions = 0;
+
+  // Changes whenever the particle's trajectory changes; events predicted against an older
+  // value are stale. Derived from the counters, which grow on every velocity change.
+  std::uint64_t version() const { return wall_collisions + pair_collisions; }
+};
+
+// A rectangular box [0, size[0]] x ... x [0, size[D-1]] with a hard wall on every face.
+template <std::size_t D>
+struct Box {
+  Vec<D> size;
+};
+
+template <std::size_t D>
+struct System {
+  Box<D> box;
+  std::vector<Particle<D>> particles;
+};
+
+// Walls are labelled by negative numbers, two per axis, the seed's order: -1 left (x = 0),
+// -2 right (x = Lx), -3 bottom (y = 0), -4 top (y = Ly), then -5, -6 for z.
+constexpr int wall_label(std::size_t axis, bool upper) {
+  return -static_cast<int>(2 * axis + (upper ? 2 : 1));
+}
+constexpr std::size_t wall_axis(int label) {
+  return static_cast<std::size_t>(-label - 1) / 2;
+}
+constexpr bool wall_is_upper(int label) {
+  return (-label - 1) % 2 == 1;
+}
+
+constexpr std::string_view wall_name(int label) {
+  constexpr std::string_view names[] = {"left", "right", "bottom", "top", "back", "front"};
+  const int index = -label - 1;
+  return index >= 0 && index < 6 ? names[index] : std::string_view("unknown");
+}
+
+}  // namespace carom

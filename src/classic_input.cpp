@@ -1,0 +1,233 @@
+#include "carom/classic_input.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <limits>
+
+#include "carom/overlap.hpp"
+
+namespace carom {
+
+namespace {
+
+// Lines longer than this are not a classic file; reading stops there instead of buffering a
+// file of garbage whole.
+constexpr std::size_t kMaxLineLength = 4096;
+// Particle indices are stored in 32 bits (see Event).
+constexpr long long kMaxParticles = 0x7FFFFFF0;
+
+std::string location(const std::string& file, std::size_t line) {
+  return line == 0 ? file : fmt::format("{}:{}", file, line);
+}
+
+// A token as it may be shown in a message: short, printable.
+std::string shown(std::string_view token) {
+  std::string out;
+  for (char ch : token.substr(0, 24))
+    out += std::isprint(static_cast<unsigned char>(ch)) ? ch : '?';
+  if (token.size() > 24) out += "...";
+  return "'" + out + "'";
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> tokens;
+  constexpr std::string_view kSpace = " \t\r\v\f";
+  std::size_t at = line.find_first_not_of(kSpace);
+  while (at != std::string_view::npos) {
+    const std::size_t end = std::min(line.find_first_of(kSpace, at), line.size());
+    tokens.push_back(line.substr(at, end - at));
+    at = line.find_first_not_of(kSpace, end);
+  }
+  return tokens;
+}
+
+// Yields the lines that carry data, skipping blank and comment lines, with their numbers.
+class DataLines {
+ public:
+  DataLines(std::istream& in, const std::string& name) : in_(in), name_(name) {}
+
+  // The next data line's tokens, or false at the end of the input.
+  bool next(std::vector<std::string_view>& tokens) {
+    while (true) {
+      in_.getline(buffer_, sizeof buffer_);
+      if (in_.bad()) throw InputError(name_, number_ + 1, "read error");
+      const auto extracted = static_cast<std::size_t>(in_.gcount());
+      if (extracted == 0 && in_.eof()) return false;
+      ++number_;
+      if (in_.fail()) {  // filled the buffer without meeting the end of the line
+        throw InputError(name_, number_,
+                         fmt::format("line longer than {} characters: this is not a classic "
+                                     "input file",
+                                     kMaxLineLength - 1));
+      }
+      const std::size_t length = in_.eof() ? extracted : extracted - 1;
+      if (std::strlen(buffer_) != length) {
+        throw InputError(name_, number_, "contains a NUL byte: this is not a text file");
+      }
+      tokens = split(std::string_view(buffer_, length));
+      if (tokens.empty() || tokens.front().front() == '#') continue;
+      return true;
+    }
+  }
+  std::size_t number() const { return number_; }
+
+ private:
+  std::istream& in_;
+  const std::string& name_;
+  char buffer_[kMaxLineLength];
+  std::size_t number_ = 0;
+};
+
+}  // namespace
+
+InputError::InputError(const std::string& file, std::size_t line, const std::string& message)
+    : std::runtime_error(location(file, line) + ": " + message), file_(file), line_(line) {}
+
+double parse_finite_double(std::string_view token) {
+  // from_chars takes no '+' sign; strtod, which users' files were written for, does.
+  std::string_view digits = token;
+  if (digits.size() > 1 && digits[0] == '+' && digits[1] != '-' && digits[1] != '+') {
+    digits.remove_prefix(1);
+  }
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+  if (error == std::errc::result_out_of_range) {
+    throw std::invalid_argument(shown(token) + " is out of range for a double");
+  }
+  if (error != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
+    throw std::invalid_argument(shown(token) + " is not a number");
+  }
+  if (!std::isfinite(value)) throw std::invalid_argument(shown(token) + " is not a finite number");
+  return value;
+}
+
+ClassicInput read_classic(std::istream& in, const std::string& name) {
+  DataLines lines(in, name);
+  std::vector<std::string_view> tokens;
+
+  // Reads the next data line, which must hold exactly `count` numbers described by `what`.
+  const auto numbers = [&](std::size_t count, const std::string& what) {
+    if (!lines.next(tokens)) {
+      throw InputError(name, lines.number(),
+                       fmt::format("the file ends where {} was expected", what));
+    }
+    if (tokens.size() != count) {
+      throw InputError(name, lines.number(),
+                       fmt::format("expected {} number{} ({}), found {}", count,
+                                   count == 1 ? "" : "s", what, tokens.size()));
+    }
+    std::vector<double> values;
+    for (std::string_view token : tokens) {
+      try {
+        values.push_back(parse_finite_double(token));
+      } catch (const std::invalid_argument& e) {
+        throw InputError(name, lines.number(), fmt::format("{} (in {})", e.what(), what));
+      }
+    }
+    return values;
+  };
+
+  if (!lines.next(tokens)) throw InputError(name, 0, "the file is empty (expected N on line 1)");
+  if (tokens.size() != 1) {
+    throw InputError(
+        name, lines.number(),
+        fmt::format("expected 1 number (the particle count N), found {}", tokens.size()));
+  }
+  long long count = 0;
+  {
+    const std::string_view token = tokens.front();
+    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), count);
+    if (error != std::errc() || end != token.data() + token.size()) {
+      throw InputError(
+          name, lines.number(),
+          fmt::format("the particle count N must be a whole number, found {}", shown(token)));
+    }
+    if (count < 1) {
+      throw InputError(name, lines.number(),
+                       fmt::format("the particle count N must be at least 1, found {}", count));
+    }
+    if (count > kMaxParticles) {
+      throw InputError(name, lines.number(),
+                       fmt::format("the particle count N = {} is more than carom supports ({})",
+                                   count, kMaxParticles));
+    }
+  }
+
+  ClassicInput input;
+  input.radius = numbers(1, "the radius R").front();
+  if (!(input.radius > 0.0)) {
+    throw InputError(name, lines.number(),
+                     fmt::format("the radius R must be greater than 0, found {}", input.radius));
+  }
+  const std::vector<double> box = numbers(2, "the box size Lx Ly");
+  if (!(box[0] > 0.0 && box[1] > 0.0)) {
+    throw InputError(
+        name, lines.number(),
+        fmt::format("the box size must be positive, found Lx = {}, Ly = {}", box[0], box[1]));
+  }
+  input.system.box.size = {box[0], box[1]};
+  const Box<2>& b = input.system.box;
+
+  // Particles are added as their lines arrive, never reserved from the header's N, so a header
+  // that promises more than the file holds costs no memory.
+  for (long long i = 0; i < count; ++i) {
+    const std::vector<double> v = numbers(4, fmt::format("x y vx vy of particle {}", i));
+    Particle<2> p;
+    p.position = {v[0], v[1]};
+    p.velocity = {v[2], v[3]};
+    p.radius = input.radius;
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (p.position[k] < 0.0 || p.position[k] > b.size[k]) {
+        throw InputError(name, lines.number(),
+                         fmt::format("particle {} at ({}, {}) is outside the box [0, {}] x [0, {}]",
+                                     i, v[0], v[1], b.size[0], b.size[1]));
+      }
+    }
+    for (int label = -1; label >= -4; --label) {
+      if (overlaps_wall(p, b, label)) {
+        throw InputError(name, lines.number(),
+                         fmt::format("particle {} at ({}, {}) with radius {} overlaps the {} wall "
+                                     "(its centre must be at least R from every wall)",
+                                     i, v[0], v[1], p.radius, wall_name(label)));
+      }
+    }
+    input.system.particles.push_back(p);
+    input.line_of.push_back(lines.number());
+  }
+  if (lines.next(tokens)) {
+    throw InputError(
+        name, lines.number(),
+        fmt::format("unexpected data after the {} particle lines that N announced", count));
+  }
+  if (const auto overlap = find_pair_overlap(input.system, 0.0)) {
+    const auto [i, j] = *overlap;
+    const auto& pi = input.system.particles[i];
+    const auto& pj = input.system.particles[j];
+    throw InputError(
+        name, input.line_of[j],
+        fmt::format("particle {} at ({}, {}) overlaps particle {} at ({}, {}) on line {}: their "
+                    "centres are {} apart, less than 2R = {}",
+                    j, pj.position[0], pj.position[1], i, pi.position[0], pi.position[1],
+                    input.line_of[i], std::sqrt(norm2(pi.position - pj.position)),
+                    2.0 * input.radius));
+  }
+  return input;
+}
+
+ClassicInput read_classic_file(const std::string& path) {
+  if (path == "-") return read_classic(std::cin, "<stdin>");
+  if (std::filesystem::is_directory(path)) throw InputError(path, 0, "is a directory, not a file");
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(path, 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  return read_classic(file, path);
+}
+
+}  // namespace carom

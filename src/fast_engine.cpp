@@ -1,0 +1,115 @@
+#include "fast_engine.hpp"
+
+#include <algorithm>
+
+namespace carom {
+
+namespace {
+
+template <std::size_t D>
+double interaction_range(const System<D>& system) {
+  double largest = 0.0;
+  for (const Particle<D>& p : system.particles) largest = std::max(largest, p.radius);
+  return 2.0 * largest;
+}
+
+}  // namespace
+
+template <std::size_t D>
+FastEngine<D>::FastEngine(System<D> system, Rule rule)
+    : Engine<D>(std::move(system), rule),
+      grid_(this->system_.box.size, interaction_range(this->system_),
+            this->system_.particles.size()),
+      queue_(static_cast<std::uint32_t>(this->system_.particles.size())),
+      pending_(this->system_.particles.size()),
+      clock_(this->now_) {
+  const auto& particles = this->system_.particles;
+  const auto n = static_cast<std::uint32_t>(particles.size());
+  for (std::uint32_t i = 0; i < n; ++i)
+    grid_.insert(i, grid_.locate(position_at(particles[i], clock_)));
+  for (std::uint32_t i = 0; i < n; ++i) predict(i);
+}
+
+template <std::size_t D>
+void FastEngine<D>::predict(std::uint32_t i) {
+  const auto& particles = this->system_.particles;
+  const Particle<D>& p = particles[i];
+  Pending best;
+  EventKey best_key = EventQueue::kNone;
+  const auto consider = [&](const Event& candidate, const Pending& meaning) {
+    const EventKey key = key_of<D>(candidate);
+    if (key < best_key) {
+      best_key = key;
+      best = meaning;
+    }
+  };
+
+  const WallHit hit = next_wall_hit(p, this->system_.box);
+  if (hit.time != kNever) {
+    consider({std::max(hit.time, clock_), i, hit.label}, {Kind::wall, hit.label, 0, 0});
+  }
+  grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
+    if (j == i) return;
+    const double t = contact_time(p, particles[j]);
+    if (t == kNever) return;
+    consider(pair_event(std::max(t, clock_), i, j),
+             {Kind::pair, static_cast<std::int32_t>(j), 0, particles[j].version()});
+  });
+  const auto crossing = grid_.next_crossing(grid_.cell_of(i), position_at(p, clock_), p.velocity);
+  if (crossing.delay != kNever) {
+    // Ordered after every collision of particle i at the same time: crossing changes no physics.
+    const EventKey key{clock_ + crossing.delay, (std::uint64_t{i} << 32) | 0xFFFFFFFFu};
+    if (key < best_key) {
+      best_key = key;
+      best = {Kind::crossing, 0, crossing.cell, 0};
+    }
+  }
+  pending_[i] = best;
+  queue_.update(i, best_key);
+}
+
+template <std::size_t D>
+std::optional<Event> FastEngine<D>::step(double end_time) {
+  const auto& particles = this->system_.particles;
+  while (!queue_.empty()) {
+    const std::uint32_t i = queue_.top();
+    const double t = queue_.top_key().time;
+    if (!(t <= end_time)) return std::nullopt;
+    const Pending pending = pending_[i];
+    switch (pending.kind) {
+      case Kind::none:
+        return std::nullopt;
+      case Kind::crossing:
+        clock_ = t;
+        grid_.move(i, pending.cell);
+        predict(i);
+        break;
+      case Kind::wall: {
+        clock_ = t;
+        const Event event{t, i, pending.partner};
+        this->apply(event);
+        predict(i);
+        return event;
+      }
+      case Kind::pair: {
+        const auto j = static_cast<std::uint32_t>(pending.partner);
+        if (particles[j].version() != pending.partner_version) {
+          predict(i);  // the partner has collided since: this event will not happen
+          break;
+        }
+        clock_ = t;
+        const Event event = pair_event(t, i, j);
+        this->apply(event);
+        predict(i);
+        predict(j);
+        return event;
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+template class FastEngine<2>;
+template class FastEngine<3>;
+
+}  // namespace carom

@@ -1,0 +1,113 @@
+#include "carom/formats.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "carom/version.hpp"
+
+namespace carom {
+
+namespace {
+
+constexpr const char* kTableHeader =
+    "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
+
+// printf's %.6f, exactly as the seed's C program printed (round-half-even on exact ties, `-0`
+// kept), which is what users compare against.
+template <class... Args>
+std::string c_format(const char* format, Args... args) {
+  char buffer[512];
+  const int length = std::snprintf(buffer, sizeof buffer, format, args...);
+  if (length >= 0 && static_cast<std::size_t>(length) < sizeof buffer) {
+    return std::string(buffer, static_cast<std::size_t>(length));
+  }
+  std::string big(static_cast<std::size_t>(length) + 1, '\0');
+  std::snprintf(big.data(), big.size(), format, args...);
+  big.pop_back();
+  return big;
+}
+
+}  // namespace
+
+std::string particle_line(std::size_t index, const Particle<2>& p) {
+  return c_format("particle %zu: (%.6f, %.6f) (%.6f, %.6f): %.6f : (%llu, %llu)", index,
+                  p.position[0], p.position[1], p.velocity[0], p.velocity[1], p.time,
+                  static_cast<unsigned long long>(p.wall_collisions),
+                  static_cast<unsigned long long>(p.pair_collisions));
+}
+
+void write_table(std::ostream& out, const std::vector<Particle<2>>& particles) {
+  out << kTableHeader;
+  for (std::size_t i = 0; i < particles.size(); ++i) out << particle_line(i, particles[i]) << '\n';
+}
+
+void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles) {
+  for (const Particle<2>& p : particles) {
+    out << c_format("%.6f, %.6f, %llu, %llu\n", p.position[0], p.position[1],
+                    static_cast<unsigned long long>(p.wall_collisions),
+                    static_cast<unsigned long long>(p.pair_collisions));
+  }
+}
+
+void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine) {
+  const System<2>& system = engine.system();
+  nlohmann::ordered_json particles = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < system.particles.size(); ++i) {
+    const Particle<2>& p = system.particles[i];
+    particles.push_back({{"id", i},
+                         {"x", p.position[0]},
+                         {"y", p.position[1]},
+                         {"vx", p.velocity[0]},
+                         {"vy", p.velocity[1]},
+                         {"radius", p.radius},
+                         {"last_update", p.time},
+                         {"wall_collisions", p.wall_collisions},
+                         {"pair_collisions", p.pair_collisions}});
+  }
+  const RunCounts& counts = engine.counts();
+  const nlohmann::ordered_json document = {
+      {"carom_version", kVersion},
+      {"input", settings.input},
+      {"end_time", settings.end_time},
+      {"rule", rule_name(settings.rule)},
+      {"boundary", "walls"},
+      {"engine", engine_name(settings.engine)},
+      {"n", system.particles.size()},
+      {"box", {system.box.size[0], system.box.size[1]}},
+      {"events", counts.events},
+      {"pair_collisions", counts.pair_collisions},
+      {"wall_collisions", counts.wall_collisions},
+      {"particles", std::move(particles)},
+  };
+  out << document.dump(2) << '\n';
+}
+
+std::string describe(const Event& event) {
+  if (event.is_wall()) {
+    return fmt::format("Collision: particle {} with wall {} ({})", event.first, event.partner,
+                       wall_name(event.partner));
+  }
+  return fmt::format("Collision: particle {} with particle {}", event.first, event.partner);
+}
+
+void TraceWriter::start(const std::string& input, double end_time,
+                        const std::vector<Particle<2>>& particles) {
+  out_ << "Input File: " << input << '\n'
+       << c_format("Target Time: %f\n", end_time) << "======== Initial Particles =========\n";
+  write_table(out_, particles);
+}
+
+void TraceWriter::event(const Event& event, const std::vector<Particle<2>>& particles) {
+  out_ << c_format("                 TIME = %f\n", event.time) << describe(event) << '\n'
+       << "======== Particles =========\n";
+  write_table(out_, particles);
+}
+
+void TraceWriter::finish(const std::vector<Particle<2>>& particles) {
+  out_ << "======== Final Particles =========\n";
+  write_table(out_, particles);
+}
+
+}  // namespace carom

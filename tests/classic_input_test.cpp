@@ -1,0 +1,112 @@
+#include "carom/classic_input.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+namespace carom {
+namespace {
+
+ClassicInput read(const std::string& text) {
+  std::istringstream in(text);
+  return read_classic(in, "test.txt");
+}
+
+// The message of the InputError that reading `text` throws.
+std::string error_of(const std::string& text) {
+  try {
+    read(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(ClassicInput, ReadsThePlainFormat) {
+  const ClassicInput input = read("2\n0.5\n10 8\n1 1 0.1 -0.2\n5 5 -1 0\n");
+  ASSERT_EQ(input.system.particles.size(), 2u);
+  EXPECT_EQ(input.radius, 0.5);
+  EXPECT_EQ(input.system.box.size, (Vec2{{10, 8}}));
+  EXPECT_EQ(input.system.particles[1].position, (Vec2{{5, 5}}));
+  EXPECT_EQ(input.system.particles[0].velocity, (Vec2{{0.1, -0.2}}));
+  EXPECT_EQ(input.system.particles[0].radius, 0.5);
+  EXPECT_EQ(input.system.particles[0].mass, 1.0);
+  EXPECT_EQ(input.system.particles[0].time, 0.0);
+  EXPECT_EQ(input.line_of, (std::vector<std::size_t>{4, 5}));
+}
+
+TEST(ClassicInput, ReadsWhatRealFilesLookLike) {
+  // CRLF, tabs, double spaces, -.38, +1, 1e-3, blank and comment lines, no final newline.
+  const ClassicInput input =
+      read("# made by hand\r\n2\r\n\r\n1\r\n15.1\t 13.2\r\n5  6 -0.09 -.38\r\n3 2 +1 1e-3");
+  ASSERT_EQ(input.system.particles.size(), 2u);
+  EXPECT_EQ(input.system.box.size, (Vec2{{15.1, 13.2}}));
+  EXPECT_EQ(input.system.particles[0].velocity, (Vec2{{-0.09, -0.38}}));
+  EXPECT_EQ(input.system.particles[1].velocity, (Vec2{{1, 1e-3}}));
+  EXPECT_EQ(input.line_of, (std::vector<std::size_t>{6, 7}));
+}
+
+TEST(ClassicInput, TouchingIsAllowed) {
+  // Touching each other and the walls, as the seed's second case starts.
+  EXPECT_NO_THROW(read("3\n1\n10 10\n1 1 0 0\n3 1 0 0\n9 9 0 0\n"));
+  // Touching in decimal, overlapping by an ulp in binary.
+  EXPECT_NO_THROW(read("2\n0.1\n1 1\n0.3 0.5 0 0\n0.1 0.5 0 0\n"));
+}
+
+TEST(ClassicInput, ErrorsNameTheFileAndLine) {
+  EXPECT_EQ(error_of(""), "test.txt: the file is empty (expected N on line 1)");
+  EXPECT_EQ(error_of("2 3\n"), "test.txt:1: expected 1 number (the particle count N), found 2");
+  EXPECT_EQ(error_of("1e3\n"),
+            "test.txt:1: the particle count N must be a whole number, found '1e3'");
+  EXPECT_EQ(error_of("99999999999\n1\n1 1\n"),
+            "test.txt:1: the particle count N = 99999999999 is more than carom supports "
+            "(2147483632)");
+  EXPECT_EQ(error_of("1\n"), "test.txt:1: the file ends where the radius R was expected");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 abc\n"),
+            "test.txt:4: 'abc' is not a number (in x y vx vy of particle 0)");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 --1\n"),
+            "test.txt:4: '--1' is not a number (in x y vx vy of particle 0)");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 +-1\n"),
+            "test.txt:4: '+-1' is not a number (in x y vx vy of particle 0)");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 0x10\n"),
+            "test.txt:4: '0x10' is not a number (in x y vx vy of particle 0)");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 1,\n"),
+            "test.txt:4: '1,' is not a number (in x y vx vy of particle 0)");
+  EXPECT_EQ(error_of("1\n-0\n1 1\n"), "test.txt:2: the radius R must be greater than 0, found -0");
+  EXPECT_EQ(error_of("2\n1\n10 10\n5 5 0 0\n\n# c\n6 5 0 0\n"),
+            "test.txt:7: particle 1 at (6, 5) overlaps particle 0 at (5, 5) on line 4: their "
+            "centres are 1 apart, less than 2R = 2");
+  EXPECT_EQ(error_of("1\n1\n10 10\n9.5 5 0 0\n"),
+            "test.txt:4: particle 0 at (9.5, 5) with radius 1 overlaps the right wall (its "
+            "centre must be at least R from every wall)");
+  EXPECT_EQ(error_of("1\n1\n10 10\n5 -5 0 0\n"),
+            "test.txt:4: particle 0 at (5, -5) is outside the box [0, 10] x [0, 10]");
+}
+
+TEST(ClassicInput, AHeaderPromisingMoreThanTheFileHoldsIsCaughtAtTheEnd) {
+  EXPECT_EQ(error_of("100000000\n1\n10 10\n5 5 0 0\n"),
+            "test.txt:4: the file ends where x y vx vy of particle 1 was expected");
+}
+
+TEST(ClassicInput, GarbageIsRefusedAtTheFirstLongLine) {
+  EXPECT_EQ(error_of(std::string(10000, 'x')),
+            "test.txt:1: line longer than 4095 characters: this is not a classic input file");
+  EXPECT_EQ(error_of(std::string("1\n1\0\n", 5)),
+            "test.txt:2: contains a NUL byte: this is not a text file");
+}
+
+TEST(ParseFiniteDouble, AcceptsWhatStrtodAcceptsButOnlyFiniteWholeTokens) {
+  EXPECT_EQ(parse_finite_double("-.5"), -0.5);
+  EXPECT_EQ(parse_finite_double("+2"), 2.0);
+  EXPECT_EQ(parse_finite_double("1E-3"), 1e-3);
+  EXPECT_EQ(parse_finite_double("1e308"), 1e308);
+  EXPECT_THROW(parse_finite_double(""), std::invalid_argument);
+  EXPECT_THROW(parse_finite_double("+"), std::invalid_argument);
+  EXPECT_THROW(parse_finite_double("1e309"), std::invalid_argument);
+  EXPECT_THROW(parse_finite_double("NaN"), std::invalid_argument);
+  EXPECT_THROW(parse_finite_double("-infinity"), std::invalid_argument);
+  EXPECT_THROW(parse_finite_double("2x"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace carom

@@ -1,0 +1,312 @@
+// The carom command line, run as a user runs it: exact seed outputs, formats, errors.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kCases = std::string(CAROM_TEST_DATA) + "/cases/";
+
+struct Result {
+  int exit_code;
+  std::string out;
+  std::string err;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           fmt::format("carom-cli-{}-{}", ::getpid(),
+                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Result carom(const std::vector<std::string>& args, const std::string& stdin_text = "") {
+    std::string command = quote(CAROM_EXE);
+    for (const auto& a : args) command += " " + quote(a);
+    const fs::path in = dir_ / "stdin", out = dir_ / "stdout", err = dir_ / "stderr";
+    std::ofstream(in) << stdin_text;
+    command += " <" + quote(in) + " >" + quote(out) + " 2>" + quote(err);
+    const int status = std::system(command.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+
+  fs::path dir_;
+};
+
+// Lines of `text` after its first line (the table header).
+std::string without_header(const std::string& text) {
+  return text.substr(text.find('\n') + 1);
+}
+
+// From a --trace output, the lines a case's .trace file holds: each `TIME = t` and the particle
+// lines of the block after it (the initial and final blocks are not in the .trace files).
+std::string trace_essentials(const std::string& trace) {
+  std::istringstream in(trace);
+  std::string line, kept;
+  bool in_event = false;
+  while (std::getline(in, line)) {
+    const std::string trimmed = line.substr(std::min(line.find_first_not_of(' '), line.size()));
+    if (trimmed.rfind("TIME = ", 0) == 0) {
+      in_event = true;
+      kept += trimmed + "\n";
+    } else if (trimmed.rfind("======== Final", 0) == 0) {
+      in_event = false;
+    } else if (in_event && trimmed.rfind("particle ", 0) == 0 &&
+               trimmed.rfind("particle id:", 0) != 0) {
+      kept += trimmed + "\n";
+    }
+  }
+  return kept;
+}
+
+TEST_F(Cli, SeedWallsOnlyTableIsExact) {
+  const Result r = carom({"run", kCases + "walls_only.txt", "20"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
+            "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)");
+  EXPECT_EQ(without_header(r.out), read_file(kCases + "walls_only.T20.expected"));
+  EXPECT_EQ(r.err, "");
+}
+
+TEST_F(Cli, SeedParticlesOnlyTableIsExact) {
+  const Result r = carom({"run", kCases + "particles_only.txt", "18"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(without_header(r.out), read_file(kCases + "particles_only.T18.expected"));
+}
+
+TEST_F(Cli, ReferenceEngineGivesTheSameSeedTables) {
+  for (const auto& [input, end, expected] :
+       {std::tuple{"walls_only.txt", "20", "walls_only.T20.expected"},
+        std::tuple{"particles_only.txt", "18", "particles_only.T18.expected"}}) {
+    const Result r = carom({"run", kCases + input, end, "--engine", "reference"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(without_header(r.out), read_file(kCases + expected)) << input;
+  }
+}
+
+TEST_F(Cli, AssignmentCasesCsvIsExact) {
+  for (const auto& [input, end, expected] :
+       {std::tuple{"normal.txt", "20", "normal.T20.csv"},
+        std::tuple{"normal.txt", "100", "normal.T100.csv"},
+        std::tuple{"particles1.txt", "15", "particles1.T15.csv"},
+        std::tuple{"particles1.txt", "100", "particles1.T100.csv"}}) {
+    const Result r = carom({"run", kCases + input, end, "--format", "csv"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.out, read_file(kCases + expected)) << input << " to " << end;
+  }
+}
+
+TEST_F(Cli, TracesMatchTheCasesEventByEvent) {
+  for (const auto& [input, end, expected] :
+       {std::tuple{"normal.txt", "20", "normal.T20.trace"},
+        std::tuple{"particles1.txt", "100", "particles1.T100.trace"}}) {
+    const Result r = carom({"run", kCases + input, end, "--trace"});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(trace_essentials(r.out), read_file(kCases + expected)) << input;
+  }
+}
+
+TEST_F(Cli, TraceHasTheDocumentedLayout) {
+  const Result r = carom({"run", kCases + "walls_only.txt", "20", "--trace"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string header =
+      "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
+  const std::string expected_start =
+      "Input File: " + kCases +
+      "walls_only.txt\nTarget Time: 20.000000\n"
+      "======== Initial Particles =========\n" +
+      header +
+      "particle 0: (2.100000, 5.000000) (-0.200000, -0.150000): 0.000000 : (0, 0)\n"
+      "particle 1: (18.000000, 7.000000) (0.100000, -0.200000): 0.000000 : (0, 0)\n"
+      "particle 2: (12.000000, 3.200000) (0.150000, -0.200000): 0.000000 : (0, 0)\n"
+      "particle 3: (7.000000, 8.500000) (-0.250000, 0.100000): 0.000000 : (0, 0)\n"
+      "                 TIME = 9.500000\n"
+      "Collision: particle 0 with wall -1 (left)\n"
+      "======== Particles =========\n" +
+      header +
+      "particle 0: (0.200000, 3.575000) (0.200000, -0.150000): 9.500000 : (1, 0)\n"
+      "particle 1: (18.000000, 7.000000) (0.100000, -0.200000): 0.000000 : (0, 0)\n";
+  EXPECT_EQ(r.out.substr(0, expected_start.size()), expected_start);
+  // The four wall events of the case, in order, then the final block.
+  for (const char* event : {"TIME = 13.000000\nCollision: particle 3 with wall -4 (top)",
+                            "TIME = 15.000000\nCollision: particle 2 with wall -3 (bottom)",
+                            "TIME = 18.000000\nCollision: particle 1 with wall -2 (right)"}) {
+    EXPECT_NE(r.out.find(event), std::string::npos) << event;
+  }
+  const std::string final_block = "======== Final Particles =========\n" + header +
+                                  read_file(kCases + "walls_only.T20.expected");
+  ASSERT_GE(r.out.size(), final_block.size());
+  EXPECT_EQ(r.out.substr(r.out.size() - final_block.size()), final_block);
+}
+
+TEST_F(Cli, JsonCarriesStateAndCounts) {
+  const Result r = carom({"run", kCases + "particles_only.txt", "18", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* field :
+       {"\"events\": 2", "\"pair_collisions\": 2", "\"wall_collisions\": 0", "\"rule\": \"swap\"",
+        "\"boundary\": \"walls\"", "\"end_time\": 18.0", "\"n\": 8", "\"last_update\": 18.0"}) {
+    EXPECT_NE(r.out.find(field), std::string::npos) << field << "\n" << r.out;
+  }
+}
+
+TEST_F(Cli, OutputFileIsWrittenAndStdoutStaysEmpty) {
+  const fs::path out = dir_ / "result.csv";
+  const Result r = carom({"run", kCases + "normal.txt", "20", "--format", "csv", "-o", out});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out, "");
+  EXPECT_EQ(read_file(out), read_file(kCases + "normal.T20.csv"));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(Cli, StdinIsReadWithDash) {
+  const Result r = carom({"run", "-", "20"}, read_file(kCases + "walls_only.txt"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(without_header(r.out), read_file(kCases + "walls_only.T20.expected"));
+}
+
+TEST_F(Cli, ElasticRuleIsSelectable) {
+  const Result r =
+      carom({"run", kCases + "particles_only.txt", "18", "--rule", "Elastic", "--format", "json"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("\"rule\": \"elastic\""), std::string::npos);
+}
+
+TEST_F(Cli, HelpTeachesAndVersionAnswers) {
+  const Result help = carom({"run", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* text : {"END_TIME", "--format", "--trace", "--rule", "x y vx vy", "Examples"}) {
+    EXPECT_NE(help.out.find(text), std::string::npos) << text;
+  }
+  const Result top = carom({"--help"});
+  EXPECT_EQ(top.exit_code, 0);
+  EXPECT_NE(top.out.find("run"), std::string::npos);
+  const Result version = carom({"--version"});
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out.rfind("carom 1.", 0), 0u) << version.out;
+}
+
+// Each bad input: exit code 2, one message naming the file and line, nothing on stdout and no
+// output file.
+struct BadInput {
+  const char* name;
+  const char* text;
+  const char* location;  // "FILE:LINE" suffix expected in the message
+  const char* says;      // part of the message
+};
+
+TEST_F(Cli, BadInputGetsAClearErrorAndNoOutput) {
+  const BadInput cases[] = {
+      {"empty", "", "empty:", "empty"},
+      {"letters_n", "five\n1\n10 10\n", "letters_n:1:", "whole number"},
+      {"fraction_n", "2.5\n1\n10 10\n", "fraction_n:1:", "whole number"},
+      {"zero_n", "0\n1\n10 10\n", "zero_n:1:", "at least 1"},
+      {"negative_n", "-3\n1\n10 10\n", "negative_n:1:", "at least 1"},
+      {"zero_radius", "1\n0\n10 10\n5 5 1 1\n", "zero_radius:2:", "radius"},
+      {"negative_radius", "1\n-1\n10 10\n5 5 1 1\n", "negative_radius:2:", "radius"},
+      {"two_radii", "1\n1 2\n10 10\n5 5 1 1\n", "two_radii:2:", "expected 1 number"},
+      {"flat_box", "1\n1\n10 0\n5 5 1 1\n", "flat_box:3:", "positive"},
+      {"one_side", "1\n1\n10\n5 5 1 1\n", "one_side:3:", "expected 2 numbers"},
+      {"three_tokens", "1\n1\n10 10\n5 5 1\n", "three_tokens:4:", "expected 4 numbers"},
+      {"not_a_number", "1\n1\n10 10\n5 5 1 x1\n", "not_a_number:4:", "not a number"},
+      {"nan", "1\n1\n10 10\n5 5 nan 1\n", "nan:4:", "not a finite number"},
+      {"inf", "1\n1\n10 10\n5 inf 1 1\n", "inf:4:", "not a finite number"},
+      {"huge", "1\n1\n10 10\n5 5 1e999 1\n", "huge:4:", "out of range"},
+      {"missing_lines", "3\n1\n10 10\n5 5 1 1\n", "missing_lines:4:", "ends"},
+      {"extra_lines", "1\n1\n10 10\n5 5 1 1\n2 2 0 0\n", "extra_lines:5:", "unexpected data"},
+      {"outside", "1\n1\n10 10\n11 5 1 1\n", "outside:4:", "outside the box"},
+      {"wall_overlap", "1\n1\n10 10\n0.5 5 1 1\n", "wall_overlap:4:", "left wall"},
+      {"top_overlap", "1\n1\n10 10\n5 9.5 1 1\n", "top_overlap:4:", "top wall"},
+      {"pair_overlap", "2\n1\n10 10\n3 3 0 0\n4.5 3 0 0\n",
+       "pair_overlap:5:", "overlaps particle 0"},
+      {"binary", "2\n1\n10 10\n\x01\x02\x03 4 5 6\n", "binary:4:", "not a number"},
+  };
+  for (const BadInput& c : cases) {
+    const fs::path input = write(c.name, c.text);
+    const fs::path out = dir_ / "out.txt";
+    const Result r = carom({"run", input, "10", "-o", out});
+    EXPECT_EQ(r.exit_code, 2) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(std::string(c.location)), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_NE(r.err.find(c.says), std::string::npos) << c.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << ": " << r.err;
+    EXPECT_EQ(r.out, "") << c.name;
+    EXPECT_FALSE(fs::exists(out)) << c.name;
+  }
+}
+
+TEST_F(Cli, AFailedRunLeavesAnExistingOutputFileAlone) {
+  const fs::path out = write("keep.txt", "precious\n");
+  const Result r = carom({"run", (dir_ / "missing.txt").string(), "10", "-o", out});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("missing.txt"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("No such file"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(out), "precious\n");
+}
+
+TEST_F(Cli, BadEndTimeAndUsageAreUsageErrors) {
+  const std::string input = kCases + "walls_only.txt";
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"run", input, "-1"},
+                                               {"run", input, "nan"},
+                                               {"run", input, "inf"},
+                                               {"run", input, "soon"},
+                                               {"run", input},
+                                               {"run", input, "10", "--format", "xml"},
+                                               {"run", input, "10", "--rule", "sticky"},
+                                               {"run", input, "10", "--trace", "--format", "csv"},
+                                               {"fly"},
+                                               {}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_EQ(r.out, "") << fmt::format("{}", fmt::join(args, " "));
+    EXPECT_FALSE(r.err.empty());
+  }
+}
+
+TEST_F(Cli, UnwritableOutputIsAUsageError) {
+  const Result r = carom({"run", kCases + "walls_only.txt", "20", "-o", "/nonexistent/dir/out"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/dir/out"), std::string::npos) << r.err;
+}
+
+TEST_F(Cli, BundledExamplesRun) {
+  for (const char* example :
+       {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {
+    const Result r = carom({"run", std::string(CAROM_EXAMPLES) + "/" + example, "50"});
+    EXPECT_EQ(r.exit_code, 0) << example << ": " << r.err;
+  }
+}
+
+}  // namespace

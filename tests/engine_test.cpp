@@ -1,0 +1,261 @@
+// The engines: seed cases through the library, the fast engine against the reference engine on
+// many random systems, and the invariants every run must keep.
+#include "carom/engine.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "carom/classic_input.hpp"
+#include "carom/formats.hpp"
+#include "carom/overlap.hpp"
+#include "test_systems.hpp"
+
+namespace carom {
+namespace {
+
+using carom::testing::random_gas;
+using carom::testing::square_lattice;
+using carom::testing::uniform;
+
+System<2> case_system(const std::string& name) {
+  return read_classic_file(std::string(CAROM_TEST_DATA) + "/cases/" + name).system;
+}
+
+TEST(Engine, WallsOnlyEventsComeAtTheSeedsTimes) {
+  for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    auto engine = make_engine(kind, case_system("walls_only.txt"), Rule::swap);
+    std::vector<Event> events;
+    run(*engine, 20.0, [&](const Event& e) { events.push_back(e); });
+    ASSERT_EQ(events.size(), 4u) << engine_name(kind);
+    EXPECT_EQ(events[0], (Event{9.5, 0, -1}));
+    EXPECT_DOUBLE_EQ(events[1].time, 13.0);
+    EXPECT_EQ(events[1].first, 3u);
+    EXPECT_EQ(events[1].partner, -4);
+    EXPECT_DOUBLE_EQ(events[2].time, 15.0);
+    EXPECT_EQ(events[2].partner, -3);
+    EXPECT_DOUBLE_EQ(events[3].time, 18.0);
+    EXPECT_EQ(events[3].partner, -2);
+    EXPECT_EQ(engine->counts().wall_collisions, 4u);
+    EXPECT_EQ(engine->counts().pair_collisions, 0u);
+    EXPECT_EQ(engine->counts().events, 4u);
+    for (const auto& p : engine->system().particles) EXPECT_EQ(p.time, 20.0);
+  }
+}
+
+TEST(Engine, ParticlesOnlyHasTwoPairCollisionsAndNoWallHits) {
+  // Disks 2 and 4 start touching a wall while moving away: no wall event.
+  auto engine = make_engine(EngineKind::fast, case_system("particles_only.txt"), Rule::swap);
+  std::vector<Event> events;
+  run(*engine, 18.0, [&](const Event& e) { events.push_back(e); });
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_EQ(events[0].first, 1u);
+  EXPECT_EQ(events[0].partner, 2);
+  EXPECT_NEAR(events[0].time, 14.001202, 5e-7);
+  EXPECT_EQ(events[1].first, 5u);
+  EXPECT_EQ(events[1].partner, 6);
+  EXPECT_NEAR(events[1].time, 17.271454, 5e-7);
+}
+
+TEST(Engine, EventsAtExactlyTheEndTimeAreProcessed) {
+  System<2> system;
+  system.box.size = {10, 10};
+  Particle<2> p;
+  p.position = {1, 5};
+  p.velocity = {1, 0};
+  p.radius = 1;
+  system.particles.push_back(p);  // reaches x = 9 at t = 8 exactly
+  for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    auto at_end = make_engine(kind, system, Rule::swap);
+    run(*at_end, 8.0);
+    EXPECT_EQ(at_end->counts().wall_collisions, 1u);
+    EXPECT_EQ(at_end->system().particles[0].velocity, (Vec2{{-1, 0}}));
+    auto before_end = make_engine(kind, system, Rule::swap);
+    run(*before_end, std::nextafter(8.0, 0.0));
+    EXPECT_EQ(before_end->counts().wall_collisions, 0u);
+  }
+}
+
+TEST(Engine, EndTimeZeroChangesNothing) {
+  const System<2> start = case_system("particles_only.txt");
+  auto engine = make_engine(EngineKind::fast, start, Rule::swap);
+  run(*engine, 0.0);
+  EXPECT_EQ(engine->counts().events, 0u);
+  for (std::size_t i = 0; i < start.particles.size(); ++i) {
+    EXPECT_EQ(engine->system().particles[i].position, start.particles[i].position);
+  }
+}
+
+TEST(Engine, CornerHitIsTwoEventsAtTheSameTime) {
+  System<2> system;
+  system.box.size = {10, 10};
+  Particle<2> p;
+  p.position = {2, 3};
+  p.velocity = {-1, -2};
+  p.radius = 1;
+  system.particles.push_back(p);
+  for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    auto engine = make_engine(kind, system, Rule::swap);
+    std::vector<Event> events;
+    run(*engine, 1.5, [&](const Event& e) { events.push_back(e); });
+    ASSERT_EQ(events.size(), 2u);
+    EXPECT_EQ(events[0], (Event{1.0, 0, -1}));
+    EXPECT_EQ(events[1], (Event{1.0, 0, -3}));
+    EXPECT_EQ(engine->system().particles[0].velocity, (Vec2{{1, 2}}));
+    EXPECT_EQ(engine->system().particles[0].wall_collisions, 2u);
+  }
+}
+
+TEST(Engine, APairThatJustCollidedDoesNotCollideAgainAfterAnUnrelatedEvent) {
+  // The seed's "not the same pair as last time" guard fails here: disks 0 and 1 collide, then
+  // disk 2 hits a wall, and the seed would let 0 and 1 (still touching) collide again and swap
+  // back. Here they separate: exactly one pair collision.
+  System<2> system;
+  system.box.size = {20, 20};
+  const auto add = [&](double x, double y, double vx, double vy) {
+    Particle<2> p;
+    p.position = {x, y};
+    p.velocity = {vx, vy};
+    p.radius = 1;
+    system.particles.push_back(p);
+  };
+  add(5, 10, 1, 0);
+  add(9, 10, -1, 0);
+  add(17, 5, 1.0, 0);
+  for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    auto engine = make_engine(kind, system, Rule::swap);
+    std::vector<Event> events;
+    run(*engine, 3.0, [&](const Event& e) { events.push_back(e); });
+    ASSERT_EQ(events.size(), 2u) << engine_name(kind);
+    EXPECT_EQ(events[0], (Event{1.0, 0, 1}));
+    EXPECT_EQ(events[1], (Event{2.0, 2, -2}));
+    EXPECT_EQ(engine->counts().pair_collisions, 1u);
+  }
+}
+
+TEST(Engine, ATouchingApproachingPairCollidesAtOnce) {
+  System<2> system;
+  system.box.size = {10, 10};
+  Particle<2> a, b;
+  a.position = {3, 5};
+  a.velocity = {1, 0};
+  a.radius = 1;
+  b.position = {5, 5};
+  b.velocity = {0, 0};
+  b.radius = 1;
+  system.particles = {a, b};
+  auto engine = make_engine(EngineKind::fast, system, Rule::swap);
+  const auto first = engine->step(10.0);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(*first, (Event{0.0, 0, 1}));
+  EXPECT_EQ(engine->system().particles[1].velocity, (Vec2{{1, 0}}));
+}
+
+// Runs both engines side by side and demands the same events and the same final state, bit for
+// bit: both predict from stored states with the same functions and order ties the same way.
+void expect_same_runs(const System<2>& system, Rule rule, double end_time, int max_events,
+                      const std::string& label) {
+  auto fast = make_engine(EngineKind::fast, system, rule);
+  auto reference = make_engine(EngineKind::reference, system, rule);
+  double last = 0.0;
+  int events = 0;
+  for (; events < max_events; ++events) {
+    const auto a = fast->step(end_time);
+    const auto b = reference->step(end_time);
+    ASSERT_EQ(a.has_value(), b.has_value()) << label << " event " << events;
+    if (!a) break;
+    ASSERT_EQ(*a, *b) << label << " event " << events << ": fast " << describe(*a) << " at "
+                      << a->time << ", reference " << describe(*b) << " at " << b->time;
+    ASSERT_GE(a->time, last) << label << " time ran backwards at event " << events;
+    last = a->time;
+  }
+  const double stop = events == max_events ? last : end_time;
+  fast->finish(stop);
+  reference->finish(stop);
+  const auto& pf = fast->system().particles;
+  const auto& pr = reference->system().particles;
+  for (std::size_t i = 0; i < pf.size(); ++i) {
+    ASSERT_EQ(pf[i].position, pr[i].position) << label << " particle " << i;
+    ASSERT_EQ(pf[i].velocity, pr[i].velocity) << label << " particle " << i;
+    ASSERT_EQ(pf[i].wall_collisions, pr[i].wall_collisions) << label << " particle " << i;
+    ASSERT_EQ(pf[i].pair_collisions, pr[i].pair_collisions) << label << " particle " << i;
+  }
+  EXPECT_EQ(fast->counts().events, reference->counts().events);
+  // The run kept every disk in the box and apart.
+  EXPECT_FALSE(find_pair_overlap(fast->system(), stop).has_value()) << label;
+  for (const auto& p : pf) {
+    for (int wall = -1; wall >= -4; --wall) {
+      EXPECT_FALSE(overlaps_wall(p, fast->system().box, wall)) << label;
+    }
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceOnRandomGases) {
+  pcg32 rng(20261121);
+  for (int trial = 0; trial < 300; ++trial) {
+    const std::size_t n = 1 + rng() % 40;
+    const double lx = uniform(rng, 3, 30), ly = uniform(rng, 3, 30);
+    const double r_max = uniform(rng, 0.05, 1.0);
+    const bool poly = trial % 3 == 0;
+    const System<2> system = random_gas(rng, n, poly ? r_max / 4 : r_max, r_max, lx, ly);
+    const Rule rule = trial % 2 ? Rule::elastic : Rule::swap;
+    expect_same_runs(system, rule, uniform(rng, 1, 60), 300,
+                     "trial " + std::to_string(trial) + " (" + std::string(rule_name(rule)) + ")");
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceOnDenseLatticesWithTies) {
+  pcg32 rng(7);
+  for (int trial = 0; trial < 60; ++trial) {
+    const bool aligned = trial % 2 == 0;
+    // Gap 0: every neighbour starts touching; aligned velocities make many equal event times.
+    const double gap = trial % 3 == 0 ? 0.0 : uniform(rng, 0.01, 0.5);
+    const System<2> system = square_lattice(rng, 2 + rng() % 6, 0.5, gap, aligned);
+    const Rule rule = trial % 4 < 2 ? Rule::swap : Rule::elastic;
+    expect_same_runs(system, rule, 20.0, 400, "lattice " + std::to_string(trial));
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceAtFiveHundredDisks) {
+  pcg32 rng(11);
+  const System<2> system = square_lattice(rng, 22, 0.5, 0.15, false);
+  expect_same_runs(system, Rule::elastic, 1e9, 3000, "N=484");
+}
+
+TEST(CrossCheck, FastEqualsReferenceOnAssignmentCases) {
+  for (const char* name : {"normal.txt", "particles1.txt", "particles_only.txt"}) {
+    expect_same_runs(case_system(name), Rule::swap, 1000.0, 100000, name);
+  }
+}
+
+TEST(Engine, ThreeDimensionalSpheresRunInBothEngines) {
+  pcg32 rng(3);
+  System<3> system;
+  system.box.size = {{6, 6, 6}};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        Particle<3> p;
+        p.radius = 0.8;
+        p.position = {{1 + 2.0 * i, 1 + 2.0 * j, 1 + 2.0 * k}};
+        p.velocity = {{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)}};
+        system.particles.push_back(p);
+      }
+    }
+  }
+  auto fast = make_engine(EngineKind::fast, system, Rule::elastic);
+  auto reference = make_engine(EngineKind::reference, system, Rule::elastic);
+  for (int e = 0; e < 500; ++e) {
+    const auto a = fast->step(100.0), b = reference->step(100.0);
+    ASSERT_EQ(a.has_value(), b.has_value());
+    if (!a) break;
+    ASSERT_EQ(*a, *b) << "event " << e;
+  }
+  EXPECT_GT(fast->counts().pair_collisions, 0u);
+  EXPECT_FALSE(find_pair_overlap(fast->system(), fast->time()).has_value());
+}
+
+}  // namespace
+}  // namespace carom

@@ -1,0 +1,70 @@
+// Reproducible random systems for the tests (pcg32: the same sequence on every machine).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <pcg_random.hpp>
+
+#include "carom/overlap.hpp"
+#include "carom/system.hpp"
+
+namespace carom::testing {
+
+// A uniform double in [0, 1) with 53 random bits.
+inline double uniform(pcg32& rng) {
+  const std::uint64_t hi = rng() >> 5, lo = rng() >> 6;
+  return (static_cast<double>(hi) * 67108864.0 + static_cast<double>(lo)) / 9007199254740992.0;
+}
+
+inline double uniform(pcg32& rng, double lo, double hi) {
+  return lo + (hi - lo) * uniform(rng);
+}
+
+// Up to `n` disks placed at random without overlap (attempts are bounded, so a crowded box gets
+// fewer), radii in [r_min, r_max], velocity components uniform in [-1, 1].
+inline System<2> random_gas(pcg32& rng, std::size_t n, double r_min, double r_max, double lx,
+                            double ly) {
+  System<2> system;
+  system.box.size = {lx, ly};
+  for (std::size_t attempt = 0; attempt < 200 * n && system.particles.size() < n; ++attempt) {
+    Particle<2> p;
+    p.radius = uniform(rng, r_min, r_max);
+    if (2 * p.radius >= lx || 2 * p.radius >= ly) continue;
+    p.position = {uniform(rng, p.radius, lx - p.radius), uniform(rng, p.radius, ly - p.radius)};
+    p.velocity = {uniform(rng, -1, 1), uniform(rng, -1, 1)};
+    p.mass = uniform(rng, 0.5, 2.0);
+    bool free = true;
+    for (const Particle<2>& q : system.particles) {
+      const double sigma = p.radius + q.radius;
+      if (norm2(p.position - q.position) < sigma * sigma) free = false;
+    }
+    if (free) system.particles.push_back(p);
+  }
+  return system;
+}
+
+// A square lattice of disks of radius r, `gap` apart at the closest, filling a box of side
+// `cells` * (2r + gap); velocities random, or zero in one component so events tie.
+inline System<2> square_lattice(pcg32& rng, std::size_t cells, double r, double gap,
+                                bool aligned_velocities) {
+  System<2> system;
+  const double spacing = 2 * r + gap;
+  system.box.size = {cells * spacing, cells * spacing};
+  for (std::size_t i = 0; i < cells; ++i) {
+    for (std::size_t j = 0; j < cells; ++j) {
+      Particle<2> p;
+      p.radius = r;
+      p.position = {(i + 0.5) * spacing, (j + 0.5) * spacing};
+      if (aligned_velocities) {
+        const double speed = (rng() % 3) * 0.5 - 0.5;
+        p.velocity = (i + j) % 2 ? Vec2{{speed, 0}} : Vec2{{0, speed}};
+      } else {
+        p.velocity = {uniform(rng, -1, 1), uniform(rng, -1, 1)};
+      }
+      system.particles.push_back(p);
+    }
+  }
+  return system;
+}
+
+}  // namespace carom::testing
