@@ -53,21 +53,8 @@ void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles) {
 
 void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine) {
   const System<2>& system = engine.system();
-  nlohmann::ordered_json particles = nlohmann::ordered_json::array();
-  for (std::size_t i = 0; i < system.particles.size(); ++i) {
-    const Particle<2>& p = system.particles[i];
-    particles.push_back({{"id", i},
-                         {"x", p.position[0]},
-                         {"y", p.position[1]},
-                         {"vx", p.velocity[0]},
-                         {"vy", p.velocity[1]},
-                         {"radius", p.radius},
-                         {"last_update", p.time},
-                         {"wall_collisions", p.wall_collisions},
-                         {"pair_collisions", p.pair_collisions}});
-  }
   const RunCounts& counts = engine.counts();
-  const nlohmann::ordered_json document = {
+  const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
       {"input", settings.input},
       {"end_time", settings.end_time},
@@ -79,9 +66,26 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
       {"events", counts.events},
       {"pair_collisions", counts.pair_collisions},
       {"wall_collisions", counts.wall_collisions},
-      {"particles", std::move(particles)},
   };
-  out << document.dump(2) << '\n';
+  // The settings pretty-printed, then one compact line a particle: readable, and a million
+  // particles are streamed rather than built as one document in memory.
+  std::string text = head.dump(2);
+  text.resize(text.size() - 2);  // reopen the object: drop the closing "\n}"
+  out << text << ",\n  \"particles\": [";
+  for (std::size_t i = 0; i < system.particles.size(); ++i) {
+    const Particle<2>& p = system.particles[i];
+    const nlohmann::ordered_json particle = {{"id", i},
+                                             {"x", p.position[0]},
+                                             {"y", p.position[1]},
+                                             {"vx", p.velocity[0]},
+                                             {"vy", p.velocity[1]},
+                                             {"radius", p.radius},
+                                             {"last_update", p.time},
+                                             {"wall_collisions", p.wall_collisions},
+                                             {"pair_collisions", p.pair_collisions}};
+    out << (i == 0 ? "\n    " : ",\n    ") << particle.dump();
+  }
+  out << "\n  ]\n}\n";
 }
 
 std::string describe(const Event& event) {

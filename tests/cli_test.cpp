@@ -48,7 +48,7 @@ class Cli : public ::testing::Test {
 
   Result carom(const std::vector<std::string>& args, const std::string& stdin_text = "") {
     std::string command = quote(CAROM_EXE);
-    for (const auto& a : args) command += " " + quote(a);
+    for (const auto& a : args) command.append(" ").append(quote(a));
     const fs::path in = dir_ / "stdin", out = dir_ / "stdout", err = dir_ / "stderr";
     std::ofstream(in) << stdin_text;
     command += " <" + quote(in) + " >" + quote(out) + " 2>" + quote(err);

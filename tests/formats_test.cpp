@@ -4,6 +4,8 @@
 
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 namespace carom {
 namespace {
 
@@ -48,6 +50,43 @@ TEST(Formats, RoundingIsPrintfs) {
 TEST(Formats, EventsAreDescribedByLabel) {
   EXPECT_EQ(describe(Event{1.0, 3, -2}), "Collision: particle 3 with wall -2 (right)");
   EXPECT_EQ(describe(Event{1.0, 1, 2}), "Collision: particle 1 with particle 2");
+}
+
+TEST(Formats, JsonIsValidAndKeepsEveryBit) {
+  System<2> system;
+  system.box.size = {10, 10};
+  Particle<2> a = sample(), b = sample();
+  a.position = {2.0 / 3.0, 1.0};
+  a.velocity = {0.1, 0.7};
+  a.radius = 0.25;
+  b.position = {5.0, 5.0};
+  b.velocity = {-1.0 / 7.0, 0.0};
+  b.radius = 0.25;
+  a.time = b.time = 0.0;
+  system.particles = {a, b};
+  auto engine = make_engine(EngineKind::fast, system, Rule::swap);
+  run(*engine, 12.5);
+  std::ostringstream out;
+  write_json(out, {"in.txt", 12.5, Rule::swap, EngineKind::fast}, *engine);
+  const auto json = nlohmann::json::parse(out.str());
+  EXPECT_EQ(json["input"], "in.txt");
+  EXPECT_EQ(json["end_time"], 12.5);
+  EXPECT_EQ(json["n"], 2);
+  EXPECT_EQ(json["events"], engine->counts().events);
+  EXPECT_EQ(json["wall_collisions"], engine->counts().wall_collisions);
+  EXPECT_EQ(json["pair_collisions"], engine->counts().pair_collisions);
+  ASSERT_EQ(json["particles"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const Particle<2>& p = engine->system().particles[i];
+    const auto& q = json["particles"][i];
+    EXPECT_EQ(q["id"], i);
+    EXPECT_EQ(q["x"].get<double>(), p.position[0]);
+    EXPECT_EQ(q["y"].get<double>(), p.position[1]);
+    EXPECT_EQ(q["vx"].get<double>(), p.velocity[0]);
+    EXPECT_EQ(q["vy"].get<double>(), p.velocity[1]);
+    EXPECT_EQ(q["last_update"].get<double>(), 12.5);
+    EXPECT_EQ(q["wall_collisions"], p.wall_collisions);
+  }
 }
 
 }  // namespace
