@@ -176,7 +176,7 @@ TEST_F(Cli, JsonCarriesStateAndCounts) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   for (const char* field :
        {"\"events\": 2", "\"pair_collisions\": 2", "\"wall_collisions\": 0", "\"rule\": \"swap\"",
-        "\"boundary\": \"walls\"", "\"end_time\": 18.0", "\"n\": 8", "\"last_update\": 18.0"}) {
+        "\"boundary\": \"walls\"", "\"end_time\": 18.0", "\"n\": 8", "\"last_update\":18.0"}) {
     EXPECT_NE(r.out.find(field), std::string::npos) << field << "\n" << r.out;
   }
 }
