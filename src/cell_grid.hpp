@@ -1,6 +1,7 @@
 // A uniform grid of cells over the box, at least one interaction range wide, so that the
-// partners a particle can touch are all in its own cell or the 3^D cells around it. Each cell
-// holds an intrusive doubly linked list of particle indices: moving a particle is O(1).
+// partners a particle can touch are all in its own cell or the 3^D cells around it (wrapping
+// around a periodic box). Each cell holds an intrusive doubly linked list of particle indices:
+// moving a particle is O(1).
 #pragma once
 
 #include <algorithm>
@@ -11,7 +12,7 @@
 #include <vector>
 
 #include "carom/physics.hpp"
-#include "carom/vec.hpp"
+#include "carom/system.hpp"
 
 namespace carom {
 
@@ -24,29 +25,41 @@ class CellGrid {
   // wider still, so that a particle whose cell was assigned at a crossing time (subject to
   // round-off) still finds every possible partner in the block around it. The number of cells is
   // capped at about two per particle, so a huge sparse box costs no memory.
-  CellGrid(const Vec<D>& box, double min_width, std::size_t particles)
-      : next_(particles, kNone), prev_(particles, kNone), cell_of_(particles, kNone) {
+  CellGrid(const Box<D>& box, double min_width, std::size_t particles)
+      : box_(box), next_(particles, kNone), prev_(particles, kNone), cell_of_(particles, kNone) {
     const double max_cells = std::min(2.0 * static_cast<double>(particles) + 16.0, 0x1p31);
     double width = min_width * (1.0 + 1e-6);
     double volume = 1.0;
-    for (std::size_t k = 0; k < D; ++k) volume *= box[k];
+    for (std::size_t k = 0; k < D; ++k) volume *= box.size[k];
     width = std::max(width, std::pow(volume / max_cells, 1.0 / static_cast<double>(D)));
-    std::size_t total = 1;
+    // Per axis the cap alone is not enough (a thin slab in 3D): widen until the product fits.
+    double total = 0.0;
+    do {
+      total = 1.0;
+      for (std::size_t k = 0; k < D; ++k) {
+        count_[k] =
+            static_cast<std::uint32_t>(std::clamp(std::floor(box.size[k] / width), 1.0, max_cells));
+        total *= count_[k];
+      }
+      width *= 1.25;
+    } while (total > max_cells);
+    std::uint64_t stride = 1;
     for (std::size_t k = 0; k < D; ++k) {
-      const double fit = std::floor(box[k] / width);
-      count_[k] = static_cast<std::uint32_t>(std::clamp(fit, 1.0, max_cells));
-      width_[k] = box[k] / count_[k];
-      stride_[k] = static_cast<std::uint32_t>(total);
-      total *= count_[k];
+      width_[k] = box.size[k] / count_[k];
+      stride_[k] = static_cast<std::uint32_t>(stride);
+      stride *= count_[k];
     }
-    head_.assign(total, kNone);
+    head_.assign(static_cast<std::size_t>(total), kNone);
   }
 
   std::size_t cell_count() const { return head_.size(); }
+  std::uint32_t cells_along(std::size_t axis) const { return count_[axis]; }
   std::uint32_t cell_of(std::uint32_t particle) const { return cell_of_[particle]; }
 
-  // The cell that contains `position`; positions on or beyond the box edge go to the edge cell.
-  std::uint32_t locate(const Vec<D>& position) const {
+  // The cell that contains `position` (wrapped into a periodic box); positions on or beyond the
+  // edge of a box with walls go to the edge cell.
+  std::uint32_t locate(Vec<D> position) const {
+    wrap(position, box_);
     std::uint32_t cell = 0;
     for (std::size_t k = 0; k < D; ++k) {
       const double at = std::floor(position[k] / width_[k]);
@@ -69,27 +82,40 @@ class CellGrid {
     insert(particle, cell);
   }
 
-  // Calls visit(j) for every particle j in `cell` and the cells around it, `cell`'s own included.
+  // Calls visit(j) once for every particle j in `cell` and the cells around it, `cell`'s own
+  // included.
   template <class Visit>
   void for_each_near(std::uint32_t cell, Visit&& visit) const {
     const std::array<std::uint32_t, D> at = coordinates(cell);
-    std::array<std::uint32_t, D> lo{}, hi{};
+    // Per axis, the neighbouring coordinates: at - 1 .. at + 1, wrapped in a periodic box (all of
+    // them, once each, when the axis has fewer than three cells), clipped by walls.
+    std::array<std::array<std::uint32_t, 3>, D> along{};
+    std::array<std::uint32_t, D> size{};
     for (std::size_t k = 0; k < D; ++k) {
-      lo[k] = at[k] > 0 ? at[k] - 1 : 0;
-      hi[k] = std::min(at[k] + 1, count_[k] - 1);
+      const std::uint32_t n = count_[k];
+      if (box_.periodic() && n < 3) {
+        for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c;
+      } else if (box_.periodic()) {
+        along[k] = {(at[k] + n - 1) % n, at[k], (at[k] + 1) % n};
+        size[k] = 3;
+      } else {
+        for (std::uint32_t c = at[k] > 0 ? at[k] - 1 : 0; c <= std::min(at[k] + 1, n - 1); ++c) {
+          along[k][size[k]++] = c;
+        }
+      }
     }
-    std::array<std::uint32_t, D> c = lo;
+    std::array<std::uint32_t, D> pick{};
     while (true) {
       std::uint32_t index = 0;
-      for (std::size_t k = 0; k < D; ++k) index += c[k] * stride_[k];
+      for (std::size_t k = 0; k < D; ++k) index += along[k][pick[k]] * stride_[k];
       for (std::uint32_t j = head_[index]; j != kNone; j = next_[j]) visit(j);
       std::size_t k = 0;
-      while (k < D && c[k] == hi[k]) {
-        c[k] = lo[k];
+      while (k < D && pick[k] + 1 == size[k]) {
+        pick[k] = 0;
         ++k;
       }
       if (k == D) break;
-      ++c[k];
+      ++pick[k];
     }
   }
 
@@ -99,20 +125,30 @@ class CellGrid {
   };
 
   // When a particle of `cell`, now at `position` and moving with `velocity`, enters another cell,
-  // and which. Edge cells have no exit through the box walls: the wall is hit first.
+  // and which. In a box with walls, edge cells have no exit through the walls: the wall is hit
+  // first. In a periodic box the position may lie outside the box (it is wrapped only when the
+  // particle collides); it is taken relative to the cell, so round-off in wrapping cannot send a
+  // particle to the far side of the box.
   Crossing next_crossing(std::uint32_t cell, const Vec<D>& position, const Vec<D>& velocity) const {
     const std::array<std::uint32_t, D> at = coordinates(cell);
     Crossing first;
     for (std::size_t k = 0; k < D; ++k) {
       const double v = velocity[k];
+      const std::uint32_t n = count_[k];
+      if (v == 0.0 || (box_.periodic() && n == 1)) continue;
+      // From the cell's centre, wrapped to the nearest image: at most about half a cell, and so
+      // unambiguous even when the axis has only two cells.
+      double offset = position[k] - (at[k] + 0.5) * width_[k];
+      if (box_.periodic()) offset -= box_.size[k] * std::nearbyint(offset / box_.size[k]);
+      const double half = 0.5 * width_[k];
       double delay = kNever;
       std::uint32_t target = kNone;
-      if (v > 0.0 && at[k] + 1 < count_[k]) {
-        delay = ((at[k] + 1) * width_[k] - position[k]) / v;
-        target = cell + stride_[k];
-      } else if (v < 0.0 && at[k] > 0) {
-        delay = (position[k] - at[k] * width_[k]) / -v;
-        target = cell - stride_[k];
+      if (v > 0.0 && (box_.periodic() || at[k] + 1 < n)) {
+        delay = (half - offset) / v;
+        target = cell + (at[k] + 1 < n ? stride_[k] : -(n - 1) * stride_[k]);
+      } else if (v < 0.0 && (box_.periodic() || at[k] > 0)) {
+        delay = (offset + half) / -v;
+        target = cell - (at[k] > 0 ? stride_[k] : -(n - 1) * stride_[k]);
       }
       delay = std::max(delay, 0.0);
       if (delay < first.delay) first = {delay, target};
@@ -137,6 +173,7 @@ class CellGrid {
     if (n != kNone) prev_[n] = p;
   }
 
+  Box<D> box_;
   std::array<std::uint32_t, D> count_{};
   std::array<std::uint32_t, D> stride_{};
   Vec<D> width_;

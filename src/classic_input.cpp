@@ -109,20 +109,22 @@ double parse_finite_double(std::string_view token) {
   return value;
 }
 
-ClassicInput read_classic(std::istream& in, const std::string& name) {
+ClassicInput read_classic(std::istream& in, const std::string& name, Boundary boundary) {
   DataLines lines(in, name);
   std::vector<std::string_view> tokens;
 
-  // Reads the next data line, which must hold exactly `count` numbers described by `what`.
-  const auto numbers = [&](std::size_t count, const std::string& what) {
+  // Reads the next data line, which must hold `fewest` to `most` numbers described by `what`.
+  const auto numbers = [&](std::size_t fewest, std::size_t most, const std::string& what) {
     if (!lines.next(tokens)) {
       throw InputError(name, lines.number(),
                        fmt::format("the file ends where {} was expected", what));
     }
-    if (tokens.size() != count) {
+    if (tokens.size() < fewest || tokens.size() > most) {
+      const std::string expected =
+          fewest == most ? fmt::format("{}", fewest) : fmt::format("{} to {}", fewest, most);
       throw InputError(name, lines.number(),
-                       fmt::format("expected {} number{} ({}), found {}", count,
-                                   count == 1 ? "" : "s", what, tokens.size()));
+                       fmt::format("expected {} number{} ({}), found {}", expected,
+                                   most == 1 ? "" : "s", what, tokens.size()));
     }
     std::vector<double> values;
     for (std::string_view token : tokens) {
@@ -162,36 +164,57 @@ ClassicInput read_classic(std::istream& in, const std::string& name) {
   }
 
   ClassicInput input;
-  input.radius = numbers(1, "the radius R").front();
+  input.radius = numbers(1, 1, "the radius R").front();
   if (!(input.radius > 0.0)) {
     throw InputError(name, lines.number(),
                      fmt::format("the radius R must be greater than 0, found {}", input.radius));
   }
-  const std::vector<double> box = numbers(2, "the box size Lx Ly");
+  const std::vector<double> box = numbers(2, 2, "the box size Lx Ly");
   if (!(box[0] > 0.0 && box[1] > 0.0)) {
     throw InputError(
         name, lines.number(),
         fmt::format("the box size must be positive, found Lx = {}, Ly = {}", box[0], box[1]));
   }
   input.system.box.size = {box[0], box[1]};
+  input.system.box.boundary = boundary;
   const Box<2>& b = input.system.box;
 
   // Particles are added as their lines arrive, never reserved from the header's N, so a header
   // that promises more than the file holds costs no memory.
   for (long long i = 0; i < count; ++i) {
-    const std::vector<double> v = numbers(4, fmt::format("x y vx vy of particle {}", i));
+    const std::string what = fmt::format("x y vx vy [r [m]] of particle {}", i);
+    const std::vector<double> v = numbers(4, 6, what);
     Particle<2> p;
     p.position = {v[0], v[1]};
     p.velocity = {v[2], v[3]};
-    p.radius = input.radius;
+    p.radius = v.size() > 4 ? v[4] : input.radius;
+    p.mass = v.size() > 5 ? v[5] : 1.0;
+    if (!(p.radius > 0.0)) {
+      throw InputError(
+          name, lines.number(),
+          fmt::format("the radius of particle {} must be greater than 0, found {}", i, p.radius));
+    }
+    if (!(p.mass > 0.0)) {
+      throw InputError(
+          name, lines.number(),
+          fmt::format("the mass of particle {} must be greater than 0, found {}", i, p.mass));
+    }
     for (std::size_t k = 0; k < 2; ++k) {
       if (p.position[k] < 0.0 || p.position[k] > b.size[k]) {
         throw InputError(name, lines.number(),
                          fmt::format("particle {} at ({}, {}) is outside the box [0, {}] x [0, {}]",
                                      i, v[0], v[1], b.size[0], b.size[1]));
       }
+      // In a periodic box a particle must not reach its own image or two images of another.
+      if (b.periodic() && !(b.size[k] > 4.0 * p.radius)) {
+        throw InputError(
+            name, lines.number(),
+            fmt::format("particle {} with radius {} is too large for the periodic box: "
+                        "each side must exceed two diameters ({})",
+                        i, p.radius, 4.0 * p.radius));
+      }
     }
-    for (int label = -1; label >= -4; --label) {
+    for (int label = -1; label >= -4 && !b.periodic(); --label) {
       if (overlaps_wall(p, b, label)) {
         throw InputError(name, lines.number(),
                          fmt::format("particle {} at ({}, {}) with radius {} overlaps the {} wall "
@@ -214,20 +237,22 @@ ClassicInput read_classic(std::istream& in, const std::string& name) {
     throw InputError(
         name, input.line_of[j],
         fmt::format("particle {} at ({}, {}) overlaps particle {} at ({}, {}) on line {}: their "
-                    "centres are {} apart, less than 2R = {}",
+                    "centres are {} apart, less than {}",
                     j, pj.position[0], pj.position[1], i, pi.position[0], pi.position[1],
-                    input.line_of[i], std::sqrt(norm2(pi.position - pj.position)),
-                    2.0 * input.radius));
+                    input.line_of[i], std::sqrt(norm2(separation(pi, pj, input.system.box))),
+                    pi.radius == input.radius && pj.radius == input.radius
+                        ? fmt::format("2R = {}", 2.0 * input.radius)
+                        : fmt::format("the sum of their radii, {}", pi.radius + pj.radius)));
   }
   return input;
 }
 
-ClassicInput read_classic_file(const std::string& path) {
-  if (path == "-") return read_classic(std::cin, "<stdin>");
+ClassicInput read_classic_file(const std::string& path, Boundary boundary) {
+  if (path == "-") return read_classic(std::cin, "<stdin>", boundary);
   if (std::filesystem::is_directory(path)) throw InputError(path, 0, "is a directory, not a file");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path, 0, fmt::format("cannot open: {}", std::strerror(errno)));
-  return read_classic(file, path);
+  return read_classic(file, path, boundary);
 }
 
 }  // namespace carom

@@ -1,5 +1,7 @@
 #include "carom/engine.hpp"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
 
 #include "fast_engine.hpp"
@@ -8,36 +10,93 @@
 namespace carom {
 
 template <std::size_t D>
-Engine<D>::Engine(System<D> system, Rule rule) : system_(std::move(system)), rule_(rule) {
+Engine<D>::Engine(System<D> system, const CollisionRule& rule)
+    : system_(std::move(system)), rule_(rule) {
   for (const Particle<D>& p : system_.particles) now_ = std::max(now_, p.time);
+  if (system_.box.periodic()) {
+    for (std::size_t k = 0; k < D; ++k) {
+      if (!(system_.box.size[k] > 4.0 * largest_radius(system_))) {
+        throw std::invalid_argument(
+            "a periodic box side must exceed two diameters of the largest particle");
+      }
+    }
+  }
 }
 
 template <std::size_t D>
 void Engine<D>::apply(const Event& event) {
+  // Simultaneous events are common (corners, symmetric starts) but bounded: a few per particle.
+  events_at_now_ = event.time == now_ ? events_at_now_ + 1 : 0;
+  if (events_at_now_ > 64 * system_.particles.size() + 1000) {
+    throw JamError(fmt::format(
+        "the disks are jammed: {} collisions at t = {} without time advancing (particle {} "
+        "cannot move apart from {}; is a disk wedged exactly between two walls?)",
+        events_at_now_, event.time, event.first, event.partner));
+  }
   now_ = event.time;
+  const double t = event.time;
   Particle<D>& a = system_.particles[event.first];
-  advance(a, event.time);
   if (event.is_wall()) {
-    bounce(a, event.partner, system_.box);
+    advance(a, t);
+    counts_.wall_momentum += bounce(a, event.partner, system_.box);
     ++counts_.wall_collisions;
   } else {
     Particle<D>& b = system_.particles[static_cast<std::size_t>(event.partner)];
-    advance(b, event.time);
-    collide(a, b, rule_);
+    const bool recent = t - a.time < rule_.elastic_within || t - b.time < rule_.elastic_within;
+    const bool elastic_by_tc = recent && rule_.restitution < 1.0;
+    advance(a, t);
+    advance(b, t);
+    Vec<D> r = a.position - b.position;
+    r -= image_offset(r, system_.box);
+    counts_.virial += collide(a, b, r, rule_.rule, elastic_by_tc ? 1.0 : rule_.restitution);
+    wrap(a.position, system_.box);
+    wrap(b.position, system_.box);
     ++counts_.pair_collisions;
+    if (elastic_by_tc) ++counts_.elastic_by_tc;
   }
   ++counts_.events;
 }
 
 template <std::size_t D>
-void Engine<D>::finish(double end_time) {
-  if (end_time < now_) throw std::logic_error("Engine::finish: end time precedes the last event");
-  for (Particle<D>& p : system_.particles) advance(p, end_time);
-  now_ = end_time;
+Vec<D> Engine<D>::image(std::uint32_t i, std::uint32_t j, double t) const {
+  if (!system_.box.periodic()) return Vec<D>{};
+  const auto& particles = system_.particles;
+  return image_offset(position_at(particles[i], t) - position_at(particles[j], t), system_.box);
 }
 
 template <std::size_t D>
-std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, Rule rule) {
+double Engine<D>::image_horizon() const {
+  if (!system_.box.periodic()) return kNever;
+  // No rule makes a particle faster than the fastest at the start (swap) or than one holding all
+  // the kinetic energy (elastic, inelastic).
+  double fastest = 0.0, energy = 0.0, lightest = kNever, largest = 0.0;
+  for (const Particle<D>& p : system_.particles) {
+    fastest = std::max(fastest, std::sqrt(norm2(p.velocity)));
+    energy += 0.5 * p.mass * norm2(p.velocity);
+    lightest = std::min(lightest, p.mass);
+    largest = std::max(largest, p.radius);
+  }
+  const double speed = std::max(fastest, std::sqrt(2.0 * energy / lightest)) * (1.0 + 1e-9);
+  double side = kNever;
+  for (std::size_t k = 0; k < D; ++k) side = std::min(side, system_.box.size[k]);
+  const double room = side / 2.0 - 2.0 * largest;
+  return speed > 0.0 ? room / (2.0 * speed) : kNever;
+}
+
+template <std::size_t D>
+void Engine<D>::finish(double end_time) {
+  if (end_time < now_) throw std::logic_error("Engine::finish: end time precedes the last event");
+  for (Particle<D>& p : system_.particles) {
+    advance(p, end_time);
+    wrap(p.position, system_.box);
+  }
+  now_ = end_time;
+  resync();
+}
+
+template <std::size_t D>
+std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
+                                       const CollisionRule& rule) {
   if (kind == EngineKind::reference) {
     return std::make_unique<ReferenceEngine<D>>(std::move(system), rule);
   }
@@ -48,13 +107,17 @@ std::string_view rule_name(Rule rule) {
   return rule == Rule::swap ? "swap" : "elastic";
 }
 
+std::string_view boundary_name(Boundary boundary) {
+  return boundary == Boundary::walls ? "walls" : "periodic";
+}
+
 std::string_view engine_name(EngineKind kind) {
   return kind == EngineKind::fast ? "fast" : "reference";
 }
 
 template class Engine<2>;
 template class Engine<3>;
-template std::unique_ptr<Engine<2>> make_engine(EngineKind, System<2>, Rule);
-template std::unique_ptr<Engine<3>> make_engine(EngineKind, System<3>, Rule);
+template std::unique_ptr<Engine<2>> make_engine(EngineKind, System<2>, const CollisionRule&);
+template std::unique_ptr<Engine<3>> make_engine(EngineKind, System<3>, const CollisionRule&);
 
 }  // namespace carom

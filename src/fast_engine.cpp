@@ -4,36 +4,47 @@
 
 namespace carom {
 
-namespace {
-
 template <std::size_t D>
-double interaction_range(const System<D>& system) {
-  double largest = 0.0;
-  for (const Particle<D>& p : system.particles) largest = std::max(largest, p.radius);
-  return 2.0 * largest;
-}
-
-}  // namespace
-
-template <std::size_t D>
-FastEngine<D>::FastEngine(System<D> system, Rule rule)
+FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
     : Engine<D>(std::move(system), rule),
-      grid_(this->system_.box.size, interaction_range(this->system_),
-            this->system_.particles.size()),
-      queue_(static_cast<std::uint32_t>(this->system_.particles.size())),
-      pending_(this->system_.particles.size()),
-      clock_(this->now_) {
+      grid_(this->system_.box, 2.0 * largest_radius(this->system_), this->system_.particles.size()),
+      queue_(static_cast<std::uint32_t>(this->system_.particles.size() + 1)),
+      pending_(this->system_.particles.size() + 1),
+      clock_(this->now_),
+      horizon_slot_(static_cast<std::uint32_t>(this->system_.particles.size())) {
   const auto& particles = this->system_.particles;
   const auto n = static_cast<std::uint32_t>(particles.size());
-  for (std::uint32_t i = 0; i < n; ++i)
+  if (this->system_.box.periodic()) {
+    for (std::size_t k = 0; k < D; ++k) {
+      if (grid_.cells_along(k) < 4) horizon_ = this->image_horizon();
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i) {
     grid_.insert(i, grid_.locate(position_at(particles[i], clock_)));
+  }
+  resync();
+}
+
+template <std::size_t D>
+void FastEngine<D>::resync() {
+  clock_ = std::max(clock_, this->now_);
+  const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
+  schedule_horizon();
+}
+
+template <std::size_t D>
+void FastEngine<D>::schedule_horizon() {
+  if (horizon_ == kNever) return;
+  pending_[horizon_slot_] = {Kind::horizon, 0, 0, 0};
+  queue_.update(horizon_slot_, {clock_ + horizon_, ~std::uint64_t{0}});
 }
 
 template <std::size_t D>
 void FastEngine<D>::predict(std::uint32_t i) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
+  const bool periodic = this->system_.box.periodic();
   Pending best;
   EventKey best_key = EventQueue::kNone;
   const auto consider = [&](const Event& candidate, const Pending& meaning) {
@@ -50,7 +61,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
   }
   grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
     if (j == i) return;
-    const double t = contact_time(p, particles[j]);
+    const double t = contact_time(p, particles[j], periodic ? this->image(i, j, clock_) : Vec<D>{});
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, particles[j].version()});
@@ -71,7 +82,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
 template <std::size_t D>
 std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& particles = this->system_.particles;
-  while (!queue_.empty()) {
+  while (true) {
     const std::uint32_t i = queue_.top();
     const double t = queue_.top_key().time;
     if (!(t <= end_time)) return std::nullopt;
@@ -79,6 +90,11 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
     switch (pending.kind) {
       case Kind::none:
         return std::nullopt;
+      case Kind::horizon:
+        clock_ = t;
+        for (std::uint32_t j = 0; j < horizon_slot_; ++j) predict(j);
+        schedule_horizon();
+        break;
       case Kind::crossing:
         clock_ = t;
         grid_.move(i, pending.cell);
@@ -106,7 +122,6 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
       }
     }
   }
-  return std::nullopt;
 }
 
 template class FastEngine<2>;

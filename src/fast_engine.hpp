@@ -2,6 +2,11 @@
 // exactly one pending event (its earliest collision, wall hit or cell crossing) in an indexed
 // heap, and an event against a partner that has collided since is detected by the partner's
 // version and predicted again lazily. An event costs O(log N) plus the particles in 3^D cells.
+//
+// Why no collision is missed: two particles about to touch are in the same or adjacent cells, and
+// the later of them to change cell or velocity predicted their contact then. In a periodic box
+// with at least four cells along each axis, adjacent particles are less than half a box apart, so
+// the nearest image at prediction time is the one they touch through.
 #pragma once
 
 #include <cstdint>
@@ -16,11 +21,14 @@ namespace carom {
 template <std::size_t D>
 class FastEngine final : public Engine<D> {
  public:
-  FastEngine(System<D> system, Rule rule);
+  FastEngine(System<D> system, const CollisionRule& rule);
   std::optional<Event> step(double end_time) override;
 
+ protected:
+  void resync() override;
+
  private:
-  enum class Kind : std::uint8_t { none, wall, pair, crossing };
+  enum class Kind : std::uint8_t { none, wall, pair, crossing, horizon };
   // What a particle's entry in the queue means; the time and order are in the queue itself.
   struct Pending {
     Kind kind = Kind::none;
@@ -31,11 +39,18 @@ class FastEngine final : public Engine<D> {
 
   // Finds the earliest event of particle i from the current time and queues it.
   void predict(std::uint32_t i);
+  // Queues the next time every particle is predicted again, or none.
+  void schedule_horizon();
 
   CellGrid<D> grid_;
   EventQueue queue_;
   std::vector<Pending> pending_;
   double clock_ = 0.0;  // the current time: the last processed event or cell crossing
+  // In a periodic box too small for four cells along some axis, a neighbour may be reached
+  // through more than one image, and predictions are renewed at least this often (see
+  // Engine::image_horizon); otherwise infinite.
+  double horizon_ = kNever;
+  std::uint32_t horizon_slot_ = 0;  // the queue entry (after the particles') of the renewal
 };
 
 }  // namespace carom

@@ -2,9 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "carom/observables.hpp"
 #include "carom/version.hpp"
 
 namespace carom {
@@ -51,22 +53,53 @@ void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles) {
   }
 }
 
-void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine) {
+void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine,
+                bool particles) {
   const System<2>& system = engine.system();
   const RunCounts& counts = engine.counts();
+  const double elapsed = settings.end_time - settings.equilibrate;
+  const Observables<2> o = measure(engine, elapsed, settings.kinetic_energy_initial);
+  // Infinity (no collision yet) is not a json number: null says "undefined".
+  const auto number = [](double x) {
+    return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
+  };
   const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
       {"input", settings.input},
-      {"end_time", settings.end_time},
-      {"rule", rule_name(settings.rule)},
-      {"boundary", "walls"},
-      {"engine", engine_name(settings.engine)},
       {"n", system.particles.size()},
       {"box", {system.box.size[0], system.box.size[1]}},
+      {"boundary", boundary_name(system.box.boundary)},
+      {"rule", rule_name(settings.rule.rule)},
+      {"restitution", settings.rule.restitution},
+      {"tc", settings.rule.elastic_within},
+      {"engine", engine_name(settings.engine)},
+      {"end_time", settings.end_time},
+      {"equilibrate", settings.equilibrate},
       {"events", counts.events},
       {"pair_collisions", counts.pair_collisions},
       {"wall_collisions", counts.wall_collisions},
+      {"elastic_by_tc", counts.elastic_by_tc},
+      {"packing_fraction", o.packing_fraction},
+      {"kinetic_energy_initial", o.kinetic_energy_initial},
+      {"kinetic_energy_final", o.kinetic_energy_final},
+      {"momentum_final", {o.momentum_final[0], o.momentum_final[1]}},
+      {"temperature", o.temperature},
+      {"pressure", o.pressure},
+      {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
+                                              : nlohmann::ordered_json(o.wall_pressure)},
+      {"compressibility_factor", o.compressibility_factor},
+      {"collision_rate", o.collision_rate},
+      {"mean_free_time", number(o.mean_free_time)},
+      {"wall_seconds", settings.wall_seconds},
+      {"events_per_second",
+       settings.wall_seconds > 0.0
+           ? nlohmann::ordered_json(static_cast<double>(counts.events) / settings.wall_seconds)
+           : nlohmann::ordered_json(nullptr)},
   };
+  if (!particles) {
+    out << head.dump(2) << '\n';
+    return;
+  }
   // The settings pretty-printed, then one compact line a particle: readable, and a million
   // particles are streamed rather than built as one document in memory.
   std::string text = head.dump(2);
@@ -86,6 +119,18 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
     out << (i == 0 ? "\n    " : ",\n    ") << particle.dump();
   }
   out << "\n  ]\n}\n";
+}
+
+void write_classic(std::ostream& out, const System<2>& system, double radius) {
+  out << system.particles.size() << '\n'
+      << c_format("%.17g\n%.17g %.17g\n", radius, system.box.size[0], system.box.size[1]);
+  for (const Particle<2>& p : system.particles) {
+    out << c_format("%.17g %.17g %.17g %.17g", p.position[0], p.position[1], p.velocity[0],
+                    p.velocity[1]);
+    if (p.radius != radius || p.mass != 1.0) out << c_format(" %.17g", p.radius);
+    if (p.mass != 1.0) out << c_format(" %.17g", p.mass);
+    out << '\n';
+  }
 }
 
 std::string describe(const Event& event) {

@@ -12,9 +12,7 @@ std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const Syste
                                                                      double time) {
   const auto& particles = system.particles;
   const auto n = static_cast<std::uint32_t>(particles.size());
-  double largest = 0.0;
-  for (const Particle<D>& p : particles) largest = std::max(largest, p.radius);
-  CellGrid<D> grid(system.box.size, 2.0 * largest, n);
+  CellGrid<D> grid(system.box, 2.0 * largest_radius(system), n);
   std::vector<Vec<D>> at(n);
   for (std::uint32_t i = 0; i < n; ++i) {
     at[i] = position_at(particles[i], time);
@@ -26,11 +24,19 @@ std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const Syste
     grid.for_each_near(grid.cell_of(i), [&](std::uint32_t j) {
       if (j <= i || j >= partner) return;
       const double sigma = particles[i].radius + particles[j].radius;
-      if (norm2(at[i] - at[j]) < sigma * sigma * keep) partner = j;
+      Vec<D> r = at[i] - at[j];
+      r -= image_offset(r, system.box);
+      if (norm2(r) < sigma * sigma * keep) partner = j;
     });
     if (partner != n) return std::pair<std::size_t, std::size_t>{i, partner};
   }
   return std::nullopt;
+}
+
+template <std::size_t D>
+Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
+  const Vec<D> r = a.position - b.position;
+  return r - image_offset(r, box);
 }
 
 template <std::size_t D>
@@ -45,6 +51,8 @@ template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(co
                                                                               double);
 template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<3>&,
                                                                               double);
+template Vec<2> separation(const Particle<2>&, const Particle<2>&, const Box<2>&);
+template Vec<3> separation(const Particle<3>&, const Particle<3>&, const Box<3>&);
 template bool overlaps_wall(const Particle<2>&, const Box<2>&, int);
 template bool overlaps_wall(const Particle<3>&, const Box<3>&, int);
 

@@ -18,21 +18,27 @@ std::set<std::uint32_t> near(const CellGrid<2>& grid, std::uint32_t cell) {
 }
 
 TEST(CellGrid, CellsAreAtLeastTheInteractionRange) {
-  const CellGrid<2> grid(Vec2{{10, 4}}, 2.0, 100);
+  const CellGrid<2> grid(Box<2>{Vec2{{10, 4}}}, 2.0, 100);
   EXPECT_EQ(grid.cell_count(), 4u * 1u);  // 10 / 2 = 5 exactly, but cells are a hair wider
 }
 
 TEST(CellGrid, AHugeSparseBoxHasAboutTwoCellsPerParticle) {
-  const CellGrid<2> grid(Vec2{{1e6, 1e6}}, 1e-3, 10);
+  const CellGrid<2> grid(Box<2>{Vec2{{1e6, 1e6}}}, 1e-3, 10);
   EXPECT_LE(grid.cell_count(), 36u);
   EXPECT_GE(grid.cell_count(), 1u);
+}
+
+TEST(CellGrid, AThinSlabInThreeDimensionsIsCappedToo) {
+  // Regression: the cap applied per axis, so a slab got (2N)^2 cells.
+  const CellGrid<3> grid(Box<3>{Vec<3>{{1e9, 2.5, 1e9}}}, 2.0, 1000);
+  EXPECT_LE(grid.cell_count(), 2016u);
 }
 
 TEST(CellGrid, FindsEveryParticleWithinRangeAndOnlyNearbyOnes) {
   pcg32 rng(1);
   const Vec2 box{{13.7, 9.1}};
   const double range = 1.3;
-  CellGrid<2> grid(box, range, 300);
+  CellGrid<2> grid(Box<2>{box}, range, 300);
   std::vector<Vec2> at;
   for (std::uint32_t i = 0; i < 300; ++i) {
     at.push_back({{testing::uniform(rng, 0, box[0]), testing::uniform(rng, 0, box[1])}});
@@ -50,7 +56,7 @@ TEST(CellGrid, FindsEveryParticleWithinRangeAndOnlyNearbyOnes) {
 }
 
 TEST(CellGrid, MovingKeepsTheListsConsistent) {
-  CellGrid<2> grid(Vec2{{10, 10}}, 1.0, 4);
+  CellGrid<2> grid(Box<2>{Vec2{{10, 10}}}, 1.0, 4);
   for (std::uint32_t i = 0; i < 4; ++i) grid.insert(i, 0);
   grid.move(2, grid.locate(Vec2{{9.5, 9.5}}));
   grid.move(0, grid.locate(Vec2{{9.5, 9.5}}));
@@ -59,7 +65,7 @@ TEST(CellGrid, MovingKeepsTheListsConsistent) {
 }
 
 TEST(CellGrid, CrossingLeadsToTheNextCellInTheDirectionOfMotion) {
-  const CellGrid<2> grid(Vec2{{10, 10}}, 2.0, 100);  // 4 x 4 cells of 2.5
+  const CellGrid<2> grid(Box<2>{Vec2{{10, 10}}}, 2.0, 100);  // 4 x 4 cells of 2.5
   const std::uint32_t cell = grid.locate(Vec2{{3, 3}});
   const auto right = grid.next_crossing(cell, Vec2{{3, 3}}, Vec2{{1, 0.1}});
   EXPECT_DOUBLE_EQ(right.delay, 2.0);
@@ -72,10 +78,39 @@ TEST(CellGrid, CrossingLeadsToTheNextCellInTheDirectionOfMotion) {
 }
 
 TEST(CellGrid, NoCrossingThroughTheBoxWalls) {
-  const CellGrid<2> grid(Vec2{{10, 10}}, 2.0, 100);
+  const CellGrid<2> grid(Box<2>{Vec2{{10, 10}}}, 2.0, 100);
   const std::uint32_t corner = grid.locate(Vec2{{9, 9}});
   EXPECT_EQ(grid.next_crossing(corner, Vec2{{9, 9}}, Vec2{{1, 1}}).delay, kNever);
   EXPECT_EQ(grid.next_crossing(corner, Vec2{{9, 9}}, Vec2{{0, 0}}).delay, kNever);
+}
+
+TEST(CellGrid, PeriodicCrossingWrapsAround) {
+  const CellGrid<2> grid(Box<2>{Vec2{{10, 10}}, Boundary::periodic}, 2.0, 100);
+  const std::uint32_t last = grid.locate(Vec2{{9, 5}});
+  const auto right = grid.next_crossing(last, Vec2{{9, 5}}, Vec2{{1, 0}});
+  EXPECT_DOUBLE_EQ(right.delay, 1.0);
+  EXPECT_EQ(right.cell, grid.locate(Vec2{{0.5, 5}}));
+  // Unwrapped positions (a particle wraps only when it collides) are understood.
+  EXPECT_DOUBLE_EQ(grid.next_crossing(right.cell, Vec2{{10.5, 5}}, Vec2{{1, 0}}).delay, 2.0);
+  EXPECT_EQ(grid.locate(Vec2{{-0.5, 5}}), last);
+}
+
+TEST(CellGrid, PeriodicAxisWithTwoCellsNeverPingPongs) {
+  // Regression: a particle exactly on the boundary between the two cells of a periodic axis was
+  // sent back and forth between them forever with zero delay.
+  const CellGrid<2> grid(Box<2>{Vec2{{12, 1.9}}, Boundary::periodic}, 0.92, 14);
+  ASSERT_EQ(grid.cells_along(1), 2u);
+  const Vec2 at{{5.0, 0.0}}, down{{0.0, -1.0}};
+  const std::uint32_t lower = grid.locate(Vec2{{5.0, 0.5}});
+  const auto leave_lower = grid.next_crossing(lower, at, down);
+  EXPECT_EQ(leave_lower.delay, 0.0);
+  EXPECT_EQ(leave_lower.cell, grid.locate(Vec2{{5.0, 1.5}}));
+  // Now at the top of the upper cell (y = 0 is y = 1.9): a whole cell to go.
+  EXPECT_DOUBLE_EQ(grid.next_crossing(leave_lower.cell, at, down).delay, 0.95);
+  // Every particle is visited once however few cells an axis has.
+  CellGrid<2> tiny(Box<2>{Vec2{{2.5, 2.5}}, Boundary::periodic}, 1.0, 3);
+  for (std::uint32_t i = 0; i < 3; ++i) tiny.insert(i, tiny.locate(Vec2{{0.5 + i, 0.5 + i}}));
+  EXPECT_EQ(near(tiny, 0), (std::set<std::uint32_t>{0, 1, 2}));
 }
 
 }  // namespace

@@ -46,6 +46,40 @@ TEST(ClassicInput, ReadsWhatRealFilesLookLike) {
   EXPECT_EQ(input.line_of, (std::vector<std::size_t>{6, 7}));
 }
 
+TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
+  const ClassicInput input = read("3\n1\n20 20\n5 5 0 0\n10 10 0 0 2\n15 15 0 0 0.5 3\n");
+  const auto& p = input.system.particles;
+  EXPECT_EQ(p[0].radius, 1.0);
+  EXPECT_EQ(p[0].mass, 1.0);
+  EXPECT_EQ(p[1].radius, 2.0);
+  EXPECT_EQ(p[1].mass, 1.0);
+  EXPECT_EQ(p[2].radius, 0.5);
+  EXPECT_EQ(p[2].mass, 3.0);
+  // Overlap and wall checks use each disk's own radius.
+  EXPECT_EQ(error_of("2\n1\n20 20\n5 5 0 0\n8.5 5 0 0 2.6\n"),
+            "test.txt:5: particle 1 at (8.5, 5) overlaps particle 0 at (5, 5) on line 4: their "
+            "centres are 3.5 apart, less than the sum of their radii, 3.6");
+  EXPECT_EQ(error_of("1\n1\n20 20\n1.5 5 0 0 2\n"),
+            "test.txt:4: particle 0 at (1.5, 5) with radius 2 overlaps the left wall (its centre "
+            "must be at least R from every wall)");
+}
+
+TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
+  std::istringstream near_edge("1\n1\n10 10\n0.5 5 1 0\n");
+  EXPECT_NO_THROW(read_classic(near_edge, "test.txt", Boundary::periodic));
+  std::istringstream across("2\n1\n10 10\n0.5 5 0 0\n9 5 0 0\n");
+  try {
+    read_classic(across, "test.txt", Boundary::periodic);
+    ADD_FAILURE() << "overlap through the boundary not found";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "test.txt:5: particle 1 at (9, 5) overlaps particle 0 at (0.5, 5) on line 4: their "
+              "centres are 1.5 apart, less than 2R = 2");
+  }
+  std::istringstream small("1\n1\n3.9 10\n2 5 0 0\n");
+  EXPECT_THROW(read_classic(small, "test.txt", Boundary::periodic), InputError);
+}
+
 TEST(ClassicInput, TouchingIsAllowed) {
   // Touching each other and the walls, as the seed's second case starts.
   EXPECT_NO_THROW(read("3\n1\n10 10\n1 1 0 0\n3 1 0 0\n9 9 0 0\n"));
@@ -63,15 +97,15 @@ TEST(ClassicInput, ErrorsNameTheFileAndLine) {
             "(2147483632)");
   EXPECT_EQ(error_of("1\n"), "test.txt:1: the file ends where the radius R was expected");
   EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 abc\n"),
-            "test.txt:4: 'abc' is not a number (in x y vx vy of particle 0)");
+            "test.txt:4: 'abc' is not a number (in x y vx vy [r [m]] of particle 0)");
   EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 --1\n"),
-            "test.txt:4: '--1' is not a number (in x y vx vy of particle 0)");
+            "test.txt:4: '--1' is not a number (in x y vx vy [r [m]] of particle 0)");
   EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 +-1\n"),
-            "test.txt:4: '+-1' is not a number (in x y vx vy of particle 0)");
+            "test.txt:4: '+-1' is not a number (in x y vx vy [r [m]] of particle 0)");
   EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 0x10\n"),
-            "test.txt:4: '0x10' is not a number (in x y vx vy of particle 0)");
+            "test.txt:4: '0x10' is not a number (in x y vx vy [r [m]] of particle 0)");
   EXPECT_EQ(error_of("1\n1\n10 10\n5 5 1 1,\n"),
-            "test.txt:4: '1,' is not a number (in x y vx vy of particle 0)");
+            "test.txt:4: '1,' is not a number (in x y vx vy [r [m]] of particle 0)");
   EXPECT_EQ(error_of("1\n-0\n1 1\n"), "test.txt:2: the radius R must be greater than 0, found -0");
   EXPECT_EQ(error_of("2\n1\n10 10\n5 5 0 0\n\n# c\n6 5 0 0\n"),
             "test.txt:7: particle 1 at (6, 5) overlaps particle 0 at (5, 5) on line 4: their "
@@ -85,7 +119,7 @@ TEST(ClassicInput, ErrorsNameTheFileAndLine) {
 
 TEST(ClassicInput, AHeaderPromisingMoreThanTheFileHoldsIsCaughtAtTheEnd) {
   EXPECT_EQ(error_of("100000000\n1\n10 10\n5 5 0 0\n"),
-            "test.txt:4: the file ends where x y vx vy of particle 1 was expected");
+            "test.txt:4: the file ends where x y vx vy [r [m]] of particle 1 was expected");
 }
 
 TEST(ClassicInput, GarbageIsRefusedAtTheFirstLongLine) {

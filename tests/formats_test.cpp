@@ -2,9 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace carom {
 namespace {
@@ -64,10 +63,10 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
   b.radius = 0.25;
   a.time = b.time = 0.0;
   system.particles = {a, b};
-  auto engine = make_engine(EngineKind::fast, system, Rule::swap);
+  auto engine = make_engine(EngineKind::fast, system, {Rule::swap});
   run(*engine, 12.5);
   std::ostringstream out;
-  write_json(out, {"in.txt", 12.5, Rule::swap, EngineKind::fast}, *engine);
+  write_json(out, {"in.txt", 12.5, 0.0, {Rule::swap}, EngineKind::fast, 0.0, 0.0}, *engine);
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["input"], "in.txt");
   EXPECT_EQ(json["end_time"], 12.5);

@@ -141,7 +141,7 @@ TEST(ContactTime, NoCancellationForAlmostTouchingFastPairs) {
 
 TEST(Collide, SwapExchangesWholeVelocitiesAndCounts) {
   Particle<2> a = disk(0, 0, 1, 2), b = disk(2, 0, -3, 4);
-  collide(a, b, Rule::swap);
+  collide(a, b, a.position - b.position, Rule::swap);
   EXPECT_EQ(a.velocity, (Vec2{{-3, 4}}));
   EXPECT_EQ(b.velocity, (Vec2{{1, 2}}));
   EXPECT_EQ(a.pair_collisions, 1u);
@@ -151,7 +151,7 @@ TEST(Collide, SwapExchangesWholeVelocitiesAndCounts) {
 
 TEST(Collide, ElasticExchangesTheNormalComponentOnly) {
   Particle<2> a = disk(0, 0, 1, 2), b = disk(2, 0, -3, 4);
-  collide(a, b, Rule::elastic);
+  collide(a, b, a.position - b.position, Rule::elastic);
   EXPECT_EQ(a.velocity, (Vec2{{-3, 2}}));
   EXPECT_EQ(b.velocity, (Vec2{{1, 4}}));
 }
@@ -162,7 +162,7 @@ TEST(Collide, ElasticConservesMomentumAndEnergyWithMasses) {
   b.mass = 0.5;
   const Vec2 p0 = a.mass * a.velocity + b.mass * b.velocity;
   const double e0 = a.mass * norm2(a.velocity) + b.mass * norm2(b.velocity);
-  collide(a, b, Rule::elastic);
+  collide(a, b, a.position - b.position, Rule::elastic);
   const Vec2 p1 = a.mass * a.velocity + b.mass * b.velocity;
   EXPECT_NEAR(p1[0], p0[0], 1e-15);
   EXPECT_NEAR(p1[1], p0[1], 1e-15);

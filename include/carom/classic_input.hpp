@@ -1,5 +1,6 @@
 // The classic input format the seed and its users' files use: whitespace-separated numbers,
-// line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`.
+// line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`. A particle line
+// may carry a radius and a mass of its own: `x y vx vy [r [m]]` (default R and 1).
 #pragma once
 
 #include <cstddef>
@@ -35,10 +36,13 @@ struct ClassicInput {
 // accepted. Anything else (wrong counts, non-numbers, NaN or infinity, N < 1, R <= 0, a box that
 // is not positive, a disk outside the box or overlapping a wall or another disk beyond round-off)
 // throws InputError naming `name` and the line. Touching is allowed. Every disk starts at t = 0.
-ClassicInput read_classic(std::istream& in, const std::string& name);
+// In a periodic box walls do not count, overlaps are measured through the nearest image, and each
+// side must exceed two diameters.
+ClassicInput read_classic(std::istream& in, const std::string& name,
+                          Boundary boundary = Boundary::walls);
 
 // As above from a file; "-" reads standard input.
-ClassicInput read_classic_file(const std::string& path);
+ClassicInput read_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
 
 // Parses a whole token as a finite double (`-.5`, `+1`, `1e-3`); throws std::invalid_argument
 // with a message saying what is wrong ("is not a number", "is not finite", "is out of range").

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string_view>
 
 #include "carom/event.hpp"
@@ -13,10 +14,20 @@
 
 namespace carom {
 
+// What a run has counted and accumulated since it started.
 struct RunCounts {
   std::uint64_t events = 0;  // processed collisions: wall_collisions + pair_collisions
   std::uint64_t wall_collisions = 0;
   std::uint64_t pair_collisions = 0;
+  std::uint64_t elastic_by_tc = 0;  // inelastic collisions made elastic by the TC model
+  double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
+  double wall_momentum = 0.0;       // total momentum given to the walls
+};
+
+// The particles cannot move apart: collisions keep coming at one instant without end (a disk
+// wedged exactly between two walls, say). Thrown instead of spinning forever.
+class JamError : public std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 enum class EngineKind {
@@ -38,29 +49,45 @@ class Engine {
   // returns it; otherwise changes nothing and returns nullopt.
   virtual std::optional<Event> step(double end_time) = 0;
 
-  // Brings every particle to `end_time`, which must not precede the last processed event.
+  // Brings every particle to `end_time`, which must not precede the last processed event. The run
+  // may go on afterwards.
   void finish(double end_time);
 
   const System<D>& system() const { return system_; }
   const RunCounts& counts() const { return counts_; }
-  Rule rule() const { return rule_; }
+  const CollisionRule& rule() const { return rule_; }
   // The time of the last processed event (the start time before any).
   double time() const { return now_; }
 
+  // Starts counting afresh (after equilibration, say); the dynamics are not affected.
+  void reset_counts() { counts_ = {}; }
+
  protected:
-  Engine(System<D> system, Rule rule);
+  // Throws std::invalid_argument for a periodic box with a side not above two diameters.
+  Engine(System<D> system, const CollisionRule& rule);
+  // Called when every stored state has changed at once (finish): pending predictions are stale.
+  virtual void resync() {}
   // Carries out a collision that is due: moves the particles involved to its time, applies the
   // rule or the wall bounce, and counts it.
   void apply(const Event& event);
 
+  // The image of particle j that particle i sees at time t (zero in a box with walls).
+  Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;
+
+  // How long pair predictions made with the images seen at one moment stay right: within this
+  // time no pair can travel far enough to touch through another image. Infinite for walls.
+  double image_horizon() const;
+
   System<D> system_;
-  Rule rule_;
+  CollisionRule rule_;
   RunCounts counts_;
   double now_ = 0.0;
+  std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 };
 
 template <std::size_t D>
-std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, Rule rule);
+std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
+                                       const CollisionRule& rule);
 
 // Runs `engine` until `end_time`, calling on_event(event) after every processed collision, then
 // brings every particle to `end_time`.
@@ -76,6 +103,7 @@ void run(Engine<D>& engine, double end_time) {
 }
 
 std::string_view rule_name(Rule rule);
+std::string_view boundary_name(Boundary boundary);
 std::string_view engine_name(EngineKind kind);
 
 }  // namespace carom

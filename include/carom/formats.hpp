@@ -24,16 +24,21 @@ void write_table(std::ostream& out, const std::vector<Particle<2>>& particles);
 // One line a disk: `%.6f, %.6f, %d, %d` (x, y, wall collisions, disk collisions).
 void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles);
 
-// What a json result says about how it was made.
+// What a json result says about how it was made and how long it took.
 struct RunSettings {
   std::string input;
   double end_time = 0.0;
-  Rule rule = Rule::swap;
+  double equilibrate = 0.0;  // observables are measured from this time on
+  CollisionRule rule;
   EngineKind engine = EngineKind::fast;
+  double kinetic_energy_initial = 0.0;  // at the start of the measurement
+  double wall_seconds = 0.0;            // wall-clock time of the simulation
 };
 
-// The settings, the run's counts and every disk's final state, numbers in full precision.
-void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine);
+// The settings, the run's counts and observables (see measure()) and, with `particles`, every
+// disk's final state; numbers in full precision.
+void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine,
+                bool particles = true);
 
 // The step-by-step trace users compare their own programs against.
 class TraceWriter {
@@ -49,6 +54,11 @@ class TraceWriter {
  private:
   std::ostream& out_;
 };
+
+// A system in the classic input format, every number with 17 significant digits so that reading
+// it back gives the same doubles. Disks whose radius differs from `radius`, or whose mass is not
+// 1, carry the optional columns `r [m]`.
+void write_classic(std::ostream& out, const System<2>& system, double radius);
 
 // One line naming an event: `Collision: particle 1 with particle 2` or
 // `Collision: particle 3 with wall -2 (right)`.

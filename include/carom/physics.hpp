@@ -43,6 +43,7 @@ struct WallHit {
 template <std::size_t D>
 constexpr WallHit next_wall_hit(const Particle<D>& p, const Box<D>& box) {
   WallHit hit;
+  if (box.periodic()) return hit;
   for (std::size_t k = 0; k < D; ++k) {
     const double v = p.velocity[k];
     if (v == 0.0) continue;
@@ -55,16 +56,39 @@ constexpr WallHit next_wall_hit(const Particle<D>& p, const Box<D>& box) {
   return hit;
 }
 
-// When two particles first touch, from their stored states, or kNever. Both are brought to the
-// later of their two stored times; only an approaching pair can collide, so a pair that has just
-// collided (and so separates) never collides again by round-off. The earlier root of
-// |r + v dt|^2 = sigma^2 is taken in the form c / (-b + sqrt(b^2 - v^2 c)), which has no
-// cancellation. A pair that touches or overlaps by round-off while approaching collides at once.
-// The result is symmetric in a and b bit for bit (swapping them negates r and v exactly).
+// The periodic image of particle b that particle a sees: the multiple of the box size to subtract
+// from a separation so that it is the shortest. Zero for a box with walls.
 template <std::size_t D>
-constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
+constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
+  Vec<D> offset;
+  if (box.periodic()) {
+    for (std::size_t k = 0; k < D; ++k) {
+      offset[k] = box.size[k] * std::nearbyint(separation[k] / box.size[k]);
+    }
+  }
+  return offset;
+}
+
+// Wraps a position into the periodic box; positions in a box with walls are left alone.
+template <std::size_t D>
+constexpr void wrap(Vec<D>& position, const Box<D>& box) {
+  if (!box.periodic()) return;
+  for (std::size_t k = 0; k < D; ++k) {
+    position[k] -= box.size[k] * std::floor(position[k] / box.size[k]);
+  }
+}
+
+// When two particles first touch, from their stored states, or kNever; `offset` selects the image
+// of b (see image_offset). Both are brought to the later of their two stored times; only an
+// approaching pair can collide, so a pair that has just collided (and so separates) never
+// collides again by round-off. The earlier root of |r + v dt|^2 = sigma^2 is taken in the form
+// c / (-b + sqrt(b^2 - v^2 c)), which has no cancellation. A pair that touches or overlaps by
+// round-off while approaching collides at once. The result is symmetric in a and b bit for bit
+// (swapping them negates r, v and the offset exactly).
+template <std::size_t D>
+constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const Vec<D>& offset) {
   const double t0 = std::max(a.time, b.time);
-  const Vec<D> r = position_at(a, t0) - position_at(b, t0);
+  const Vec<D> r = position_at(a, t0) - position_at(b, t0) - offset;
   const Vec<D> v = a.velocity - b.velocity;
   const double rv = dot(r, v);
   if (!(rv < 0.0)) return kNever;
@@ -76,37 +100,60 @@ constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
   return t0 + c / (-rv + std::sqrt(discriminant));
 }
 
+template <std::size_t D>
+constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
+  return contact_time(a, b, Vec<D>{});
+}
+
 // How two touching particles change velocity.
 enum class Rule {
   swap,     // the seed's rule: the two whole velocity vectors are exchanged
   elastic,  // momentum along the line of centres is exchanged, with masses (real hard disks)
 };
 
-// Applies `rule` to two particles already advanced to their moment of contact.
+struct CollisionRule {
+  Rule rule = Rule::swap;
+  // For Rule::elastic: the normal relative velocity is reversed and scaled by this (1: elastic,
+  // < 1: inelastic, as in granular gases).
+  double restitution = 1.0;
+  // The TC model (Luding and McNamara 1998) against inelastic collapse: a collision of a
+  // particle that already collided less than this long ago is elastic, so that clusters cannot
+  // collide infinitely often in finite time.
+  double elastic_within = 0.0;
+};
+
+// Applies `rule` to two particles already advanced to their moment of contact; `r` is the
+// separation a - b of the touching image. Returns the collision virial r . (momentum given to a),
+// from which the pressure follows.
 template <std::size_t D>
-constexpr void collide(Particle<D>& a, Particle<D>& b, Rule rule) {
+constexpr double collide(Particle<D>& a, Particle<D>& b, const Vec<D>& r, Rule rule,
+                         double restitution = 1.0) {
+  const Vec<D> before = a.velocity;
   if (rule == Rule::swap) {
     std::swap(a.velocity, b.velocity);
   } else {
-    const Vec<D> r = a.position - b.position;
     const double approach = dot(a.velocity - b.velocity, r);
-    // Impulse along r, scaled so that the normal relative velocity is reversed.
-    const double j = 2.0 * approach / ((a.mass + b.mass) * norm2(r));
+    // Impulse along r, scaled so that the normal relative velocity is reversed and scaled by the
+    // restitution.
+    const double j = (1.0 + restitution) * approach / ((a.mass + b.mass) * norm2(r));
     a.velocity -= (j * b.mass) * r;
     b.velocity += (j * a.mass) * r;
   }
   ++a.pair_collisions;
   ++b.pair_collisions;
+  return a.mass * dot(r, a.velocity - before);
 }
 
 // Reflects a particle already advanced to its wall hit. The position is put exactly on the
 // contact plane so that round-off can never carry a particle through a wall over long runs.
+// Returns the momentum given to the wall.
 template <std::size_t D>
-constexpr void bounce(Particle<D>& p, int wall, const Box<D>& box) {
+constexpr double bounce(Particle<D>& p, int wall, const Box<D>& box) {
   const std::size_t k = wall_axis(wall);
   p.position[k] = wall_is_upper(wall) ? box.size[k] - p.radius : p.radius;
   p.velocity[k] = -p.velocity[k];
   ++p.wall_collisions;
+  return 2.0 * p.mass * std::abs(p.velocity[k]);
 }
 
 }  // namespace carom

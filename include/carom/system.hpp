@@ -28,10 +28,18 @@ struct Particle {
   std::uint64_t version() const { return wall_collisions + pair_collisions; }
 };
 
-// A rectangular box [0, size[0]] x ... x [0, size[D-1]] with a hard wall on every face.
+enum class Boundary {
+  walls,     // a hard wall on every face (the seed's box)
+  periodic,  // the box repeats in every direction: minimum image convention, no walls
+};
+
+// A rectangular box [0, size[0]] x ... x [0, size[D-1]].
 template <std::size_t D>
 struct Box {
   Vec<D> size;
+  Boundary boundary = Boundary::walls;
+
+  bool periodic() const { return boundary == Boundary::periodic; }
 };
 
 template <std::size_t D>
@@ -39,6 +47,13 @@ struct System {
   Box<D> box;
   std::vector<Particle<D>> particles;
 };
+
+template <std::size_t D>
+double largest_radius(const System<D>& system) {
+  double largest = 0.0;
+  for (const Particle<D>& p : system.particles) largest = largest < p.radius ? p.radius : largest;
+  return largest;
+}
 
 // Walls are labelled by negative numbers, two per axis, the seed's order: -1 left (x = 0),
 // -2 right (x = Lx), -3 bottom (y = 0), -4 top (y = Ly), then -5, -6 for z.

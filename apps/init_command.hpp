@@ -1,0 +1,25 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "carom/initial.hpp"
+
+namespace carom::cli {
+
+struct InitArguments {
+  InitialOptions options;
+  std::vector<double> box;
+  double radius = 0.0;
+  bool lattice = false;
+  bool random = false;
+  std::string output;
+};
+
+// Declares `carom init` and its options on `app`, filling `args` when parsed.
+CLI::App* add_init_command(CLI::App& app, InitArguments& args);
+
+void init_command(InitArguments args);
+
+}  // namespace carom::cli

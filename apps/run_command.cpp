@@ -1,0 +1,149 @@
+#include "run_command.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+#include "carom/classic_input.hpp"
+#include "carom/observables.hpp"
+#include "cli_support.hpp"
+
+namespace carom::cli {
+
+namespace {
+
+constexpr const char* kFormatHelp = R"(The classic input FILE holds whitespace-separated numbers:
+  line 1       N                  the number of disks
+  line 2       R                  their radius
+  line 3       Lx Ly              the box, [0, Lx] x [0, Ly]
+  N lines      x y vx vy [r [m]]  each disk's centre and velocity at t = 0, optionally its own
+                                  radius and mass (default R and 1)
+Walls are labelled -1 left, -2 right, -3 bottom, -4 top; disks 0..N-1.)";
+
+constexpr const char* kExamples = R"(Examples:
+  carom run examples/walls_only.txt 20            final state, the seed's table
+  carom run examples/normal.txt 20 --format csv   x, y, wall and disk collision counts
+  carom run examples/normal.txt 20 --trace        every collision, step by step
+  carom run examples/normal.txt 100 --format json -o result.json
+  carom run gas.txt 200 --rule elastic --boundary periodic --equilibrate 50 --format json)";
+
+void check(const RunArguments& args, double end_time) {
+  if (args.trace && args.format != Format::table) {
+    throw UsageError(
+        "--trace prints the seed's step-by-step table; it cannot be combined with --format csv "
+        "or json");
+  }
+  if (!(args.restitution > 0.0 && args.restitution <= 1.0)) {
+    throw UsageError(fmt::format("--restitution must be in (0, 1], got {}", args.restitution));
+  }
+  if (args.restitution < 1.0 && args.rule != Rule::elastic) {
+    throw UsageError(
+        "--restitution below 1 needs --rule elastic (the swap rule has no restitution)");
+  }
+  if (!(args.tc >= 0.0)) throw UsageError(fmt::format("--tc must be >= 0, got {}", args.tc));
+  if (!(args.equilibrate >= 0.0 && args.equilibrate <= end_time)) {
+    throw UsageError(fmt::format("--equilibrate must be between 0 and END_TIME ({}), got {}",
+                                 end_time, args.equilibrate));
+  }
+}
+
+}  // namespace
+
+CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
+  CLI::App* run = app.add_subcommand(
+      "run", "Simulate FILE from t = 0 to END_TIME and print every disk's final state.");
+  run->footer(std::string(kFormatHelp) + "\n\n" + kExamples);
+  run->add_option("FILE", args.input, "Input in the classic format (see below); - reads stdin")
+      ->required();
+  run->add_option("END_TIME", args.end_time, "Time to simulate to (a number >= 0)")->required();
+  add_choice<Format>(run, "--format", args.format,
+                     {{"table", Format::table}, {"csv", Format::csv}, {"json", Format::json}},
+                     "table: the seed's `particle i: (x, y) (vx, vy): t : (cwall, cpart)` lines; "
+                     "csv: `x, y, cwall, cpart` lines; json: settings, counts, observables and "
+                     "full state");
+  run->add_flag("--trace", args.trace,
+                "Print the initial state, then after every collision its time, what collided and "
+                "every disk's stored state, then the final state");
+  run->add_option("-o,--output", args.output,
+                  "Write to this file (atomically: it appears complete or not at all) instead of "
+                  "stdout");
+  run->add_option("--summary", args.summary,
+                  "Also write the json settings, counts and observables (no particles) to this "
+                  "file");
+  add_choice<Rule>(run, "--rule", args.rule, {{"swap", Rule::swap}, {"elastic", Rule::elastic}},
+                   "swap: touching disks exchange whole velocities (the seed's rule); elastic: "
+                   "they exchange momentum along the line of centres, with masses (real hard "
+                   "disks)");
+  run->add_option("--restitution", args.restitution,
+                  "Coefficient of normal restitution E in (0, 1] for --rule elastic; E < 1 makes "
+                  "collisions inelastic (granular gas)")
+      ->default_str("1");
+  run->add_option("--tc", args.tc,
+                  "TC model against inelastic collapse: a collision of a disk that collided less "
+                  "than this long ago is elastic")
+      ->default_str("1e-5");
+  add_choice<Boundary>(run, "--boundary", args.boundary,
+                       {{"walls", Boundary::walls}, {"periodic", Boundary::periodic}},
+                       "walls: hard walls on all four sides (the seed's box); periodic: the box "
+                       "repeats, no walls (sides must exceed two diameters)");
+  run->add_option("--equilibrate", args.equilibrate,
+                  "Measure observables only from this time on (the dynamics are unchanged)")
+      ->default_str("0");
+  add_choice<EngineKind>(run, "--engine", args.engine,
+                         {{"fast", EngineKind::fast}, {"reference", EngineKind::reference}},
+                         "fast: cell grid and event queue, O(log N) per event; reference: the "
+                         "seed's algorithm, every pair checked after every event (O(N^2), for "
+                         "checking)");
+  return run;
+}
+
+void run_command(const RunArguments& args) {
+  const double end_time = parse_number(args.end_time, "END_TIME");
+  if (end_time < 0.0) {
+    throw UsageError(fmt::format("END_TIME must not be negative, got {}", args.end_time));
+  }
+  check(args, end_time);
+  ClassicInput input = read_classic_file(args.input, args.boundary);
+  Output out(args.output);
+  std::optional<Output> summary;
+  if (!args.summary.empty()) summary.emplace(args.summary);
+
+  const CollisionRule rule{args.rule, args.restitution, args.tc};
+  auto engine = make_engine(args.engine, std::move(input.system), rule);
+  const auto& particles = engine->system().particles;
+  std::optional<TraceWriter> trace;
+  if (args.trace) {
+    trace.emplace(out.stream());
+    trace->start(args.input, end_time, particles);
+  }
+  const auto on_event = [&](const Event& event) {
+    if (trace) trace->event(event, particles);
+  };
+
+  const auto started = std::chrono::steady_clock::now();
+  if (args.equilibrate > 0.0) {
+    while (const auto event = engine->step(args.equilibrate)) on_event(*event);
+    engine->reset_counts();
+  }
+  const double kinetic_energy_initial = kinetic_energy(engine->system());
+  run(*engine, end_time, on_event);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+
+  const RunSettings settings{
+      args.input, end_time, args.equilibrate, rule, args.engine, kinetic_energy_initial, seconds};
+  if (trace) {
+    trace->finish(particles);
+  } else if (args.format == Format::table) {
+    write_table(out.stream(), particles);
+  } else if (args.format == Format::csv) {
+    write_csv(out.stream(), particles);
+  } else {
+    write_json(out.stream(), settings, *engine);
+  }
+  if (summary) write_json(summary->stream(), settings, *engine, false);
+  out.commit();
+  if (summary) summary->commit();
+}
+
+}  // namespace carom::cli

@@ -1,0 +1,31 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "carom/engine.hpp"
+#include "carom/formats.hpp"
+
+namespace carom::cli {
+
+struct RunArguments {
+  std::string input;
+  std::string end_time;
+  Format format = Format::table;
+  bool trace = false;
+  std::string output;
+  std::string summary;
+  Rule rule = Rule::swap;
+  double restitution = 1.0;
+  double tc = 1e-5;
+  Boundary boundary = Boundary::walls;
+  double equilibrate = 0.0;
+  EngineKind engine = EngineKind::fast;
+};
+
+// Declares `carom run` and its options on `app`, filling `args` when parsed.
+CLI::App* add_run_command(CLI::App& app, RunArguments& args);
+
+void run_command(const RunArguments& args);
+
+}  // namespace carom::cli
