@@ -5,7 +5,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -16,50 +18,110 @@ namespace carom {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 [[noreturn]] void fail(const std::string& what, const std::string& path) {
   throw std::runtime_error(fmt::format("{} '{}': {}", what, path, std::strerror(errno)));
+}
+
+// Temporary files still open, removed by the signal handler if the run is interrupted. A fixed
+// table of fixed buffers: the handler may use nothing that allocates.
+constexpr std::size_t kMaxOpen = 8;
+std::array<std::array<char, 4096>, kMaxOpen> open_files{};
+volatile std::sig_atomic_t handlers_installed = 0;
+
+extern "C" void remove_temporaries_and_reraise(int signal) {
+  for (auto& name : open_files) {
+    if (name[0] != '\0') ::unlink(name.data());
+  }
+  std::signal(signal, SIG_DFL);
+  std::raise(signal);
+}
+
+void track(const std::string& name) {
+  if (!handlers_installed) {
+    handlers_installed = 1;
+    std::signal(SIGINT, remove_temporaries_and_reraise);
+    std::signal(SIGTERM, remove_temporaries_and_reraise);
+    std::signal(SIGHUP, remove_temporaries_and_reraise);
+  }
+  for (auto& slot : open_files) {
+    if (slot[0] == '\0' && name.size() < slot.size()) {
+      std::memcpy(slot.data(), name.c_str(), name.size() + 1);
+      return;
+    }
+  }
+}
+
+void untrack(const std::string& name) {
+  for (auto& slot : open_files) {
+    if (name == slot.data()) slot[0] = '\0';
+  }
 }
 
 }  // namespace
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
-  if (std::filesystem::is_directory(path_)) {
+  std::error_code error;
+  // Write through a link to the file it names, so the link stays a link.
+  if (fs::is_symlink(path_, error)) path_ = fs::weakly_canonical(path_, error).string();
+  const fs::file_status status = fs::status(path_, error);
+  if (fs::is_directory(status)) {
     throw std::runtime_error(fmt::format("cannot write '{}': it is a directory", path_));
+  }
+  // A device or pipe (/dev/stdout, a FIFO) cannot be replaced by renaming: write to it directly.
+  if (fs::exists(status) && !fs::is_regular_file(status)) {
+    stream_.open(path_, std::ios::binary);
+    if (!stream_) fail("cannot open", path_);
+    return;
   }
   std::string pattern = path_ + ".tmp.XXXXXX";
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   const int fd = ::mkstemp(name.data());
   if (fd < 0) fail("cannot create a file beside", path_);
-  // mkstemp makes the file private; give it the permissions a plainly created file would have.
-  const mode_t mask = ::umask(0);
-  ::umask(mask);
-  ::fchmod(fd, 0666 & ~mask);
+  // mkstemp makes the file private; keep an existing file's permissions, or give a new one those
+  // a plainly created file would have.
+  struct stat existing {};
+  if (::stat(path_.c_str(), &existing) == 0) {
+    ::fchmod(fd, existing.st_mode & 07777);
+  } else {
+    const mode_t mask = ::umask(0);
+    ::umask(mask);
+    ::fchmod(fd, 0666 & ~mask);
+  }
   ::close(fd);
   temporary_.assign(name.data());
+  track(temporary_);
   stream_.open(temporary_, std::ios::binary | std::ios::trunc);
   if (!stream_) fail("cannot open", temporary_);
 }
 
 AtomicFile::~AtomicFile() {
-  if (!committed_) {
+  if (!committed_ && !temporary_.empty()) {
     stream_.close();
     std::remove(temporary_.c_str());
+    untrack(temporary_);
   }
 }
 
 void AtomicFile::commit() {
   stream_.flush();
-  if (!stream_) fail("cannot write", temporary_);
+  if (!stream_) fail("cannot write", temporary_.empty() ? path_ : temporary_);
   stream_.close();
-  if (!stream_) fail("cannot write", temporary_);
+  if (!stream_) fail("cannot write", temporary_.empty() ? path_ : temporary_);
+  committed_ = true;
+  if (temporary_.empty()) return;
   const int fd = ::open(temporary_.c_str(), O_RDONLY);
   if (fd >= 0) {
     ::fsync(fd);
     ::close(fd);
   }
-  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail("cannot rename into", path_);
-  committed_ = true;
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    committed_ = false;
+    fail("cannot rename into", path_);
+  }
+  untrack(temporary_);
 }
 
 }  // namespace carom

@@ -10,7 +10,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 
 #include "carom/overlap.hpp"
 
@@ -21,6 +20,10 @@ namespace {
 // Lines longer than this are not a classic file; reading stops there instead of buffering a
 // file of garbage whole.
 constexpr std::size_t kMaxLineLength = 4096;
+// Lengths and speeds are squared in predictions; beyond these magnitudes the squares overflow or
+// underflow and contact times become meaningless.
+constexpr double kLargest = 1e100;
+constexpr double kSmallest = 1e-100;
 // Particle indices are stored in 32 bits (see Event).
 constexpr long long kMaxParticles = 0x7FFFFFF0;
 
@@ -72,7 +75,9 @@ class DataLines {
       if (std::strlen(buffer_) != length) {
         throw InputError(name_, number_, "contains a NUL byte: this is not a text file");
       }
-      tokens = split(std::string_view(buffer_, length));
+      std::string_view text(buffer_, length);
+      if (number_ == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 BOM
+      tokens = split(text);
       if (tokens.empty() || tokens.front().front() == '#') continue;
       return true;
     }
@@ -100,12 +105,19 @@ double parse_finite_double(std::string_view token) {
   double value = 0.0;
   const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (error == std::errc::result_out_of_range) {
-    throw std::invalid_argument(shown(token) + " is out of range for a double");
+    throw std::invalid_argument(
+        fmt::format("{} is out of range: carom takes magnitudes from {} to {}", shown(token),
+                    kSmallest, kLargest));
   }
   if (error != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
     throw std::invalid_argument(shown(token) + " is not a number");
   }
   if (!std::isfinite(value)) throw std::invalid_argument(shown(token) + " is not a finite number");
+  if (std::abs(value) > kLargest || (value != 0.0 && std::abs(value) < kSmallest)) {
+    throw std::invalid_argument(
+        fmt::format("{} is out of range: carom takes magnitudes from {} to {}", shown(token),
+                    kSmallest, kLargest));
+  }
   return value;
 }
 
@@ -146,8 +158,9 @@ ClassicInput read_classic(std::istream& in, const std::string& name, Boundary bo
   long long count = 0;
   {
     const std::string_view token = tokens.front();
-    const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), count);
-    if (error != std::errc() || end != token.data() + token.size()) {
+    const std::string_view digits = token.size() > 1 && token[0] == '+' ? token.substr(1) : token;
+    const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
+    if (error != std::errc() || end != digits.data() + digits.size()) {
       throw InputError(
           name, lines.number(),
           fmt::format("the particle count N must be a whole number, found {}", shown(token)));

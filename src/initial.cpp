@@ -76,7 +76,7 @@ Lattice lattice_for(std::uint64_t columns, std::uint64_t rows, const Box<2>& box
     l.dy = box.size[1] / rows;
     const double diagonal = std::hypot(l.dx / 2.0, rows > 1 ? l.dy : box.size[1]);
     // With an odd number of rows the last row lines up with the first through the boundary.
-    const double stacked = rows % 2 == 1 ? (rows > 1 ? l.dy : box.size[1]) : kInf;
+    const double stacked = rows % 2 == 1 ? (rows > 1 ? l.dy : box.size[1]) : 2.0 * l.dy;
     l.closest = std::min({l.dx, diagonal, stacked});
     return l;
   }
@@ -87,7 +87,9 @@ Lattice lattice_for(std::uint64_t columns, std::uint64_t rows, const Box<2>& box
     l.closest = rows > 1 ? l.dy : kInf;
   } else {
     l.dx = width / (rows > 1 ? columns - 0.5 : columns - 1.0);
-    l.closest = rows > 1 ? std::min(l.dx, std::hypot(l.dx / 2.0, l.dy)) : l.dx;
+    // Neighbours in a row, in the next row (shifted by half) and two rows up (straight above).
+    const double above = rows > 2 ? 2.0 * l.dy : kInf;
+    l.closest = rows > 1 ? std::min({l.dx, std::hypot(l.dx / 2.0, l.dy), above}) : l.dx;
   }
   return l;
 }
@@ -114,7 +116,7 @@ void place_on_lattice(System<2>& system) {
   if (!(best.closest >= 2.0 * largest)) {
     throw InitialError(fmt::format(
         "{} disks of radius up to {} do not fit on a lattice in this {} x {} box (closest sites "
-        "{} apart, need {}): lower --phi",
+        "{} apart, need {}): lower --phi or choose --aspect to fit the rows",
         n, largest, system.box.size[0], system.box.size[1], best.closest, 2.0 * largest));
   }
   for (std::uint64_t i = 0; i < n; ++i) {

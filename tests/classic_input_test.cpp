@@ -80,6 +80,26 @@ TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
   EXPECT_THROW(read_classic(small, "test.txt", Boundary::periodic), InputError);
 }
 
+TEST(ClassicInput, AcceptsAByteOrderMarkAndAPlusSignedCount) {
+  const ClassicInput input = read("\xEF\xBB\xBF+1\n1\n10 10\n5 5 1 0\n");
+  EXPECT_EQ(input.system.particles.size(), 1u);
+}
+
+TEST(ClassicInput, RefusesMagnitudesWhoseSquaresOverflow) {
+  // Regression: velocities of 1e160 overflowed in the contact time and disks passed through each
+  // other silently.
+  EXPECT_EQ(error_of("2\n1\n10 10\n3 5 1e160 0\n7 5 -1e160 0\n"),
+            "test.txt:4: '1e160' is out of range: carom takes magnitudes from 1e-100 to 1e+100 (in "
+            "x y vx vy [r [m]] of particle 0)");
+  EXPECT_EQ(error_of("1\n1e-200\n10 10\n"),
+            "test.txt:2: '1e-200' is out of range: carom takes magnitudes from 1e-100 to 1e+100 "
+            "(in the radius R)");
+  EXPECT_EQ(error_of("1\n1e-400\n10 10\n"),
+            "test.txt:2: '1e-400' is out of range: carom takes magnitudes from 1e-100 to 1e+100 "
+            "(in the radius R)");
+  EXPECT_NO_THROW(read("1\n1\n10 10\n5 5 0 1e-90\n"));
+}
+
 TEST(ClassicInput, TouchingIsAllowed) {
   // Touching each other and the walls, as the seed's second case starts.
   EXPECT_NO_THROW(read("3\n1\n10 10\n1 1 0 0\n3 1 0 0\n9 9 0 0\n"));
@@ -133,7 +153,9 @@ TEST(ParseFiniteDouble, AcceptsWhatStrtodAcceptsButOnlyFiniteWholeTokens) {
   EXPECT_EQ(parse_finite_double("-.5"), -0.5);
   EXPECT_EQ(parse_finite_double("+2"), 2.0);
   EXPECT_EQ(parse_finite_double("1E-3"), 1e-3);
-  EXPECT_EQ(parse_finite_double("1e308"), 1e308);
+  EXPECT_EQ(parse_finite_double("1e100"), 1e100);
+  EXPECT_EQ(parse_finite_double("0"), 0.0);
+  EXPECT_THROW(parse_finite_double("1e308"), std::invalid_argument);
   EXPECT_THROW(parse_finite_double(""), std::invalid_argument);
   EXPECT_THROW(parse_finite_double("+"), std::invalid_argument);
   EXPECT_THROW(parse_finite_double("1e309"), std::invalid_argument);

@@ -306,6 +306,124 @@ TEST_F(Cli, UnwritableOutputIsAUsageError) {
   EXPECT_NE(r.err.find("/nonexistent/dir/out"), std::string::npos) << r.err;
 }
 
+TEST_F(Cli, AJamIsARuntimeErrorWithNoOutput) {
+  const fs::path input = write("wedged.txt", "1\n0.5\n1 10\n0.5 5 1 0\n");
+  const fs::path out = dir_ / "out.txt";
+  const Result r = carom({"run", input, "1", "--trace", "-o", out});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("jammed"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(Cli, OutputThroughASymlinkKeepsTheLink) {
+  const fs::path target = write("real.csv", "old\n");
+  const fs::path link = dir_ / "link.csv";
+  fs::create_symlink(target, link);
+  const Result r = carom({"run", kCases + "normal.txt", "20", "--format", "csv", "-o", link});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(read_file(target), read_file(kCases + "normal.T20.csv"));
+}
+
+TEST_F(Cli, AnInterruptedRunLeavesNoFileBehind) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const fs::path out = dir_ / "out.json";
+  const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
+                              " 1e6 --rule elastic --format json -o " + quote(out) +
+                              " & sleep 1; kill -TERM $!; wait $!";
+  const int status = std::system(("sh -c " + quote(command) + " 2>/dev/null").c_str());
+  EXPECT_NE(status, 0);
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+TEST_F(Cli, InitWritesAReproducibleValidStartFile) {
+  const Result a = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});
+  const Result b = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});
+  const Result c = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "43"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  EXPECT_NE(a.out, c.out);
+  EXPECT_EQ(a.out.substr(0, 4), "300\n");
+  const fs::path start = write("start.txt", a.out);
+  const Result run = carom({"run", start, "5", "--rule", "elastic", "--format", "json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("\"packing_fraction\": 0.5"), std::string::npos) << run.out.substr(0, 900);
+}
+
+TEST_F(Cli, InitRefusesImpossibleRequests) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"init", "--n", "10", "--phi", "0.95"},
+        {"init", "--n", "10", "--phi", "0"},
+        {"init", "--n", "0", "--phi", "0.3"},
+        {"init", "--n", "10", "--phi", "0.3", "--box", "10", "10", "--radius", "1"},
+        {"init", "--n", "10", "--phi", "0.3", "--lattice", "--random"},
+        {"init", "--n", "500", "--phi", "0.7", "--random"},
+        {"init", "--n", "10", "--phi", "0.3", "--polydispersity", "0.9"},
+        {"init", "--n", "10"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+  const Result dense = carom({"init", "--n", "10", "--phi", "0.95"});
+  EXPECT_NE(dense.err.find("close packing"), std::string::npos) << dense.err;
+}
+
+TEST_F(Cli, PhysicsOptionsAreCheckedTogether) {
+  const std::string input = kCases + "particles_only.txt";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"run", input, "10", "--restitution", "0.9"},
+        {"run", input, "10", "--rule", "elastic", "--restitution", "0"},
+        {"run", input, "10", "--rule", "elastic", "--restitution", "1.5"},
+        {"run", input, "10", "--tc", "-1"},
+        {"run", input, "10", "--equilibrate", "11"},
+        {"run", input, "10", "--boundary", "toroidal"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+  }
+  const Result ok = carom({"run", input, "10", "--rule", "elastic", "--restitution", "0.9",
+                           "--boundary", "periodic", "--format", "json"});
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("\"boundary\": \"periodic\""), std::string::npos);
+  EXPECT_NE(ok.out.find("\"restitution\": 0.9"), std::string::npos);
+}
+
+TEST_F(Cli, SummaryFileCarriesTheObservables) {
+  const fs::path summary = dir_ / "summary.json";
+  const Result r = carom({"run", kCases + "normal.txt", "50", "--summary", summary});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string text = read_file(summary);
+  for (const char* field : {"\"events\"",
+                            "\"pair_collisions\"",
+                            "\"wall_collisions\"",
+                            "\"kinetic_energy_initial\"",
+                            "\"kinetic_energy_final\"",
+                            "\"momentum_final\"",
+                            "\"temperature\"",
+                            "\"pressure\"",
+                            "\"wall_pressure\"",
+                            "\"compressibility_factor\"",
+                            "\"collision_rate\"",
+                            "\"mean_free_time\"",
+                            "\"wall_seconds\"",
+                            "\"events_per_second\"",
+                            "\"rule\"",
+                            "\"boundary\"",
+                            "\"restitution\"",
+                            "\"n\"",
+                            "\"box\"",
+                            "\"end_time\""}) {
+    EXPECT_NE(text.find(field), std::string::npos) << field;
+  }
+  EXPECT_EQ(text.find("\"particles\""), std::string::npos);
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

@@ -1,6 +1,7 @@
 // An output file that appears whole or not at all: written to a temporary file beside the
-// target, then renamed over it. A failed or interrupted run never leaves a partial or clobbered
-// file behind.
+// target, then renamed over it. A failed run, or one stopped by SIGINT, SIGTERM or SIGHUP, leaves
+// neither a partial file nor a clobbered one (a crash can leave the temporary file, never a
+// partial target). A symbolic link is written through; a device or pipe is written directly.
 #pragma once
 
 #include <fstream>
