@@ -3,7 +3,7 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build demo test clean format
+.PHONY: all deps build demo test bench clean format
 
 all: build
 
@@ -19,6 +19,11 @@ demo: build
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
+bench: build
+	$(BUILD)/carom_micro_bench --benchmark_min_time=0.2
+	python3 bench/run_bench.py --carom $(BUILD)/carom
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -1,5 +1,7 @@
-// A priority queue holding exactly one pending event per particle: a binary min-heap indexed by
+// A priority queue holding exactly one pending event per particle: a 4-ary min-heap indexed by
 // particle, so that a particle's event can be replaced in O(log N) without leaving stale copies.
+// Entries are 16 bytes (time and particle), four siblings to a cache line; the tie-break order of
+// equal times lives beside the heap, as it is needed only for exact ties.
 #pragma once
 
 #include <cstdint>
@@ -15,23 +17,26 @@ class EventQueue {
  public:
   static constexpr EventKey kNone{kNever, std::numeric_limits<std::uint64_t>::max()};
 
-  explicit EventQueue(std::uint32_t particles) : heap_(particles), slot_(particles) {
+  explicit EventQueue(std::uint32_t particles)
+      : heap_(particles), slot_(particles), order_(particles, kNone.order) {
     for (std::uint32_t i = 0; i < particles; ++i) {
-      heap_[i] = {kNone, i};
+      heap_[i] = {kNone.time, i};
       slot_[i] = i;
     }
   }
 
-  bool empty() const { return heap_.empty(); }
   std::uint32_t top() const { return heap_.front().particle; }
-  const EventKey& top_key() const { return heap_.front().key; }
-  const EventKey& key(std::uint32_t particle) const { return heap_[slot_[particle]].key; }
+  EventKey top_key() const { return key(top()); }
+  EventKey key(std::uint32_t particle) const {
+    return {heap_[slot_[particle]].time, order_[particle]};
+  }
 
   // Replaces the pending event of `particle`.
   void update(std::uint32_t particle, const EventKey& key) {
-    std::uint32_t at = slot_[particle];
-    const bool earlier = key < heap_[at].key;
-    heap_[at].key = key;
+    const std::uint32_t at = slot_[particle];
+    const bool earlier = key < this->key(particle);
+    heap_[at].time = key.time;
+    order_[particle] = key.order;
     if (earlier) {
       sift_up(at);
     } else {
@@ -40,15 +45,19 @@ class EventQueue {
   }
 
  private:
+  static constexpr std::uint32_t kArity = 4;
+
   struct Entry {
-    EventKey key;
+    double time;
     std::uint32_t particle;
   };
 
-  // Equal keys (both partners of a pair hold the same event) go to the lower particle index, so
-  // the order never depends on the history of the heap.
-  static bool before(const Entry& a, const Entry& b) {
-    return a.key < b.key || (a.key == b.key && a.particle < b.particle);
+  // By time, then the event's tie-break order, then the particle (both partners of a pair hold
+  // the same event): the order never depends on the history of the heap.
+  bool before(const Entry& a, const Entry& b) const {
+    if (a.time != b.time) return a.time < b.time;
+    const std::uint64_t oa = order_[a.particle], ob = order_[b.particle];
+    return oa != ob ? oa < ob : a.particle < b.particle;
   }
 
   void place(std::uint32_t at, const Entry& e) {
@@ -59,7 +68,7 @@ class EventQueue {
   void sift_up(std::uint32_t at) {
     const Entry e = heap_[at];
     while (at > 0) {
-      const std::uint32_t parent = (at - 1) / 2;
+      const std::uint32_t parent = (at - 1) / kArity;
       if (!before(e, heap_[parent])) break;
       place(at, heap_[parent]);
       at = parent;
@@ -71,18 +80,23 @@ class EventQueue {
     const Entry e = heap_[at];
     const auto n = static_cast<std::uint32_t>(heap_.size());
     while (true) {
-      std::uint32_t child = 2 * at + 1;
-      if (child >= n) break;
-      if (child + 1 < n && before(heap_[child + 1], heap_[child])) ++child;
-      if (!before(heap_[child], e)) break;
-      place(at, heap_[child]);
-      at = child;
+      const std::uint32_t first = kArity * at + 1;
+      if (first >= n) break;
+      std::uint32_t best = first;
+      const std::uint32_t last = first + kArity < n ? first + kArity : n;
+      for (std::uint32_t child = first + 1; child < last; ++child) {
+        if (before(heap_[child], heap_[best])) best = child;
+      }
+      if (!before(heap_[best], e)) break;
+      place(at, heap_[best]);
+      at = best;
     }
     place(at, e);
   }
 
   std::vector<Entry> heap_;
-  std::vector<std::uint32_t> slot_;  // where each particle's entry is in heap_
+  std::vector<std::uint32_t> slot_;   // where each particle's entry is in heap_
+  std::vector<std::uint64_t> order_;  // each particle's event tie-break order (EventKey::order)
 };
 
 }  // namespace carom

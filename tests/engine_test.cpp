@@ -16,6 +16,8 @@
 namespace carom {
 namespace {
 
+using carom::testing::boxed;
+using carom::testing::disk;
 using carom::testing::random_gas;
 using carom::testing::square_lattice;
 using carom::testing::uniform;
@@ -60,13 +62,8 @@ TEST(Engine, ParticlesOnlyHasTwoPairCollisionsAndNoWallHits) {
 }
 
 TEST(Engine, EventsAtExactlyTheEndTimeAreProcessed) {
-  System<2> system;
-  system.box.size = {10, 10};
-  Particle<2> p;
-  p.position = {1, 5};
-  p.velocity = {1, 0};
-  p.radius = 1;
-  system.particles.push_back(p);  // reaches x = 9 at t = 8 exactly
+  const System<2> system =
+      boxed({10, 10}, {disk({1, 5}, {1, 0}, 1)});  // reaches x = 9 at t = 8 exactly
   for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
     auto at_end = make_engine(kind, system, {Rule::swap});
     run(*at_end, 8.0);
@@ -89,13 +86,7 @@ TEST(Engine, EndTimeZeroChangesNothing) {
 }
 
 TEST(Engine, CornerHitIsTwoEventsAtTheSameTime) {
-  System<2> system;
-  system.box.size = {10, 10};
-  Particle<2> p;
-  p.position = {2, 3};
-  p.velocity = {-1, -2};
-  p.radius = 1;
-  system.particles.push_back(p);
+  const System<2> system = boxed({10, 10}, {disk({2, 3}, {-1, -2}, 1)});
   for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
     auto engine = make_engine(kind, system, {Rule::swap});
     std::vector<Event> events;
@@ -280,13 +271,7 @@ TEST(CrossCheck, FastEqualsReferenceOnAssignmentCases) {
 TEST(Engine, AWedgedDiskIsAJamNotAHang) {
   // Regression: a disk exactly as wide as the box, moving across it, hit the walls at t = 0
   // forever.
-  System<2> system;
-  system.box.size = {1, 10};
-  Particle<2> p;
-  p.position = {0.5, 5};
-  p.velocity = {1, 0};
-  p.radius = 0.5;
-  system.particles.push_back(p);
+  const System<2> system = boxed({1, 10}, {disk({0.5, 5}, {1, 0}, 0.5)});
   for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
     auto engine = make_engine(kind, system, {Rule::swap});
     EXPECT_THROW(run(*engine, 1.0), JamError) << engine_name(kind);
@@ -294,12 +279,7 @@ TEST(Engine, AWedgedDiskIsAJamNotAHang) {
 }
 
 TEST(Engine, NothingLeftToHappenEndsEvenAtAnInfiniteEndTime) {
-  System<2> system;
-  system.box.size = {10, 10};
-  Particle<2> p;
-  p.position = {5, 5};
-  p.radius = 1;
-  system.particles = {p};
+  const System<2> system = boxed({10, 10}, {disk({5, 5}, {0, 0}, 1)});
   for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
     auto engine = make_engine(kind, system, {Rule::swap});
     EXPECT_FALSE(engine->step(kNever).has_value()) << engine_name(kind);
@@ -308,15 +288,11 @@ TEST(Engine, NothingLeftToHappenEndsEvenAtAnInfiniteEndTime) {
 }
 
 TEST(Engine, PeriodicBoxesMustExceedTwoDiameters) {
-  System<2> system;
-  system.box = {Vec2{{4, 10}}, Boundary::periodic};
-  Particle<2> p;
-  p.position = {2, 5};
-  p.radius = 1;
-  system.particles = {p};
-  EXPECT_THROW(make_engine(EngineKind::fast, system, {Rule::swap}), std::invalid_argument);
-  system.box.size = {4.01, 10};
-  EXPECT_NO_THROW(make_engine(EngineKind::fast, system, {Rule::swap}));
+  const auto in_box = [](double side) {
+    return boxed({side, 10}, {disk({2, 5}, {0, 0}, 1)}, Boundary::periodic);
+  };
+  EXPECT_THROW(make_engine(EngineKind::fast, in_box(4.0), {Rule::swap}), std::invalid_argument);
+  EXPECT_NO_THROW(make_engine(EngineKind::fast, in_box(4.01), {Rule::swap}));
 }
 
 TEST(CrossCheck, RunningInChunksStillMatchesTheReference) {

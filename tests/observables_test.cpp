@@ -9,6 +9,7 @@
 
 #include "carom/initial.hpp"
 #include "carom/overlap.hpp"
+#include "test_systems.hpp"
 
 namespace carom {
 namespace {
@@ -144,13 +145,7 @@ TEST(Physics, InelasticGasCoolsWithoutCollapse) {
 
 TEST(Physics, WallPressureCountsMomentumGivenToTheWalls) {
   // One disk bouncing between two walls along x: momentum 2 m v per hit, (L - 2R) / v apart.
-  System<2> s;
-  s.box.size = {10, 10};
-  Particle<2> p;
-  p.position = {5, 5};
-  p.velocity = {2, 0};
-  p.radius = 1;
-  s.particles = {p};
+  const System<2> s = testing::boxed({10, 10}, {testing::disk({5, 5}, {2, 0}, 1)});
   auto engine = make_engine(EngineKind::fast, s, {Rule::swap});
   run(*engine, 40.0);  // hits at 2, 6, ..., 38: 10 hits
   const Observables<2> o = measure(*engine, 40.0, 2.0);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <pcg_random.hpp>
+#include <vector>
 
 #include "carom/overlap.hpp"
 #include "carom/system.hpp"
@@ -18,6 +19,24 @@ inline double uniform(pcg32& rng) {
 
 inline double uniform(pcg32& rng, double lo, double hi) {
   return lo + (hi - lo) * uniform(rng);
+}
+
+// A disk of radius r at `position` moving with `velocity`, stored at t = 0.
+inline Particle<2> disk(Vec2 position, Vec2 velocity, double r) {
+  Particle<2> p;
+  p.position = position;
+  p.velocity = velocity;
+  p.radius = r;
+  return p;
+}
+
+// A box of the given size holding the given disks.
+inline System<2> boxed(Vec2 size, std::vector<Particle<2>> particles,
+                       Boundary boundary = Boundary::walls) {
+  System<2> system;
+  system.box = {size, boundary};
+  system.particles = std::move(particles);
+  return system;
 }
 
 // Up to `n` disks placed at random without overlap (attempts are bounded, so a crowded box gets

@@ -1,0 +1,89 @@
+// Google Benchmark microbenchmarks of the pieces every event uses: the prediction functions and
+// the event queue. `make bench` runs them before the whole-program benchmark.
+#include <benchmark/benchmark.h>
+
+#include <pcg_random.hpp>
+#include <vector>
+
+#include "carom/physics.hpp"
+#include "event_queue.hpp"
+
+namespace carom {
+namespace {
+
+double uniform(pcg32& rng) {
+  return static_cast<double>(rng()) / 4294967296.0;
+}
+
+std::vector<Particle<2>> particles(std::size_t n) {
+  pcg32 rng(1);
+  std::vector<Particle<2>> out(n);
+  for (Particle<2>& p : out) {
+    p.position = {{10 * uniform(rng), 10 * uniform(rng)}};
+    p.velocity = {{uniform(rng) - 0.5, uniform(rng) - 0.5}};
+    p.radius = 0.5;
+    p.time = uniform(rng);
+  }
+  return out;
+}
+
+void BM_ContactTime(benchmark::State& state) {
+  const auto p = particles(1024);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(contact_time(p[i % 1024], p[(i * 7 + 1) % 1024]));
+    ++i;
+  }
+}
+BENCHMARK(BM_ContactTime);
+
+void BM_ContactTimePeriodicImage(benchmark::State& state) {
+  const auto p = particles(1024);
+  const Box<2> box{Vec2{{10, 10}}, Boundary::periodic};
+  std::size_t i = 0;
+  for (auto _ : state) {
+    const Particle<2>& a = p[i % 1024];
+    const Particle<2>& b = p[(i * 7 + 1) % 1024];
+    const Vec2 offset = image_offset(position_at(a, 1.0) - position_at(b, 1.0), box);
+    benchmark::DoNotOptimize(contact_time(a, b, offset));
+    ++i;
+  }
+}
+BENCHMARK(BM_ContactTimePeriodicImage);
+
+void BM_NextWallHit(benchmark::State& state) {
+  const auto p = particles(1024);
+  const Box<2> box{Vec2{{10, 10}}};
+  std::size_t i = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(next_wall_hit(p[i++ % 1024], box));
+}
+BENCHMARK(BM_NextWallHit);
+
+void BM_ElasticCollision(benchmark::State& state) {
+  auto p = particles(2);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(collide(p[0], p[1], p[0].position - p[1].position, Rule::elastic));
+  }
+}
+BENCHMARK(BM_ElasticCollision);
+
+// One event's queue work: replace a random particle's event (as predict does), read the top.
+void BM_EventQueueUpdate(benchmark::State& state) {
+  const auto n = static_cast<std::uint32_t>(state.range(0));
+  EventQueue queue(n);
+  pcg32 rng(2);
+  for (std::uint32_t i = 0; i < n; ++i) queue.update(i, {uniform(rng) * 100, i});
+  double now = 0.0;
+  for (auto _ : state) {
+    const std::uint32_t top = queue.top();
+    now = queue.top_key().time;
+    queue.update(top, {now + uniform(rng) * 10, top});
+    benchmark::DoNotOptimize(top);
+  }
+}
+BENCHMARK(BM_EventQueueUpdate)->Range(1 << 10, 1 << 20);
+
+}  // namespace
+}  // namespace carom
+
+BENCHMARK_MAIN();

@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""carom's benchmark: collisions per second and bytes per disk, N = 10^3..10^6.
+
+Usage: python3 bench/run_bench.py [--carom build/carom] [--name NAME] [--quick]
+Runs the real command line on `carom init` systems (elastic rule, periodic box, monodisperse,
+kT = 1, seed 1): each configuration in its own process, whose peak resident memory is read from
+the kernel (wait4). Collisions per second come from the run's own clock (simulation only, not
+reading or writing files). The seed's algorithm (--engine reference: every pair predicted again
+after every event) is timed at N = 2000 in the same run, for the speedup. Prints a Markdown table
+and writes the same as json to bench/results/NAME.json.
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def henderson(eta):
+    return (1 + eta**2 / 8) / (1 - eta) ** 2 - 0.043 * eta**4 / (1 - eta) ** 3
+
+
+def collision_rate(eta):
+    # Per disk per unit time at kT = 1, sigma = 1: omega = 4 (Z - 1) / sqrt(pi).
+    return 4 * (henderson(eta) - 1) / math.sqrt(math.pi)
+
+
+def run(command):
+    """Runs a command; returns its peak resident memory in bytes."""
+    process = subprocess.Popen(command, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(process.pid, 0)
+    if status != 0:
+        sys.exit(f"failed: {' '.join(command)}")
+    return usage.ru_maxrss * 1024
+
+
+def measure(carom, folder, n, eta, collisions, engine="fast"):
+    start = os.path.join(folder, f"start-{n}-{eta}.txt")
+    summary = os.path.join(folder, "summary.json")
+    if not os.path.exists(start):
+        run([carom, "init", "--n", str(n), "--phi", str(eta), "--boundary", "periodic",
+             "--seed", "1", "-o", start])
+    end_time = collisions / (n * collision_rate(eta) / 2)
+    peak = run([carom, "run", start, f"{end_time:.6g}", "--rule", "elastic", "--boundary",
+                "periodic", "--engine", engine, "--format", "csv", "-o", os.devnull,
+                "--summary", summary])
+    with open(summary) as f:
+        s = json.load(f)
+    return {"n": n, "packing_fraction": eta, "engine": engine, "collisions": s["pair_collisions"],
+            "events": s["events"], "seconds": s["wall_seconds"],
+            "collisions_per_second": s["pair_collisions"] / s["wall_seconds"],
+            "peak_rss_bytes": peak, "bytes_per_disk": peak / n}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--carom", default="build/carom")
+    parser.add_argument("--name", default="latest")
+    parser.add_argument("--quick", action="store_true", help="N up to 10^5 only")
+    args = parser.parse_args()
+    sizes = [10**3, 10**4, 10**5] + ([] if args.quick else [10**6])
+    rows = []
+    with tempfile.TemporaryDirectory() as folder:
+        reference = measure(args.carom, folder, 2000, 0.5, 2000, engine="reference")
+        fast_2000 = measure(args.carom, folder, 2000, 0.5, 2_000_000)
+        speedup = fast_2000["collisions_per_second"] / reference["collisions_per_second"]
+        print(f"N = 2000, eta = 0.5: reference {reference['collisions_per_second']:.4g}/s, "
+              f"fast {fast_2000['collisions_per_second']:.4g}/s: speedup {speedup:.0f}x",
+              flush=True)
+        print("| N | eta | collisions/s | bytes/disk | collisions | seconds | rate / rate(N=10^4) |")
+        print("|---|---|---|---|---|---|---|")
+        base = {}
+        for eta in (0.3, 0.5, 0.7):
+            for n in sizes:
+                row = measure(args.carom, folder, n, eta, min(50 * n, 4_000_000))
+                if n == 10**4:
+                    base[eta] = row["collisions_per_second"]
+                ratio = row["collisions_per_second"] / base[eta] if eta in base else float("nan")
+                row["rate_over_n10000"] = ratio
+                rows.append(row)
+                print(f"| {n} | {eta} | {row['collisions_per_second']:.4g} "
+                      f"| {row['bytes_per_disk']:.0f} | {row['collisions']} "
+                      f"| {row['seconds']:.2f} | {ratio:.2f} |", flush=True)
+    result = {"name": args.name, "date": datetime.datetime.now().isoformat(timespec="seconds"),
+              "machine": platform.node(), "cpu_count": os.cpu_count(),
+              "reference_n2000": reference, "fast_n2000": fast_2000,
+              "speedup_over_reference_n2000": speedup, "runs": rows}
+    path = os.path.join(HERE, "results", f"{args.name}.json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path + ".tmp", "w") as f:
+        json.dump(result, f, indent=2)
+    os.replace(path + ".tmp", path)
+    print(f"wrote {os.path.relpath(path)}")
+
+
+if __name__ == "__main__":
+    main()
