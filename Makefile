@@ -3,7 +3,7 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build demo test bench clean format
+.PHONY: all deps build demo test test-sanitize bench clean format
 
 all: build
 
@@ -20,6 +20,15 @@ demo: build
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
 
+# The whole suite under AddressSanitizer and UndefinedBehaviorSanitizer (any report fails it).
+SANITIZE = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+test-sanitize: deps
+	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAROM_BUILD_BENCH=OFF \
+	  -DCMAKE_CXX_FLAGS="$(SANITIZE)" -DCMAKE_EXE_LINKER_FLAGS="$(SANITIZE)" > $(BUILD)-sanitize.configure.log 2>&1 \
+	  || { cat $(BUILD)-sanitize.configure.log; exit 1; }
+	@cmake --build $(BUILD)-sanitize -j $(JOBS)
+	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS)
+
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build
 	$(BUILD)/carom_micro_bench --benchmark_min_time=0.2
@@ -29,4 +38,4 @@ format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')
 
 clean:
-	rm -rf $(BUILD) $(BUILD).configure.log
+	rm -rf $(BUILD) $(BUILD).configure.log $(BUILD)-sanitize $(BUILD)-sanitize.configure.log

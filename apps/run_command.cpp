@@ -7,6 +7,7 @@
 #include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "cli_support.hpp"
+#include "progress.hpp"
 
 namespace carom::cli {
 
@@ -89,6 +90,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--equilibrate", args.equilibrate,
                   "Measure observables only from this time on (the dynamics are unchanged)")
       ->default_str("0");
+  run->add_flag("-q,--quiet", args.quiet,
+                "No progress line (shown on stderr during long runs when it is a terminal)");
   add_choice<EngineKind>(run, "--engine", args.engine,
                          {{"fast", EngineKind::fast}, {"reference", EngineKind::reference}},
                          "fast: cell grid and event queue, O(log N) per event; reference: the "
@@ -116,8 +119,10 @@ void run_command(const RunArguments& args) {
     trace.emplace(out.stream());
     trace->start(args.input, end_time, particles);
   }
+  Progress progress(engine->time(), end_time, args.quiet);
   const auto on_event = [&](const Event& event) {
     if (trace) trace->event(event, particles);
+    progress.update(event.time);
   };
 
   const auto started = std::chrono::steady_clock::now();

@@ -21,6 +21,7 @@ struct RunArguments {
   Boundary boundary = Boundary::walls;
   double equilibrate = 0.0;
   EngineKind engine = EngineKind::fast;
+  bool quiet = false;
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

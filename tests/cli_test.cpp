@@ -343,6 +343,26 @@ TEST_F(Cli, AnInterruptedRunLeavesNoFileBehind) {
   }
 }
 
+TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  // `script` gives the run a terminal; its output is what the terminal showed.
+  const auto on_terminal = [&](const std::string& extra) {
+    const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
+                                " 30 --rule elastic --format csv -o " + quote(dir_ / "out.csv") +
+                                extra;
+    const fs::path screen = dir_ / "screen";
+    std::system(("script -qec " + quote(command) + " /dev/null > " + quote(screen)).c_str());
+    return read_file(screen);
+  };
+  EXPECT_NE(on_terminal("").find("events/s"), std::string::npos);
+  EXPECT_EQ(on_terminal(" --quiet").find("events/s"), std::string::npos);
+  // Not a terminal: nothing on stderr.
+  const Result piped = carom({"run", start, "30", "--rule", "elastic", "--format", "csv", "-o",
+                              (dir_ / "out.csv").string()});
+  EXPECT_EQ(piped.err, "");
+}
+
 TEST_F(Cli, InitWritesAReproducibleValidStartFile) {
   const Result a = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});
   const Result b = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});

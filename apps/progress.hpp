@@ -1,0 +1,50 @@
+// Progress of a long run on stderr: simulated time, percent, events per second and the time
+// left. Shown only when stderr is a terminal, only once a run has taken more than a second, and
+// never with --quiet; the line is cleared at the end, so nothing remains in the output.
+#pragma once
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+
+namespace carom::cli {
+
+class Progress {
+ public:
+  Progress(double start, double end, bool quiet)
+      : start_(start), end_(end), enabled_(!quiet && ::isatty(STDERR_FILENO) == 1) {}
+  ~Progress() {
+    if (shown_) std::fprintf(stderr, "\r%*s\r", 79, "");
+  }
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
+
+  // Called after every event; looks at the clock only every few thousand events.
+  void update(double time) {
+    ++events_;
+    if (!enabled_ || events_ % 4096 != 0) return;
+    const auto now = Clock::now();
+    const double elapsed = std::chrono::duration<double>(now - began_).count();
+    if (elapsed < 1.0 || now - last_ < std::chrono::milliseconds(250)) return;
+    last_ = now;
+    shown_ = true;
+    const double done = end_ > start_ ? (time - start_) / (end_ - start_) : 1.0;
+    const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
+    std::fprintf(stderr, "\rt = %.6g / %.6g (%4.1f%%)  %.3g events/s  %d:%02d left   ", time, end_,
+                 100.0 * done, static_cast<double>(events_) / elapsed, static_cast<int>(left) / 60,
+                 static_cast<int>(left) % 60);
+    std::fflush(stderr);
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double start_, end_;
+  bool enabled_;
+  bool shown_ = false;
+  std::uint64_t events_ = 0;
+  Clock::time_point began_ = Clock::now(), last_ = began_;
+};
+
+}  // namespace carom::cli
