@@ -28,12 +28,19 @@ Examples:
   init->add_option("--n", o.n, "Number of disks")->required();
   init->add_option("--phi", o.packing_fraction, "Packing fraction: disk area / box area")
       ->required();
-  auto* box =
-      init->add_option("--box", args.box, "The box size Lx Ly (the radius follows)")->expected(2);
+  auto* box = init->add_option_function<std::vector<double>>(
+                      "--box",
+                      [&o](const std::vector<double>& size) {
+                        o.box = Vec<2>{{size[0], size[1]}};
+                      },
+                      "The box size Lx Ly (the radius follows)")
+                  ->expected(2);
   init->add_option("--aspect", o.aspect, "Lx / Ly of a derived box")
       ->default_str("1")
       ->excludes(box);
-  init->add_option("--radius", args.radius, "Mean disk radius (default 0.5: diameter 1)")
+  init->add_option_function<double>(
+          "--radius", [&o](double radius) { o.radius = radius; },
+          "Mean disk radius (default 0.5: diameter 1)")
       ->excludes(box);
   init->add_option("--polydispersity", o.polydispersity,
                    "Standard deviation of the radius over its mean (uniform distribution, <= 0.5)")
@@ -52,8 +59,6 @@ Examples:
 
 void init_command(InitArguments args) {
   InitialOptions& o = args.options;
-  if (!args.box.empty()) o.box = Vec<2>{{args.box[0], args.box[1]}};
-  if (args.radius != 0.0) o.radius = args.radius;
   if (args.lattice) o.placement = Placement::lattice;
   if (args.random) o.placement = Placement::random;
   Output out(args.output);

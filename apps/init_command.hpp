@@ -2,7 +2,6 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
-#include <vector>
 
 #include "carom/initial.hpp"
 
@@ -10,8 +9,6 @@ namespace carom::cli {
 
 struct InitArguments {
   InitialOptions options;
-  std::vector<double> box;
-  double radius = 0.0;
   bool lattice = false;
   bool random = false;
   std::string output;

@@ -73,6 +73,7 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
       {"restitution", settings.rule.restitution},
       {"tc", settings.rule.elastic_within},
       {"engine", engine_name(settings.engine)},
+      {"seed", nullptr},  // a run draws no random numbers; the start file's seed is carom init's
       {"end_time", settings.end_time},
       {"equilibrate", settings.equilibrate},
       {"events", counts.events},

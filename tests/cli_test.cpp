@@ -386,6 +386,8 @@ TEST_F(Cli, InitRefusesImpossibleRequests) {
         {"init", "--n", "10", "--phi", "0.3", "--lattice", "--random"},
         {"init", "--n", "500", "--phi", "0.7", "--random"},
         {"init", "--n", "10", "--phi", "0.3", "--polydispersity", "0.9"},
+        {"init", "--n", "10", "--phi", "0.3", "--radius", "0"},
+        {"init", "--n", "10", "--phi", "0.3", "--box", "10", "0"},
         {"init", "--n", "10"}}) {
     const Result r = carom(args);
     EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
