@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
+#include <memory>
 
 #include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
+#include "carom/trajectory.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
 
@@ -42,6 +45,14 @@ void check(const RunArguments& args, double end_time) {
         "--restitution below 1 needs --rule elastic (the swap rule has no restitution)");
   }
   if (!(args.tc >= 0.0)) throw UsageError(fmt::format("--tc must be >= 0, got {}", args.tc));
+  if (!args.dump.empty() && !(args.every > 0.0)) {
+    throw UsageError("--dump needs --every DT > 0: the time between frames");
+  }
+  if (args.dump.empty() && args.every != 0.0) throw UsageError("--every needs --dump FILE");
+  if (!args.dump.empty() && end_time / args.every > 1e7) {
+    throw UsageError(
+        fmt::format("--every {} would write more than 10^7 frames up to {}", args.every, end_time));
+  }
   if (!(args.equilibrate >= 0.0 && args.equilibrate <= end_time)) {
     throw UsageError(fmt::format("--equilibrate must be between 0 and END_TIME ({}), got {}",
                                  end_time, args.equilibrate));
@@ -68,6 +79,13 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("-o,--output", args.output,
                   "Write to this file (atomically: it appears complete or not at all) instead of "
                   "stdout");
+  run->add_option("--dump", args.dump,
+                  "Write frames of every disk at t = 0, DT, 2 DT, ... (--every DT) to this file: "
+                  ".xyz (extended XYZ, for OVITO and ASE) or .lammpstrj (LAMMPS text dump)");
+  run->add_option("--every", args.every, "Time between --dump frames");
+  run->add_option("--events", args.events,
+                  "Write every collision to this csv file: time,kind,first,partner (kind wall or "
+                  "pair; partner a disk or a wall label)");
   run->add_option("--summary", args.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
@@ -108,8 +126,21 @@ void run_command(const RunArguments& args) {
   check(args, end_time);
   ClassicInput input = read_classic_file(args.input, args.boundary);
   Output out(args.output);
-  std::optional<Output> summary;
+  std::optional<Output> summary, dump, events;
   if (!args.summary.empty()) summary.emplace(args.summary);
+  std::unique_ptr<TrajectoryWriter> frames;
+  if (!args.dump.empty()) {
+    try {
+      frames = trajectory_writer_for(args.dump);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    dump.emplace(args.dump);
+  }
+  if (!args.events.empty()) {
+    events.emplace(args.events);
+    events->stream() << "time,kind,first,partner\n";
+  }
 
   const CollisionRule rule{args.rule, args.restitution, args.tc};
   auto engine = make_engine(args.engine, std::move(input.system), rule);
@@ -122,16 +153,38 @@ void run_command(const RunArguments& args) {
   Progress progress(engine->time(), end_time, args.quiet);
   const auto on_event = [&](const Event& event) {
     if (trace) trace->event(event, particles);
+    if (events) {
+      events->stream() << fmt::format("{},{},{},{}\n", event.time,
+                                      event.is_wall() ? "wall" : "pair", event.first,
+                                      event.partner);
+    }
     progress.update(event.time);
   };
 
+  // The run stops at every frame time and at the end of equilibration; stopping changes nothing
+  // (events are processed as they come), so the dynamics are the same with or without them.
   const auto started = std::chrono::steady_clock::now();
-  if (args.equilibrate > 0.0) {
-    while (const auto event = engine->step(args.equilibrate)) on_event(*event);
-    engine->reset_counts();
+  const double start = engine->time();
+  std::uint64_t frame = 0;
+  double next_frame = frames ? start : kNever;
+  bool equilibrating = args.equilibrate > 0.0;
+  double kinetic_energy_initial = kinetic_energy(engine->system());
+  while (true) {
+    const double stop = std::min({next_frame, equilibrating ? args.equilibrate : kNever, end_time});
+    while (const auto event = engine->step(stop)) on_event(*event);
+    if (equilibrating && stop == args.equilibrate) {
+      engine->reset_counts();
+      kinetic_energy_initial = kinetic_energy(engine->system());
+      equilibrating = false;
+    }
+    if (stop == next_frame) {
+      frames->frame(dump->stream(), stop, engine->system());
+      next_frame = start + static_cast<double>(++frame) * args.every;
+      if (next_frame > end_time) next_frame = kNever;
+    }
+    if (stop == end_time) break;
   }
-  const double kinetic_energy_initial = kinetic_energy(engine->system());
-  run(*engine, end_time, on_event);
+  engine->finish(end_time);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
@@ -148,6 +201,8 @@ void run_command(const RunArguments& args) {
   }
   if (summary) write_json(summary->stream(), settings, *engine, false);
   out.commit();
+  if (dump) dump->commit();
+  if (events) events->commit();
   if (summary) summary->commit();
 }
 

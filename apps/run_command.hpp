@@ -15,6 +15,9 @@ struct RunArguments {
   bool trace = false;
   std::string output;
   std::string summary;
+  std::string dump;
+  double every = 0.0;
+  std::string events;
   Rule rule = Rule::swap;
   double restitution = 1.0;
   double tc = 1e-5;

@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   g++ cmake make
   libfmt-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev python3
+  libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-ase
   libpcg-cpp-dev
 )
 

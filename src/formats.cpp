@@ -123,13 +123,13 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
 }
 
 void write_classic(std::ostream& out, const System<2>& system, double radius) {
-  out << system.particles.size() << '\n'
-      << c_format("%.17g\n%.17g %.17g\n", radius, system.box.size[0], system.box.size[1]);
+  // Shortest round-trip representation: reading the file back gives the same doubles.
+  out << fmt::format("{}\n{}\n{} {}\n", system.particles.size(), radius, system.box.size[0],
+                     system.box.size[1]);
   for (const Particle<2>& p : system.particles) {
-    out << c_format("%.17g %.17g %.17g %.17g", p.position[0], p.position[1], p.velocity[0],
-                    p.velocity[1]);
-    if (p.radius != radius || p.mass != 1.0) out << c_format(" %.17g", p.radius);
-    if (p.mass != 1.0) out << c_format(" %.17g", p.mass);
+    out << fmt::format("{} {} {} {}", p.position[0], p.position[1], p.velocity[0], p.velocity[1]);
+    if (p.radius != radius || p.mass != 1.0) out << fmt::format(" {}", p.radius);
+    if (p.mass != 1.0) out << fmt::format(" {}", p.mass);
     out << '\n';
   }
 }

@@ -446,6 +446,36 @@ TEST_F(Cli, SummaryFileCarriesTheObservables) {
   EXPECT_EQ(text.find("\"particles\""), std::string::npos);
 }
 
+TEST_F(Cli, EventLogListsEveryCollision) {
+  const fs::path log = dir_ / "events.csv";
+  const Result r = carom({"run", kCases + "walls_only.txt", "20", "--events", log});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(read_file(log),
+            "time,kind,first,partner\n9.5,wall,0,-1\n13.000000000000007,wall,3,-4\n"
+            "15,wall,2,-3\n18.000000000000007,wall,1,-2\n");
+}
+
+TEST_F(Cli, TrajectoryOptionsAreChecked) {
+  const std::string input = kCases + "walls_only.txt";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"run", input, "10", "--dump", (dir_ / "t.pdb").string(), "--every",
+                                 "1"},
+        {"run", input, "10", "--dump", (dir_ / "t.xyz").string()},
+        {"run", input, "10", "--dump", (dir_ / "t.xyz").string(), "--every", "0"},
+        {"run", input, "10", "--dump", (dir_ / "t.xyz").string(), "--every", "1e-9"},
+        {"run", input, "10", "--every", "1"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "t.xyz"));
+  const Result ok =
+      carom({"run", input, "10", "--dump", (dir_ / "t.xyz").string(), "--every", "2.5"});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const std::string xyz = read_file(dir_ / "t.xyz");
+  EXPECT_EQ(std::count(xyz.begin(), xyz.end(), '\n'), 5 * 6);  // t = 0, 2.5, 5, 7.5, 10
+  EXPECT_NE(xyz.find("Time=7.5"), std::string::npos);
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

@@ -5,6 +5,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "carom/classic_input.hpp"
+#include "carom/initial.hpp"
+
 namespace carom {
 namespace {
 
@@ -49,6 +52,24 @@ TEST(Formats, RoundingIsPrintfs) {
 TEST(Formats, EventsAreDescribedByLabel) {
   EXPECT_EQ(describe(Event{1.0, 3, -2}), "Collision: particle 3 with wall -2 (right)");
   EXPECT_EQ(describe(Event{1.0, 1, 2}), "Collision: particle 1 with particle 2");
+}
+
+TEST(Formats, ClassicFilesReadBackBitForBit) {
+  InitialOptions o;
+  o.n = 100;
+  o.packing_fraction = 0.3;
+  o.polydispersity = 0.1;
+  const System<2> system = make_initial(o);
+  std::stringstream file;
+  write_classic(file, system, 0.5);
+  const ClassicInput back = read_classic(file, "round-trip");
+  ASSERT_EQ(back.system.particles.size(), 100u);
+  EXPECT_EQ(back.system.box.size, system.box.size);
+  for (std::size_t i = 0; i < 100; ++i) {
+    EXPECT_EQ(back.system.particles[i].position, system.particles[i].position);
+    EXPECT_EQ(back.system.particles[i].velocity, system.particles[i].velocity);
+    EXPECT_EQ(back.system.particles[i].radius, system.particles[i].radius);
+  }
 }
 
 TEST(Formats, JsonIsValidAndKeepsEveryBit) {

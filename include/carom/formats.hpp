@@ -55,8 +55,8 @@ class TraceWriter {
   std::ostream& out_;
 };
 
-// A system in the classic input format, every number with 17 significant digits so that reading
-// it back gives the same doubles. Disks whose radius differs from `radius`, or whose mass is not
+// A system in the classic input format, every number in its shortest form that reads back as the
+// same double. Disks whose radius differs from `radius`, or whose mass is not
 // 1, carry the optional columns `r [m]`.
 void write_classic(std::ostream& out, const System<2>& system, double radius);
 

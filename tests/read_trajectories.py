@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Other tools read carom's trajectories: ASE reads every frame of the extended XYZ and of the
+LAMMPS dump, with the right box and positions. Usage: read_trajectories.py CAROM"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import ase.io
+import numpy as np
+
+carom = sys.argv[1]
+failures = 0
+checks = 0
+
+
+def check(condition, what):
+    global failures, checks
+    checks += 1
+    if not condition:
+        failures += 1
+        print(f"FAILED: {what}")
+
+
+def carom_run(*args):
+    subprocess.run([carom, *args], check=True)
+
+
+with tempfile.TemporaryDirectory() as folder:
+    start = os.path.join(folder, "start.txt")
+    for boundary in ("periodic", "walls"):
+        carom_run("init", "--n", "60", "--phi", "0.4", "--boundary", boundary, "-o", start)
+        paths = {ext: os.path.join(folder, f"traj.{ext}") for ext in ("xyz", "lammpstrj")}
+        finals = []
+        for path in [None, *paths.values()]:
+            out = os.path.join(folder, "final.json")
+            dump = ["--dump", path, "--every", "0.5"] if path else []
+            carom_run("run", start, "2", "--rule", "elastic", "--boundary", boundary,
+                      "--format", "json", "-o", out, *dump)
+            with open(out) as f:
+                finals.append(json.load(f))
+        # Writing frames does not change the dynamics: the final states are bit-identical.
+        check(finals[0]["particles"] == finals[1]["particles"] == finals[2]["particles"],
+              f"{boundary}: final state changed by --dump")
+        final = np.array([[p["x"], p["y"], 0.0] for p in finals[0]["particles"]])
+        box = finals[0]["box"]
+
+        frames = ase.io.read(paths["xyz"], index=":")
+        check(len(frames) == 5, f"{boundary}: xyz has {len(frames)} frames, expected 5")
+        check(np.allclose(frames[-1].cell.lengths(), [box[0], box[1], 1.0]), "xyz cell")
+        check(list(frames[-1].pbc) == ([True, True, False] if boundary == "periodic"
+                                       else [False, False, False]), "xyz pbc")
+        check(np.allclose(frames[-1].positions, final, atol=1e-12), "xyz last frame positions")
+        check(abs(frames[2].info["Time"] - 1.0) < 1e-12, "xyz frame time")
+        check(np.allclose(frames[0].arrays["radius"], 0.5), "xyz radius column")
+
+        dumped = ase.io.read(paths["lammpstrj"], index=":", format="lammps-dump-text")
+        check(len(dumped) == 5, f"{boundary}: lammpstrj has {len(dumped)} frames, expected 5")
+        check(np.allclose(dumped[-1].cell.lengths()[:2], box), "lammpstrj cell")
+        check(np.allclose(dumped[-1].positions, final, atol=1e-9), "lammpstrj last frame positions")
+
+print(f"{checks - failures} passed, {failures} failed")
+sys.exit(1 if failures else 0)
