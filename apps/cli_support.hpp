@@ -19,6 +19,15 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A run stopped by a signal after writing its checkpoint; the exit code is 128 + the signal.
+struct Interrupted : std::runtime_error {
+  Interrupted(int signal, const std::string& checkpoint)
+      : std::runtime_error("interrupted; the run so far is saved in " + checkpoint +
+                           ": continue it with 'carom run --resume " + checkpoint + " END_TIME'"),
+        signal(signal) {}
+  int signal;
+};
+
 // An option whose value is one of a few names; help lists them and anything else is refused.
 template <class T>
 CLI::Option* add_choice(CLI::App* app, const std::string& flag, T& target,

@@ -56,6 +56,9 @@ Run 'carom run --help' or 'carom init --help' for each command's options.)");
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
     return 0;
+  } catch (const Interrupted& e) {
+    std::cerr << "carom: " << e.what() << '\n';
+    return 128 + e.signal;
   } catch (const UsageError& e) {
     std::cerr << "carom: error: " << e.what() << "\nRun 'carom " << command
               << " --help' for usage.\n";

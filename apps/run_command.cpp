@@ -3,9 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstring>
+#include <fstream>
 #include <memory>
 
+#include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "carom/trajectory.hpp"
@@ -53,11 +59,103 @@ void check(const RunArguments& args, double end_time) {
     throw UsageError(
         fmt::format("--every {} would write more than 10^7 frames up to {}", args.every, end_time));
   }
-  if (!(args.equilibrate >= 0.0 && args.equilibrate <= end_time)) {
+  // A checkpointed run may stop before its equilibration ends: the resumed run finishes it.
+  if (!(args.equilibrate >= 0.0 && (args.equilibrate <= end_time || !args.checkpoint.empty()))) {
     throw UsageError(fmt::format("--equilibrate must be between 0 and END_TIME ({}), got {}",
                                  end_time, args.equilibrate));
   }
 }
+
+// Where a run begins: a classic file, or a checkpoint to resume.
+struct Start {
+  Checkpoint checkpoint;
+  bool resumed = false;
+};
+
+Start start_from(const RunArguments& args) {
+  ClassicInput input = read_classic_file(args.input, args.boundary);
+  Start start;
+  Checkpoint& c = start.checkpoint;
+  c.input = args.input;
+  c.system = std::move(input.system);
+  c.rule = {args.rule, args.restitution, args.tc};
+  c.engine = args.engine;
+  c.equilibrate = args.equilibrate;
+  return start;
+}
+
+Start resume_from(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(path, 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  Start start{read_checkpoint(file, path), true};
+  return start;
+}
+
+// The signal that asked the run to stop, or 0.
+volatile std::sig_atomic_t stop_signal = 0;
+extern "C" void request_stop(int signal) {
+  stop_signal = signal;
+}
+
+// Writes --checkpoint: every --checkpoint-every events or seconds, at the end, and when SIGINT or
+// SIGTERM asks the run to stop (then the run ends with Interrupted).
+class CheckpointWriter {
+ public:
+  CheckpointWriter(const RunArguments& args, const Checkpoint& start)
+      : path_(args.checkpoint), template_(start) {
+    template_.system.particles.clear();
+    if (path_.empty()) return;
+    const std::string& every = args.checkpoint_every;
+    if (!every.empty()) {
+      const bool seconds = every.back() == 's';
+      const double value =
+          parse_number(seconds ? every.substr(0, every.size() - 1) : every, "--checkpoint-every");
+      if (!(value > 0.0)) throw UsageError("--checkpoint-every must be greater than 0");
+      (seconds ? every_seconds_ : every_events_) = value;
+    }
+    std::signal(SIGINT, request_stop);
+    std::signal(SIGTERM, request_stop);
+  }
+
+  void after_event(const Engine<2>& engine) {
+    if (path_.empty()) return;
+    ++events_;
+    if (stop_signal != 0) {
+      save(engine);
+      throw Interrupted(stop_signal, path_);
+    }
+    const bool due_by_events =
+        every_events_ > 0.0 && events_ % static_cast<std::uint64_t>(every_events_) == 0;
+    bool due_by_clock = false;
+    if (every_seconds_ > 0.0 && events_ % 1024 == 0) {
+      due_by_clock = std::chrono::duration<double>(Clock::now() - last_).count() >= every_seconds_;
+    }
+    if (due_by_events || due_by_clock) save(engine);
+  }
+
+  void save(const Engine<2>& engine) {
+    if (path_.empty()) return;
+    Checkpoint c = template_;
+    c.system = engine.system();
+    c.time = engine.time();
+    c.counts = engine.counts();
+    AtomicFile file(path_);
+    write_checkpoint(file.stream(), c);
+    file.commit();
+    last_ = Clock::now();
+  }
+
+  // The measurement's starting energy changes when equilibration ends.
+  void set_kinetic_energy_initial(double energy) { template_.kinetic_energy_initial = energy; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string path_;
+  Checkpoint template_;
+  double every_events_ = 0.0, every_seconds_ = 0.0;
+  std::uint64_t events_ = 0;
+  Clock::time_point last_ = Clock::now();
+};
 
 }  // namespace
 
@@ -115,6 +213,18 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                          "fast: cell grid and event queue, O(log N) per event; reference: the "
                          "seed's algorithm, every pair checked after every event (O(N^2), for "
                          "checking)");
+  run->add_option("--checkpoint", args.checkpoint,
+                  "Save the complete state of the run to this file at the end, every "
+                  "--checkpoint-every, and on SIGINT or SIGTERM (then stop)");
+  run->add_option("--checkpoint-every", args.checkpoint_every,
+                  "How often to save: a number of events (1000000) or of seconds (600s)");
+  auto* resume = run->add_flag("--resume", args.resume,
+                               "FILE is a checkpoint: continue that run to END_TIME, exactly as "
+                               "if it had never stopped (its rule, boundary and engine apply)");
+  for (const char* fixed_by_checkpoint :
+       {"--rule", "--restitution", "--tc", "--boundary", "--equilibrate", "--engine"}) {
+    run->get_option(fixed_by_checkpoint)->excludes(resume);
+  }
   return run;
 }
 
@@ -124,7 +234,11 @@ void run_command(const RunArguments& args) {
     throw UsageError(fmt::format("END_TIME must not be negative, got {}", args.end_time));
   }
   check(args, end_time);
-  ClassicInput input = read_classic_file(args.input, args.boundary);
+  Start start = args.resume ? resume_from(args.input) : start_from(args);
+  if (end_time < start.checkpoint.time) {
+    throw UsageError(fmt::format("END_TIME {} is before the checkpoint's time {}", end_time,
+                                 start.checkpoint.time));
+  }
   Output out(args.output);
   std::optional<Output> summary, dump, events;
   if (!args.summary.empty()) summary.emplace(args.summary);
@@ -142,9 +256,13 @@ void run_command(const RunArguments& args) {
     events->stream() << "time,kind,first,partner\n";
   }
 
-  const CollisionRule rule{args.rule, args.restitution, args.tc};
-  auto engine = make_engine(args.engine, std::move(input.system), rule);
+  Checkpoint& saved = start.checkpoint;
+  const CollisionRule rule = saved.rule;
+  const double equilibrate = saved.equilibrate;
+  auto engine = make_engine(saved.engine, std::move(saved.system), rule);
+  engine->restore_counts(saved.counts);
   const auto& particles = engine->system().particles;
+  CheckpointWriter checkpoints(args, saved);
   std::optional<TraceWriter> trace;
   if (args.trace) {
     trace.emplace(out.stream());
@@ -159,37 +277,46 @@ void run_command(const RunArguments& args) {
                                       event.partner);
     }
     progress.update(event.time);
+    checkpoints.after_event(*engine);
   };
 
   // The run stops at every frame time and at the end of equilibration; stopping changes nothing
   // (events are processed as they come), so the dynamics are the same with or without them.
   const auto started = std::chrono::steady_clock::now();
-  const double start = engine->time();
-  std::uint64_t frame = 0;
-  double next_frame = frames ? start : kNever;
-  bool equilibrating = args.equilibrate > 0.0;
-  double kinetic_energy_initial = kinetic_energy(engine->system());
+  // Frames fall on multiples of --every, counted from t = 0 also when resuming.
+  auto frame = static_cast<std::uint64_t>(frames ? std::ceil(engine->time() / args.every) : 0.0);
+  double next_frame = frames ? static_cast<double>(frame) * args.every : kNever;
+  if (next_frame > end_time) next_frame = kNever;
+  bool equilibrating = equilibrate > engine->time() ||
+                       (equilibrate > 0.0 && equilibrate == engine->time() && !start.resumed);
+  double& kinetic_energy_initial = saved.kinetic_energy_initial;
+  if (!start.resumed) kinetic_energy_initial = kinetic_energy(engine->system());
+  checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
   while (true) {
-    const double stop = std::min({next_frame, equilibrating ? args.equilibrate : kNever, end_time});
+    const double stop = std::min({next_frame, equilibrating ? equilibrate : kNever, end_time});
     while (const auto event = engine->step(stop)) on_event(*event);
-    if (equilibrating && stop == args.equilibrate) {
+    if (equilibrating && stop == equilibrate) {
       engine->reset_counts();
       kinetic_energy_initial = kinetic_energy(engine->system());
+      checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
       equilibrating = false;
     }
     if (stop == next_frame) {
       frames->frame(dump->stream(), stop, engine->system());
-      next_frame = start + static_cast<double>(++frame) * args.every;
+      next_frame = static_cast<double>(++frame) * args.every;
       if (next_frame > end_time) next_frame = kNever;
     }
     if (stop == end_time) break;
   }
+  // Saved before the particles are brought to the end time, so that a resumed run continues
+  // from exactly the state an uninterrupted one would have.
+  checkpoints.save(*engine);
   engine->finish(end_time);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
   const RunSettings settings{
-      args.input, end_time, args.equilibrate, rule, args.engine, kinetic_energy_initial, seconds};
+      saved.input, end_time, equilibrate, rule, saved.engine, kinetic_energy_initial, seconds};
   if (trace) {
     trace->finish(particles);
   } else if (args.format == Format::table) {

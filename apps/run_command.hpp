@@ -18,6 +18,9 @@ struct RunArguments {
   std::string dump;
   double every = 0.0;
   std::string events;
+  std::string checkpoint;
+  std::string checkpoint_every;
+  bool resume = false;
   Rule rule = Rule::swap;
   double restitution = 1.0;
   double tc = 1e-5;

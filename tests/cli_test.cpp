@@ -476,6 +476,82 @@ TEST_F(Cli, TrajectoryOptionsAreChecked) {
   EXPECT_NE(xyz.find("Time=7.5"), std::string::npos);
 }
 
+// The particles of a json result, for comparing runs bit for bit (full-precision numbers).
+std::string particles_of(const std::string& json) {
+  return json.substr(json.find("\"particles\""));
+}
+
+TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  for (const std::string boundary : {"walls", "periodic"}) {
+    ASSERT_EQ(carom({"init", "--n", "500", "--phi", "0.6", "--boundary", boundary, "-o", start})
+                  .exit_code,
+              0);
+    const std::vector<std::string> physics = {"--rule", "elastic",       "--boundary",
+                                              boundary, "--equilibrate", "3"};
+    std::vector<std::string> direct = {"run", start, "20", "--format", "json"};
+    direct.insert(direct.end(), physics.begin(), physics.end());
+    const Result whole = carom(direct);
+    ASSERT_EQ(whole.exit_code, 0) << whole.err;
+    // Stop at 1.7 (before equilibration ends) and at 9.2, resume twice.
+    std::vector<std::string> first = {"run", start, "1.7", "--checkpoint", checkpoint};
+    first.insert(first.end(), physics.begin(), physics.end());
+    ASSERT_EQ(carom(first).exit_code, 0);
+    ASSERT_EQ(carom({"run", "--resume", checkpoint, "9.2", "--checkpoint", checkpoint}).exit_code,
+              0);
+    const Result resumed = carom({"run", "--resume", checkpoint, "20", "--format", "json"});
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out)) << boundary;
+    for (const char* same : {"\"events\"", "\"pressure\"", "\"kinetic_energy_initial\""}) {
+      const auto line = [&](const std::string& text) {
+        const auto at = text.find(same);
+        return text.substr(at, text.find('\n', at) - at);
+      };
+      EXPECT_EQ(line(resumed.out), line(whole.out)) << same;
+    }
+  }
+}
+
+TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt", out = dir_ / "o.json";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const Result whole = carom({"run", start, "25", "--rule", "elastic", "--format", "json"});
+  ASSERT_EQ(whole.exit_code, 0);
+  const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
+                              " 25 --rule elastic --format json -o " + quote(out) +
+                              " --checkpoint " + quote(checkpoint) +
+                              " 2>/dev/null & sleep 1; kill -INT $!; wait $!";
+  const int status = std::system(("sh -c " + quote(command)).c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_FALSE(fs::exists(out));
+  ASSERT_TRUE(fs::exists(checkpoint));
+  const Result resumed = carom({"run", "--resume", checkpoint, "25", "--format", "json"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out));
+}
+
+TEST_F(Cli, BadCheckpointsAreRefusedClearly) {
+  const fs::path garbage = write("garbage.ckpt", "{\"carom_checkpoint\": 1, \"input\": 3");
+  const Result a = carom({"run", "--resume", garbage, "10"});
+  EXPECT_EQ(a.exit_code, 2);
+  EXPECT_NE(a.err.find("not a carom checkpoint"), std::string::npos) << a.err;
+  const fs::path future = write("future.ckpt", "{\"carom_checkpoint\": 99}");
+  const Result b = carom({"run", "--resume", future, "10"});
+  EXPECT_EQ(b.exit_code, 2);
+  EXPECT_NE(b.err.find("format 99"), std::string::npos) << b.err;
+  const Result c = carom({"run", "--resume", kCases + "walls_only.txt", "10"});
+  EXPECT_EQ(c.exit_code, 2);
+  const fs::path checkpoint = dir_ / "ok.ckpt";
+  ASSERT_EQ(carom({"run", kCases + "walls_only.txt", "10", "--checkpoint", checkpoint}).exit_code,
+            0);
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "20", "--rule", "elastic"}).exit_code, 2);
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "5"}).exit_code, 2);  // before the checkpoint
+  const Result resumed = carom({"run", "--resume", checkpoint, "20"});
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(without_header(resumed.out), read_file(kCases + "walls_only.T20.expected"));
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

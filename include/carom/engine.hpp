@@ -61,6 +61,8 @@ class Engine {
 
   // Starts counting afresh (after equilibration, say); the dynamics are not affected.
   void reset_counts() { counts_ = {}; }
+  // Carries counts over from a checkpoint.
+  void restore_counts(const RunCounts& counts) { counts_ = counts; }
 
  protected:
   // Throws std::invalid_argument for a periodic box with a side not above two diameters.
