@@ -10,55 +10,51 @@ namespace carom {
 
 namespace {
 
-Vec<2> position_in_box(const Particle<2>& p, double t, const Box<2>& box) {
-  Vec<2> at = position_at(p, t);
-  wrap(at, box);
-  return at;
-}
-
 // Extended XYZ: the box as a lattice (z of thickness 1), per-disk species, position, velocity
 // and radius, the periodic axes and the time.
 class ExtendedXyz final : public TrajectoryWriter {
- public:
-  void frame(std::ostream& out, double t, const System<2>& system) override {
-    const Box<2>& box = system.box;
-    const char* pbc = box.periodic() ? "T T F" : "F F F";
+  void header(std::ostream& out, double t, const System<2>& system) override {
     out << fmt::format(
         "{}\nLattice=\"{} 0 0 0 {} 0 0 0 1\" "
         "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1 pbc=\"{}\" Time={}\n",
-        system.particles.size(), box.size[0], box.size[1], pbc, t);
-    for (const Particle<2>& p : system.particles) {
-      const Vec<2> at = position_in_box(p, t, box);
-      out << fmt::format("H {} {} 0 {} {} 0 {}\n", at[0], at[1], p.velocity[0], p.velocity[1],
-                         p.radius);
-    }
+        system.particles.size(), system.box.size[0], system.box.size[1],
+        system.box.periodic() ? "T T F" : "F F F", t);
+  }
+  void line(std::ostream& out, std::size_t, const Vec<2>& at, const Particle<2>& p) override {
+    out << fmt::format("H {} {} 0 {} {} 0 {}\n", at[0], at[1], p.velocity[0], p.velocity[1],
+                       p.radius);
   }
 };
 
 // LAMMPS text dump: TIMESTEP is the frame number (LAMMPS steps are integers; the time is the
 // frame number times --every), ids count from 1 as in LAMMPS, z spans [-0.5, 0.5].
 class LammpsDump final : public TrajectoryWriter {
- public:
-  void frame(std::ostream& out, double t, const System<2>& system) override {
-    const Box<2>& box = system.box;
-    const char* bounds = box.periodic() ? "pp pp pp" : "ff ff pp";
+  void header(std::ostream& out, double, const System<2>& system) override {
     out << fmt::format(
         "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 {}\n0 "
         "{}\n-0.5 0.5\nITEM: ATOMS id type x y z vx vy vz radius\n",
-        frames_++, system.particles.size(), bounds, box.size[0], box.size[1]);
-    for (std::size_t i = 0; i < system.particles.size(); ++i) {
-      const Particle<2>& p = system.particles[i];
-      const Vec<2> at = position_in_box(p, t, box);
-      out << fmt::format("{} 1 {} {} 0 {} {} 0 {}\n", i + 1, at[0], at[1], p.velocity[0],
-                         p.velocity[1], p.radius);
-    }
+        frames_++, system.particles.size(), system.box.periodic() ? "pp pp pp" : "ff ff pp",
+        system.box.size[0], system.box.size[1]);
+  }
+  void line(std::ostream& out, std::size_t index, const Vec<2>& at, const Particle<2>& p) override {
+    out << fmt::format("{} 1 {} {} 0 {} {} 0 {}\n", index + 1, at[0], at[1], p.velocity[0],
+                       p.velocity[1], p.radius);
   }
 
- private:
   std::uint64_t frames_ = 0;
 };
 
 }  // namespace
+
+void TrajectoryWriter::frame(std::ostream& out, double t, const System<2>& system) {
+  header(out, t, system);
+  for (std::size_t i = 0; i < system.particles.size(); ++i) {
+    const Particle<2>& p = system.particles[i];
+    Vec<2> at = position_at(p, t);
+    wrap(at, system.box);
+    line(out, i, at, p);
+  }
+}
 
 std::unique_ptr<TrajectoryWriter> trajectory_writer_for(const std::string& path) {
   const auto ends_with = [&](const std::string& suffix) {

@@ -1,6 +1,7 @@
 // Trajectory files that other tools read: snapshots of every disk at chosen times.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <ostream>
@@ -16,7 +17,13 @@ namespace carom {
 class TrajectoryWriter {
  public:
   virtual ~TrajectoryWriter() = default;
-  virtual void frame(std::ostream& out, double t, const System<2>& system) = 0;
+  void frame(std::ostream& out, double t, const System<2>& system);
+
+ private:
+  // A format is a frame header and one line a particle, `at` its position at the frame's time.
+  virtual void header(std::ostream& out, double t, const System<2>& system) = 0;
+  virtual void line(std::ostream& out, std::size_t index, const Vec<2>& at,
+                    const Particle<2>& p) = 0;
 };
 
 // The writer for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
