@@ -10,6 +10,7 @@
 #include "cli_support.hpp"
 #include "init_command.hpp"
 #include "run_command.hpp"
+#include "view_command.hpp"
 
 namespace carom::cli {
 
@@ -36,13 +37,16 @@ int main(int argc, char** argv) {
   carom run examples/normal.txt 20 --trace               every collision, step by step
   carom init --n 4096 --phi 0.5 --seed 1 -o gas.txt      a start file
   carom run gas.txt 100 --rule elastic --boundary periodic --format json
+  carom run gas.txt 20 --dump movie.xyz --every 0.1 && carom view movie.xyz -o movie.html
 
-Run 'carom run --help' or 'carom init --help' for each command's options.)");
+Run 'carom run --help', 'carom init --help' or 'carom view --help' for each command's options.)");
 
   RunArguments run_args;
   InitArguments init_args;
   CLI::App* run = add_run_command(app, run_args);
   CLI::App* init = add_init_command(app, init_args);
+  ViewArguments view_args;
+  CLI::App* view = add_view_command(app, view_args);
 
   try {
     app.parse(argc, argv);
@@ -51,10 +55,11 @@ Run 'carom run --help' or 'carom init --help' for each command's options.)");
     return code == 0 ? 0 : kUsageError;
   }
 
-  const std::string command = run->parsed() ? "run" : "init";
+  const std::string command = run->parsed() ? "run" : init->parsed() ? "init" : "view";
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
+    if (view->parsed()) view_command(view_args);
     return 0;
   } catch (const Interrupted& e) {
     std::cerr << "carom: " << e.what() << '\n';

@@ -16,13 +16,14 @@ class ExtendedXyz final : public TrajectoryWriter {
   void header(std::ostream& out, double t, const System<2>& system) override {
     out << fmt::format(
         "{}\nLattice=\"{} 0 0 0 {} 0 0 0 1\" "
-        "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1 pbc=\"{}\" Time={}\n",
+        "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1 pbc=\"{}\" "
+        "Time={}\n",
         system.particles.size(), system.box.size[0], system.box.size[1],
         system.box.periodic() ? "T T F" : "F F F", t);
   }
   void line(std::ostream& out, std::size_t, const Vec<2>& at, const Particle<2>& p) override {
-    out << fmt::format("H {} {} 0 {} {} 0 {}\n", at[0], at[1], p.velocity[0], p.velocity[1],
-                       p.radius);
+    out << fmt::format("H {} {} 0 {} {} 0 {} {}\n", at[0], at[1], p.velocity[0], p.velocity[1],
+                       p.radius, p.wall_collisions + p.pair_collisions);
   }
 };
 

@@ -552,6 +552,26 @@ TEST_F(Cli, BadCheckpointsAreRefusedClearly) {
   EXPECT_EQ(without_header(resumed.out), read_file(kCases + "walls_only.T20.expected"));
 }
 
+TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
+  const fs::path movie = dir_ / "movie.xyz", page = dir_ / "movie.html";
+  ASSERT_EQ(carom({"run", kCases + "normal.txt", "10", "--dump", movie, "--every", "1"}).exit_code,
+            0);
+  const Result ok = carom({"view", movie, "-o", page});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const std::string html = read_file(page);
+  EXPECT_NE(html.find("<canvas id=\"box\""), std::string::npos);
+  EXPECT_NE(html.find("\"n\":5"), std::string::npos);
+  EXPECT_EQ(html.find("http"), std::string::npos);  // nothing fetched from the network
+  for (const std::string& bad : {std::string("not a trajectory\n"),
+                                 std::string("2\nLattice=\"1 0 0 0 1 0 0 0 1\"\nH 0.5 0.5 0\n"),
+                                 std::string("1\nno box here\nH 0 0 0\n")}) {
+    const Result r = carom({"view", write("bad.xyz", bad), "-o", dir_ / "bad.html"});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_NE(r.err.find("bad.xyz:"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.html"));
+  }
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

@@ -1,0 +1,43 @@
+#include "view_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+
+#include "carom/classic_input.hpp"
+#include "carom/viewer.hpp"
+#include "cli_support.hpp"
+
+namespace carom::cli {
+
+CLI::App* add_view_command(CLI::App& app, ViewArguments& args) {
+  CLI::App* view = app.add_subcommand(
+      "view",
+      "Turn a trajectory (.xyz from carom run --dump) into one HTML page that animates it.");
+  view->footer(
+      R"(The page is self-contained (data embedded, no network) and opens from disk in any browser:
+play/pause, a time slider, speed, colour by speed or by collision count, and the speed histogram
+against the 2D Maxwell-Boltzmann distribution.
+
+Example:
+  carom run gas.txt 50 --rule elastic --dump movie.xyz --every 0.25
+  carom view movie.xyz -o movie.html)");
+  view->add_option("TRAJECTORY", args.trajectory, "An extended XYZ trajectory")->required();
+  view->add_option("-o,--output", args.output, "The HTML file to write")->required();
+  return view;
+}
+
+void view_command(const ViewArguments& args) {
+  std::ifstream in(args.trajectory, std::ios::binary);
+  if (!in) {
+    throw InputError(args.trajectory, 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  }
+  const std::vector<Frame> frames = read_xyz_frames(in, args.trajectory);
+  Output out(args.output);
+  write_viewer_html(out.stream(), frames);
+  out.commit();
+}
+
+}  // namespace carom::cli
