@@ -14,6 +14,7 @@
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
+#include "carom/overlap.hpp"
 #include "carom/trajectory.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
@@ -157,6 +158,38 @@ class CheckpointWriter {
   Clock::time_point last_ = Clock::now();
 };
 
+// --check: event times never decrease, and every `every` events no pair overlaps and no disk is
+// outside the box (O(N) through a cell grid, so O(1) per event when `every` is about N).
+class InvariantChecker {
+ public:
+  InvariantChecker(bool enabled, std::uint64_t every) : enabled_(enabled), every_(every) {}
+
+  void after_event(const Engine<2>& engine, const Event& event) {
+    if (!enabled_) return;
+    ++events_;
+    if (event.time < last_) {
+      fail(event, fmt::format("time ran backwards from {} to {}", last_, event.time));
+    }
+    last_ = event.time;
+    if (events_ % every_ == 0) {
+      if (const auto violation = find_violation(engine.system(), event.time)) {
+        fail(event, *violation);
+      }
+    }
+  }
+
+ private:
+  [[noreturn]] void fail(const Event& event, const std::string& what) const {
+    throw std::runtime_error(fmt::format("--check: invariant violated at event {} (t = {}, {}): {}",
+                                         events_, event.time, describe(event), what));
+  }
+
+  bool enabled_;
+  std::uint64_t every_;
+  std::uint64_t events_ = 0;
+  double last_ = -kNever;
+};
+
 }  // namespace
 
 CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
@@ -206,6 +239,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--equilibrate", args.equilibrate,
                   "Measure observables only from this time on (the dynamics are unchanged)")
       ->default_str("0");
+  run->add_flag(
+      "--check", args.check,
+      "Verify during the run that event times never decrease and, every --check-every "
+      "events, that no disks overlap or leave the box; a violation stops the run (exit 1)");
+  run->add_option("--check-every", args.check_every,
+                  "Events between overlap checks (default: N, at least 1000)");
   run->add_flag("-q,--quiet", args.quiet,
                 "No progress line (shown on stderr during long runs when it is a terminal)");
   add_choice<EngineKind>(run, "--engine", args.engine,
@@ -263,6 +302,9 @@ void run_command(const RunArguments& args) {
   engine->restore_counts(saved.counts);
   const auto& particles = engine->system().particles;
   CheckpointWriter checkpoints(args, saved);
+  InvariantChecker invariants(args.check, args.check_every > 0
+                                              ? args.check_every
+                                              : std::max<std::uint64_t>(1000, particles.size()));
   std::optional<TraceWriter> trace;
   if (args.trace) {
     trace.emplace(out.stream());
@@ -277,6 +319,7 @@ void run_command(const RunArguments& args) {
                                       event.partner);
     }
     progress.update(event.time);
+    invariants.after_event(*engine, event);
     checkpoints.after_event(*engine);
   };
 

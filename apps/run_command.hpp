@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 
 #include "carom/engine.hpp"
@@ -21,6 +22,8 @@ struct RunArguments {
   std::string checkpoint;
   std::string checkpoint_every;
   bool resume = false;
+  bool check = false;
+  std::uint64_t check_every = 0;
   Rule rule = Rule::swap;
   double restitution = 1.0;
   double tc = 1e-5;

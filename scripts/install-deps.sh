@@ -6,7 +6,7 @@ packages=(
   g++ cmake make
   libfmt-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-ase
-  libpcg-cpp-dev
+  libpcg-cpp-dev librapidcheck-dev
   chromium nodejs
 )
 

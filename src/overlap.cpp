@@ -1,6 +1,10 @@
 #include "carom/overlap.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
+#include <cmath>
 
 #include "carom/physics.hpp"
 #include "cell_grid.hpp"
@@ -47,6 +51,39 @@ bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label) {
   return gap < -kOverlapTolerance * p.radius;
 }
 
+template <std::size_t D>
+std::optional<std::string> find_violation(const System<D>& system, double time) {
+  const Box<D>& box = system.box;
+  for (std::size_t i = 0; i < system.particles.size(); ++i) {
+    Particle<D> p = system.particles[i];
+    advance(p, time);
+    if (box.periodic()) {
+      wrap(p.position, box);
+      continue;
+    }
+    for (std::size_t k = 0; k < D; ++k) {
+      for (const bool upper : {false, true}) {
+        const int wall = wall_label(k, upper);
+        if (overlaps_wall(p, box, wall)) {
+          return fmt::format("particle {} at {} reaches through the {} wall", i,
+                             fmt::join(p.position.c, ", "), wall_name(wall));
+        }
+      }
+    }
+  }
+  if (const auto pair = find_pair_overlap(system, time)) {
+    Particle<D> a = system.particles[pair->first], b = system.particles[pair->second];
+    advance(a, time);
+    advance(b, time);
+    const double distance = std::sqrt(norm2(separation(a, b, box)));
+    return fmt::format("particles {} and {} overlap: centres {} apart, contact at {}", pair->first,
+                       pair->second, distance, a.radius + b.radius);
+  }
+  return std::nullopt;
+}
+
+template std::optional<std::string> find_violation(const System<2>&, double);
+template std::optional<std::string> find_violation(const System<3>&, double);
 template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<2>&,
                                                                               double);
 template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<3>&,

@@ -572,6 +572,19 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
   }
 }
 
+TEST_F(Cli, CheckedRunsFindNothingWrong) {
+  const fs::path start = dir_ / "gas.txt";
+  for (const std::string boundary : {"walls", "periodic"}) {
+    ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.7", "--boundary", boundary, "-o", start})
+                  .exit_code,
+              0);
+    const Result r = carom({"run", start, "20", "--rule", "elastic", "--boundary", boundary,
+                            "--check", "--check-every", "50", "--format", "csv"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+  }
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

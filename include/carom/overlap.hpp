@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "carom/system.hpp"
@@ -26,5 +27,11 @@ Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box)
 // Whether particle p reaches through the wall `label` beyond kOverlapTolerance.
 template <std::size_t D>
 bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label);
+
+// What is wrong with the configuration at time `time` (every particle moved there from its stored
+// state): a pair overlapping or a particle through a wall or outside the box, beyond
+// kOverlapTolerance; nullopt when nothing is. O(N) with a cell grid.
+template <std::size_t D>
+std::optional<std::string> find_violation(const System<D>& system, double time);
 
 }  // namespace carom
