@@ -3,7 +3,7 @@
 BUILD ?= build
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps build demo test test-sanitize bench clean format
+.PHONY: all deps build demo test test-sanitize fuzz bench clean format
 
 all: build
 
@@ -28,6 +28,21 @@ test-sanitize: deps
 	  || { cat $(BUILD)-sanitize.configure.log; exit 1; }
 	@cmake --build $(BUILD)-sanitize -j $(JOBS)
 	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS)
+
+# libFuzzer on the input reader (and a few events of both engines on what it accepts), with
+# AddressSanitizer and UndefinedBehaviorSanitizer; FUZZ_SECONDS long. New crashes land in
+# build-fuzz/; copy them into tests/fuzz/regressions, which `make test` replays.
+FUZZ_SECONDS ?= 300
+fuzz: deps
+	@cmake -S . -B $(BUILD)-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCAROM_FUZZ=ON -DCAROM_BUILD_TESTS=OFF -DCAROM_BUILD_BENCH=OFF \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
+	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > $(BUILD)-fuzz.configure.log 2>&1 \
+	  || { cat $(BUILD)-fuzz.configure.log; exit 1; }
+	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input
+	mkdir -p $(BUILD)-fuzz/corpus
+	cd $(BUILD)-fuzz && ./carom_fuzz_classic_input -max_total_time=$(FUZZ_SECONDS) -max_len=4096 \
+	  -timeout=10 -rss_limit_mb=2048 corpus ../tests/fuzz/corpus
 
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build

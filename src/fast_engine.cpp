@@ -16,7 +16,7 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
   const auto n = static_cast<std::uint32_t>(particles.size());
   if (this->system_.box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
-      if (grid_.cells_along(k) < 4) horizon_ = this->image_horizon();
+      if (grid_.cells_along(k) < 5) horizon_ = this->image_horizon();
     }
   }
   for (std::uint32_t i = 0; i < n; ++i) {

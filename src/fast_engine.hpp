@@ -5,8 +5,10 @@
 //
 // Why no collision is missed: two particles about to touch are in the same or adjacent cells, and
 // the later of them to change cell or velocity predicted their contact then. In a periodic box
-// with at least four cells along each axis, adjacent particles are less than half a box apart, so
-// the nearest image at prediction time is the one they touch through.
+// with at least five cells along each axis, adjacent particles are at most two cells, 2/5 of the
+// box, apart, so the nearest image at prediction time is the one they touch through. (With four,
+// two particles on the far edges of adjacent cells are exactly half a box apart and the nearest
+// image is ambiguous: the fuzzer found that.)
 #pragma once
 
 #include <cstdint>
@@ -46,7 +48,7 @@ class FastEngine final : public Engine<D> {
   EventQueue queue_;
   std::vector<Pending> pending_;
   double clock_ = 0.0;  // the current time: the last processed event or cell crossing
-  // In a periodic box too small for four cells along some axis, a neighbour may be reached
+  // In a periodic box too small for five cells along some axis, a neighbour may be reached
   // through more than one image, and predictions are renewed at least this often (see
   // Engine::image_horizon); otherwise infinite.
   double horizon_ = kNever;

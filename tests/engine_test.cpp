@@ -223,6 +223,17 @@ TEST(CrossCheck, FastEqualsReferenceInPeriodicBoxes) {
   }
 }
 
+TEST(CrossCheck, PairsOnFarEdgesOfAdjacentCellsAreSeenThroughTheRightImage) {
+  // Regression (found by the fuzzer): four cells across a periodic axis, two disks crossing into
+  // adjacent cells at the same instant, exactly half a box apart: the fast engine took the other
+  // image and missed their collision.
+  const System<2> system = boxed(
+      {10, 11}, {disk({2, 2}, {0.2, -0.5}, 0.5), disk({7, 7}, {-1, 1}, 1)}, Boundary::periodic);
+  System<2> heavy = system;
+  heavy.particles[0].mass = 2;
+  expect_same_runs(heavy, {Rule::elastic}, 1000.0, 200, "half-box image");
+}
+
 TEST(CrossCheck, FastEqualsReferenceInPeriodicLattices) {
   pcg32 rng(5);
   for (int trial = 0; trial < 40; ++trial) {

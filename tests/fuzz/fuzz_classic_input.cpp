@@ -1,0 +1,7 @@
+// libFuzzer entry point: `make fuzz` builds it with clang and runs it on tests/fuzz/corpus.
+#include "fuzz_classic_input.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  carom::fuzz::classic_input(data, size);
+  return 0;
+}
