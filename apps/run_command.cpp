@@ -272,6 +272,14 @@ void run_command(const RunArguments& args) {
   if (end_time < 0.0) {
     throw UsageError(fmt::format("END_TIME must not be negative, got {}", args.end_time));
   }
+  // Times are absolute doubles: beyond this, a double resolves time only to 1e-4 and collisions
+  // would pile up at one instant (time re-basing is not implemented yet).
+  constexpr double kLatestTime = 1e12;
+  if (end_time > kLatestTime) {
+    throw UsageError(fmt::format(
+        "END_TIME {} is beyond {}, where time is resolved too coarsely; rescale the time unit",
+        args.end_time, kLatestTime));
+  }
   check(args, end_time);
   Start start = args.resume ? resume_from(args.input) : start_from(args);
   if (end_time < start.checkpoint.time) {
