@@ -286,6 +286,14 @@ void run_command(const RunArguments& args) {
     throw UsageError(fmt::format("END_TIME {} is before the checkpoint's time {}", end_time,
                                  start.checkpoint.time));
   }
+  const double crossings =
+      fastest_crossings(start.checkpoint.system, end_time - start.checkpoint.time);
+  if (crossings > kMostCrossings) {
+    throw UsageError(fmt::format(
+        "the fastest disk would cross the box about {:.3g} times before END_TIME, more than the "
+        "{:.0e} carom can process: check the velocities, the box and the time unit",
+        crossings, kMostCrossings));
+  }
   Output out(args.output);
   std::optional<Output> summary, dump, events;
   if (!args.summary.empty()) summary.emplace(args.summary);

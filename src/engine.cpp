@@ -84,6 +84,14 @@ double Engine<D>::image_horizon() const {
 }
 
 template <std::size_t D>
+void Engine<D>::throw_too_fast(double t) const {
+  throw JamError(fmt::format(
+      "the disks move too fast for the box: at t = {} a double cannot resolve the time it takes "
+      "them to cross it ({} at most); rescale the velocities or the time unit",
+      t, image_horizon()));
+}
+
+template <std::size_t D>
 void Engine<D>::finish(double end_time) {
   if (end_time < now_) throw std::logic_error("Engine::finish: end time precedes the last event");
   for (Particle<D>& p : system_.particles) {

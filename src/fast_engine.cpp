@@ -36,6 +36,7 @@ void FastEngine<D>::resync() {
 template <std::size_t D>
 void FastEngine<D>::schedule_horizon() {
   if (horizon_ == kNever) return;
+  if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
   pending_[horizon_slot_] = {Kind::horizon, 0, 0, 0};
   queue_.update(horizon_slot_, {clock_ + horizon_, ~std::uint64_t{0}});
 }

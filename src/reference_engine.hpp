@@ -29,6 +29,7 @@ class ReferenceEngine final : public Engine<D> {
         window_start_ = best.time;
         return best;
       }
+      if (window_end == window_start_) this->throw_too_fast(window_start_);
       window_start_ = window_end;
     }
   }

@@ -289,6 +289,22 @@ TEST(Engine, AWedgedDiskIsAJamNotAHang) {
   }
 }
 
+TEST(Engine, AHorizonBelowTheTimeResolutionIsAnErrorNotAHang) {
+  // Regression (found by the fuzzer): in a small periodic box, predictions are renewed every
+  // horizon; when the horizon is below the resolution of the time, the renewal never advanced.
+  System<2> system = boxed({4.05, 4.05}, {disk({1, 1}, {1e3, 0.1}, 1)}, Boundary::periodic);
+  system.particles[0].time = 1e12;
+  for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    EXPECT_THROW(
+        {
+          auto engine = make_engine(kind, system, {Rule::elastic});
+          engine->step(2e12);
+        },
+        JamError)
+        << engine_name(kind);
+  }
+}
+
 TEST(Engine, NothingLeftToHappenEndsEvenAtAnInfiniteEndTime) {
   const System<2> system = boxed({10, 10}, {disk({5, 5}, {0, 0}, 1)});
   for (EngineKind kind : {EngineKind::fast, EngineKind::reference}) {

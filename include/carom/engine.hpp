@@ -1,6 +1,8 @@
 // The simulation engines: a fast one for real work and a simple reference one to check it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -79,6 +81,8 @@ class Engine {
   // How long pair predictions made with the images seen at one moment stay right: within this
   // time no pair can travel far enough to touch through another image. Infinite for walls.
   double image_horizon() const;
+  // For a horizon too short for a double to advance the time at `t`: the run cannot progress.
+  [[noreturn]] void throw_too_fast(double t) const;
 
   System<D> system_;
   CollisionRule rule_;
@@ -103,6 +107,21 @@ template <std::size_t D>
 void run(Engine<D>& engine, double end_time) {
   run(engine, end_time, [](const Event&) {});
 }
+
+// How many times the fastest particle would cross the box's shortest side in `duration`: a lower
+// bound on the events a run needs (wall hits or cell crossings). Used to refuse runs whose
+// velocities or length make them impossible to finish (a typo such as 1e84 for 1.84).
+template <std::size_t D>
+double fastest_crossings(const System<D>& system, double duration) {
+  double fastest = 0.0, side = kNever;
+  for (const Particle<D>& p : system.particles)
+    fastest = std::max(fastest, std::sqrt(norm2(p.velocity)));
+  for (std::size_t k = 0; k < D; ++k) side = std::min(side, system.box.size[k]);
+  return fastest * duration / side;
+}
+
+// Runs needing more box crossings than this are refused as impossible to finish.
+inline constexpr double kMostCrossings = 1e13;
 
 std::string_view rule_name(Rule rule);
 std::string_view boundary_name(Boundary boundary);
