@@ -287,11 +287,12 @@ void run_command(const RunArguments& args) {
                                  start.checkpoint.time));
   }
   const double crossings =
-      fastest_crossings(start.checkpoint.system, end_time - start.checkpoint.time);
+      most_crossings(start.checkpoint.system, end_time - start.checkpoint.time);
   if (crossings > kMostCrossings) {
     throw UsageError(fmt::format(
-        "the fastest disk would cross the box about {:.3g} times before END_TIME, more than the "
-        "{:.0e} carom can process: check the velocities, the box and the time unit",
+        "a disk could cross the box about {:.3g} times before END_TIME (at the highest speed "
+        "its energy allows), more than the {:.0e} carom can process: check the velocities, "
+        "masses, box and time unit",
         crossings, kMostCrossings));
   }
   Output out(args.output);

@@ -67,16 +67,8 @@ Vec<D> Engine<D>::image(std::uint32_t i, std::uint32_t j, double t) const {
 template <std::size_t D>
 double Engine<D>::image_horizon() const {
   if (!system_.box.periodic()) return kNever;
-  // No rule makes a particle faster than the fastest at the start (swap) or than one holding all
-  // the kinetic energy (elastic, inelastic).
-  double fastest = 0.0, energy = 0.0, lightest = kNever, largest = 0.0;
-  for (const Particle<D>& p : system_.particles) {
-    fastest = std::max(fastest, std::sqrt(norm2(p.velocity)));
-    energy += 0.5 * p.mass * norm2(p.velocity);
-    lightest = std::min(lightest, p.mass);
-    largest = std::max(largest, p.radius);
-  }
-  const double speed = std::max(fastest, std::sqrt(2.0 * energy / lightest)) * (1.0 + 1e-9);
+  const double speed = speed_bound(system_);
+  const double largest = largest_radius(system_);
   double side = kNever;
   for (std::size_t k = 0; k < D; ++k) side = std::min(side, system_.box.size[k]);
   const double room = side / 2.0 - 2.0 * largest;

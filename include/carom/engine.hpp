@@ -108,16 +108,28 @@ void run(Engine<D>& engine, double end_time) {
   run(engine, end_time, [](const Event&) {});
 }
 
-// How many times the fastest particle would cross the box's shortest side in `duration`: a lower
-// bound on the events a run needs (wall hits or cell crossings). Used to refuse runs whose
-// velocities or length make them impossible to finish (a typo such as 1e84 for 1.84).
+// A speed no particle can exceed during the run: no rule makes a particle faster than the fastest
+// at the start (swap) or than one holding all the kinetic energy (elastic, inelastic).
 template <std::size_t D>
-double fastest_crossings(const System<D>& system, double duration) {
-  double fastest = 0.0, side = kNever;
-  for (const Particle<D>& p : system.particles)
+double speed_bound(const System<D>& system) {
+  double fastest = 0.0, energy = 0.0, lightest = kNever;
+  for (const Particle<D>& p : system.particles) {
     fastest = std::max(fastest, std::sqrt(norm2(p.velocity)));
+    energy += 0.5 * p.mass * norm2(p.velocity);
+    lightest = std::min(lightest, p.mass);
+  }
+  return std::max(fastest, std::sqrt(2.0 * energy / lightest)) * (1.0 + 1e-9);
+}
+
+// How many times a particle at speed_bound() would cross the box's shortest side in `duration`:
+// a bound on the work a run can need (wall hits, cell crossings, renewals of predictions in a
+// small periodic box). Used to refuse runs that could never finish (a typo such as 1e84 for 1.84,
+// or a mass of 1e75 that could hand a light disk astronomical speeds).
+template <std::size_t D>
+double most_crossings(const System<D>& system, double duration) {
+  double side = kNever;
   for (std::size_t k = 0; k < D; ++k) side = std::min(side, system.box.size[k]);
-  return fastest * duration / side;
+  return speed_bound(system) * duration / side;
 }
 
 // Runs needing more box crossings than this are refused as impossible to finish.

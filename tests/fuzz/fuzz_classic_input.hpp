@@ -29,7 +29,7 @@ inline void classic_input(const std::uint8_t* data, std::size_t size) {
     // collisions is a long run, not a bug. The CLI refuses beyond kMostCrossings; the fuzzer
     // keeps each input quick.
     constexpr double kEnd = 1e3;
-    if (fastest_crossings(input.system, kEnd) > 1e5) continue;
+    if (most_crossings(input.system, kEnd) > 1e5) continue;
     for (const Rule rule : {Rule::swap, Rule::elastic}) {
       try {
         auto fast = make_engine(EngineKind::fast, input.system, {rule});
