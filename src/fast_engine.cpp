@@ -46,6 +46,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
   const bool periodic = this->system_.box.periodic();
+  const Vec<D> here = position_at(p, clock_);
   Pending best;
   EventKey best_key = EventQueue::kNone;
   const auto consider = [&](const Event& candidate, const Pending& meaning) {
@@ -62,12 +63,16 @@ void FastEngine<D>::predict(std::uint32_t i) {
   }
   grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
     if (j == i) return;
-    const double t = contact_time(p, particles[j], periodic ? this->image(i, j, clock_) : Vec<D>{});
+    // The image seen now (as Engine::image), with this particle's position computed once.
+    const Vec<D> offset =
+        periodic ? image_offset(here - position_at(particles[j], clock_), this->system_.box)
+                 : Vec<D>{};
+    const double t = contact_time(p, particles[j], offset);
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, particles[j].version()});
   });
-  const auto crossing = grid_.next_crossing(grid_.cell_of(i), position_at(p, clock_), p.velocity);
+  const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     // Ordered after every collision of particle i at the same time: crossing changes no physics.
     const EventKey key{clock_ + crossing.delay, (std::uint64_t{i} << 32) | 0xFFFFFFFFu};
