@@ -531,6 +531,28 @@ TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {
   EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out));
 }
 
+TEST_F(Cli, PeriodicCheckpointsSurviveAHardKill) {
+  // SIGKILL cannot be caught: what survives is the last checkpoint written every 20000 events,
+  // and resuming from it gives the uninterrupted result.
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const Result whole = carom({"run", start, "25", "--rule", "elastic", "--format", "json"});
+  ASSERT_EQ(whole.exit_code, 0);
+  const std::string command =
+      quote(CAROM_EXE) + " run " + quote(start) + " 25 --rule elastic --format json -o " +
+      quote(dir_ / "o.json") + " --checkpoint " + quote(checkpoint) +
+      " --checkpoint-every 20000 2>/dev/null & sleep 1; kill -KILL $!; wait $!";
+  std::system(("sh -c " + quote(command)).c_str());
+  ASSERT_TRUE(fs::exists(checkpoint));
+  const std::string saved = read_file(checkpoint);
+  const auto events_at = saved.find("\"events\": ");
+  ASSERT_NE(events_at, std::string::npos);
+  EXPECT_EQ(std::stoull(saved.substr(events_at + 10)) % 20000, 0u);
+  const Result resumed = carom({"run", "--resume", checkpoint, "25", "--format", "json"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out));
+}
+
 TEST_F(Cli, BadCheckpointsAreRefusedClearly) {
   const fs::path garbage = write("garbage.ckpt", "{\"carom_checkpoint\": 1, \"input\": 3");
   const Result a = carom({"run", "--resume", garbage, "10"});
