@@ -3,11 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <csignal>
-#include <cstring>
 #include <fstream>
 #include <memory>
 
@@ -86,8 +84,7 @@ Start start_from(const RunArguments& args) {
 }
 
 Start resume_from(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path, 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  std::ifstream file = open_input(path);
   Start start{read_checkpoint(file, path), true};
   return start;
 }

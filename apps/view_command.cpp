@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cerrno>
-#include <cstring>
 #include <fstream>
 
 #include "carom/classic_input.hpp"
@@ -30,10 +28,7 @@ Example:
 }
 
 void view_command(const ViewArguments& args) {
-  std::ifstream in(args.trajectory, std::ios::binary);
-  if (!in) {
-    throw InputError(args.trajectory, 0, fmt::format("cannot open: {}", std::strerror(errno)));
-  }
+  std::ifstream in = open_input(args.trajectory);
   const std::vector<Frame> frames = read_xyz_frames(in, args.trajectory);
   Output out(args.output);
   write_viewer_html(out.stream(), frames);

@@ -260,11 +260,16 @@ ClassicInput read_classic(std::istream& in, const std::string& name, Boundary bo
   return input;
 }
 
-ClassicInput read_classic_file(const std::string& path, Boundary boundary) {
-  if (path == "-") return read_classic(std::cin, "<stdin>", boundary);
+std::ifstream open_input(const std::string& path) {
   if (std::filesystem::is_directory(path)) throw InputError(path, 0, "is a directory, not a file");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path, 0, fmt::format("cannot open: {}", std::strerror(errno)));
+  return file;
+}
+
+ClassicInput read_classic_file(const std::string& path, Boundary boundary) {
+  if (path == "-") return read_classic(std::cin, "<stdin>", boundary);
+  std::ifstream file = open_input(path);
   return read_classic(file, path, boundary);
 }
 

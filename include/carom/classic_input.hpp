@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <fstream>
 #include <istream>
 #include <stdexcept>
 #include <string>
@@ -40,6 +41,10 @@ struct ClassicInput {
 // side must exceed two diameters.
 ClassicInput read_classic(std::istream& in, const std::string& name,
                           Boundary boundary = Boundary::walls);
+
+// Opens an input file (classic, checkpoint, trajectory) for reading; throws InputError naming it
+// when it is a directory or cannot be opened.
+std::ifstream open_input(const std::string& path);
 
 // As above from a file; "-" reads standard input.
 ClassicInput read_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
