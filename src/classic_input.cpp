@@ -12,6 +12,7 @@
 #include <iostream>
 
 #include "carom/overlap.hpp"
+#include "carom/physics.hpp"
 
 namespace carom {
 

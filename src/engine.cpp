@@ -46,9 +46,8 @@ void Engine<D>::apply(const Event& event) {
     const bool elastic_by_tc = recent && rule_.restitution < 1.0;
     advance(a, t);
     advance(b, t);
-    Vec<D> r = a.position - b.position;
-    r -= image_offset(r, system_.box);
-    counts_.virial += collide(a, b, r, rule_.rule, elastic_by_tc ? 1.0 : rule_.restitution);
+    counts_.virial += collide(a, b, separation(a, b, system_.box), rule_.rule,
+                              elastic_by_tc ? 1.0 : rule_.restitution);
     wrap(a.position, system_.box);
     wrap(b.position, system_.box);
     ++counts_.pair_collisions;
@@ -69,9 +68,7 @@ double Engine<D>::image_horizon() const {
   if (!system_.box.periodic()) return kNever;
   const double speed = speed_bound(system_);
   const double largest = largest_radius(system_);
-  double side = kNever;
-  for (std::size_t k = 0; k < D; ++k) side = std::min(side, system_.box.size[k]);
-  const double room = side / 2.0 - 2.0 * largest;
+  const double room = shortest_side(system_.box) / 2.0 - 2.0 * largest;
   return speed > 0.0 ? room / (2.0 * speed) : kNever;
 }
 

@@ -38,12 +38,6 @@ std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const Syste
 }
 
 template <std::size_t D>
-Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
-  const Vec<D> r = a.position - b.position;
-  return r - image_offset(r, box);
-}
-
-template <std::size_t D>
 bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label) {
   const std::size_t k = wall_axis(label);
   const double gap =
@@ -88,8 +82,6 @@ template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(co
                                                                               double);
 template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<3>&,
                                                                               double);
-template Vec<2> separation(const Particle<2>&, const Particle<2>&, const Box<2>&);
-template Vec<3> separation(const Particle<3>&, const Particle<3>&, const Box<3>&);
 template bool overlaps_wall(const Particle<2>&, const Box<2>&, int);
 template bool overlaps_wall(const Particle<3>&, const Box<3>&, int);
 

@@ -127,9 +127,7 @@ double speed_bound(const System<D>& system) {
 // or a mass of 1e75 that could hand a light disk astronomical speeds).
 template <std::size_t D>
 double most_crossings(const System<D>& system, double duration) {
-  double side = kNever;
-  for (std::size_t k = 0; k < D; ++k) side = std::min(side, system.box.size[k]);
-  return speed_bound(system) * duration / side;
+  return speed_bound(system) * duration / shortest_side(system.box);
 }
 
 // Runs needing more box crossings than this are refused as impossible to finish.

@@ -20,10 +20,6 @@ template <std::size_t D>
 std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<D>& system,
                                                                      double time);
 
-// The separation a - b of two stored positions, through the nearest image in a periodic box.
-template <std::size_t D>
-Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box);
-
 // Whether particle p reaches through the wall `label` beyond kOverlapTolerance.
 template <std::size_t D>
 bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label);

@@ -69,6 +69,13 @@ constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
   return offset;
 }
 
+// The separation a - b of two stored positions, through the nearest image in a periodic box.
+template <std::size_t D>
+constexpr Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
+  const Vec<D> r = a.position - b.position;
+  return r - image_offset(r, box);
+}
+
 // Wraps a position into the periodic box; positions in a box with walls are left alone.
 template <std::size_t D>
 constexpr void wrap(Vec<D>& position, const Box<D>& box) {

@@ -43,6 +43,13 @@ struct Box {
 };
 
 template <std::size_t D>
+double shortest_side(const Box<D>& box) {
+  double side = box.size[0];
+  for (std::size_t k = 1; k < D; ++k) side = side < box.size[k] ? side : box.size[k];
+  return side;
+}
+
+template <std::size_t D>
 struct System {
   Box<D> box;
   std::vector<Particle<D>> particles;
