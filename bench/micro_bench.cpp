@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "carom/physics.hpp"
+#include "event_calendar.hpp"
 #include "event_queue.hpp"
 
 namespace carom {
@@ -67,21 +68,23 @@ void BM_ElasticCollision(benchmark::State& state) {
 }
 BENCHMARK(BM_ElasticCollision);
 
-// One event's queue work: replace a random particle's event (as predict does), read the top.
-void BM_EventQueueUpdate(benchmark::State& state) {
+// One event's queue work: replace the earliest event by one a random time later (as an event and
+// its new prediction do). The heap is the baseline the calendar replaced.
+template <class Queue>
+void BM_QueueUpdate(benchmark::State& state) {
   const auto n = static_cast<std::uint32_t>(state.range(0));
-  EventQueue queue(n);
+  Queue queue(n);
   pcg32 rng(2);
-  for (std::uint32_t i = 0; i < n; ++i) queue.update(i, {uniform(rng) * 100, i});
-  double now = 0.0;
+  for (std::uint32_t i = 0; i < n; ++i) queue.update(i, {uniform(rng), i});
   for (auto _ : state) {
     const std::uint32_t top = queue.top();
-    now = queue.top_key().time;
-    queue.update(top, {now + uniform(rng) * 10, top});
+    const double now = queue.top_key().time;
+    queue.update(top, {now + uniform(rng), top});
     benchmark::DoNotOptimize(top);
   }
 }
-BENCHMARK(BM_EventQueueUpdate)->Range(1 << 10, 1 << 20);
+BENCHMARK(BM_QueueUpdate<EventQueue>)->Name("BM_HeapUpdate")->Range(1 << 10, 1 << 20);
+BENCHMARK(BM_QueueUpdate<EventCalendar>)->Name("BM_CalendarUpdate")->Range(1 << 10, 1 << 20);
 
 }  // namespace
 }  // namespace carom

@@ -2,6 +2,9 @@
 // particle, so that a particle's event can be replaced in O(log N) without leaving stale copies.
 // Entries are 16 bytes (time and particle), four siblings to a cache line; the tie-break order of
 // equal times lives beside the heap, as it is needed only for exact ties.
+//
+// The engine uses the calendar (event_calendar.hpp), which is faster at every size; the heap stays
+// as the microbenchmarks' baseline and as a second, simpler ordering the tests hold it to.
 #pragma once
 
 #include <cstdint>

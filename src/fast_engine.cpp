@@ -22,15 +22,23 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
   for (std::uint32_t i = 0; i < n; ++i) {
     grid_.insert(i, grid_.locate(position_at(particles[i], clock_)));
   }
-  resync();
+  predict_all();
 }
 
 template <std::size_t D>
 void FastEngine<D>::resync() {
+  // Predicting afresh waits for the next step: a run that ends here (the usual case) never pays
+  // for it.
   clock_ = std::max(clock_, this->now_);
+  predictions_stale_ = true;
+}
+
+template <std::size_t D>
+void FastEngine<D>::predict_all() {
   const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
   schedule_horizon();
+  predictions_stale_ = false;
 }
 
 template <std::size_t D>
@@ -48,7 +56,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
   const bool periodic = this->system_.box.periodic();
   const Vec<D> here = position_at(p, clock_);
   Pending best;
-  EventKey best_key = EventQueue::kNone;
+  EventKey best_key = EventCalendar::kNone;
   const auto consider = [&](const Event& candidate, const Pending& meaning) {
     const EventKey key = key_of<D>(candidate);
     if (key < best_key) {
@@ -88,6 +96,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
 template <std::size_t D>
 std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& particles = this->system_.particles;
+  if (predictions_stale_) predict_all();
   while (true) {
     const std::uint32_t i = queue_.top();
     const double t = queue_.top_key().time;
@@ -98,8 +107,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         return std::nullopt;
       case Kind::horizon:
         clock_ = t;
-        for (std::uint32_t j = 0; j < horizon_slot_; ++j) predict(j);
-        schedule_horizon();
+        predict_all();
         break;
       case Kind::crossing:
         clock_ = t;

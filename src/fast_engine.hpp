@@ -16,7 +16,7 @@
 
 #include "carom/engine.hpp"
 #include "cell_grid.hpp"
-#include "event_queue.hpp"
+#include "event_calendar.hpp"
 
 namespace carom {
 
@@ -41,17 +41,20 @@ class FastEngine final : public Engine<D> {
 
   // Finds the earliest event of particle i from the current time and queues it.
   void predict(std::uint32_t i);
+  // Predicts every particle afresh (at the start and after every stored state changed at once).
+  void predict_all();
   // Queues the next time every particle is predicted again, or none.
   void schedule_horizon();
 
   CellGrid<D> grid_;
-  EventQueue queue_;
+  EventCalendar queue_;
   std::vector<Pending> pending_;
   double clock_ = 0.0;  // the current time: the last processed event or cell crossing
   // In a periodic box too small for five cells along some axis, a neighbour may be reached
   // through more than one image, and predictions are renewed at least this often (see
   // Engine::image_horizon); otherwise infinite.
   double horizon_ = kNever;
+  bool predictions_stale_ = false;  // every stored state changed (resync): predict all first
   std::uint32_t horizon_slot_ = 0;  // the queue entry (after the particles') of the renewal
 };
 

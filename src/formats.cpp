@@ -40,12 +40,12 @@ std::string particle_line(std::size_t index, const Particle<2>& p) {
                   static_cast<unsigned long long>(p.pair_collisions));
 }
 
-void write_table(std::ostream& out, const std::vector<Particle<2>>& particles) {
+void write_table(std::ostream& out, std::span<const Particle<2>> particles) {
   out << kTableHeader;
   for (std::size_t i = 0; i < particles.size(); ++i) out << particle_line(i, particles[i]) << '\n';
 }
 
-void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles) {
+void write_csv(std::ostream& out, std::span<const Particle<2>> particles) {
   for (const Particle<2>& p : particles) {
     out << c_format("%.6f, %.6f, %llu, %llu\n", p.position[0], p.position[1],
                     static_cast<unsigned long long>(p.wall_collisions),
@@ -143,19 +143,19 @@ std::string describe(const Event& event) {
 }
 
 void TraceWriter::start(const std::string& input, double end_time,
-                        const std::vector<Particle<2>>& particles) {
+                        std::span<const Particle<2>> particles) {
   out_ << "Input File: " << input << '\n'
        << c_format("Target Time: %f\n", end_time) << "======== Initial Particles =========\n";
   write_table(out_, particles);
 }
 
-void TraceWriter::event(const Event& event, const std::vector<Particle<2>>& particles) {
+void TraceWriter::event(const Event& event, std::span<const Particle<2>> particles) {
   out_ << c_format("                 TIME = %f\n", event.time) << describe(event) << '\n'
        << "======== Particles =========\n";
   write_table(out_, particles);
 }
 
-void TraceWriter::finish(const std::vector<Particle<2>>& particles) {
+void TraceWriter::finish(std::span<const Particle<2>> particles) {
   out_ << "======== Final Particles =========\n";
   write_table(out_, particles);
 }

@@ -3,8 +3,8 @@
 
 #include <cstddef>
 #include <ostream>
+#include <span>
 #include <string>
-#include <vector>
 
 #include "carom/engine.hpp"
 #include "carom/event.hpp"
@@ -19,10 +19,10 @@ std::string particle_line(std::size_t index, const Particle<2>& p);
 
 // The header `particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)`, then one
 // particle_line a disk.
-void write_table(std::ostream& out, const std::vector<Particle<2>>& particles);
+void write_table(std::ostream& out, std::span<const Particle<2>> particles);
 
 // One line a disk: `%.6f, %.6f, %d, %d` (x, y, wall collisions, disk collisions).
-void write_csv(std::ostream& out, const std::vector<Particle<2>>& particles);
+void write_csv(std::ostream& out, std::span<const Particle<2>> particles);
 
 // What a json result says about how it was made and how long it took.
 struct RunSettings {
@@ -45,11 +45,11 @@ class TraceWriter {
  public:
   explicit TraceWriter(std::ostream& out) : out_(out) {}
   // `Input File:`, `Target Time:` and the initial particles.
-  void start(const std::string& input, double end_time, const std::vector<Particle<2>>& particles);
+  void start(const std::string& input, double end_time, std::span<const Particle<2>> particles);
   // `TIME = t`, the event, and every disk's stored state.
-  void event(const Event& event, const std::vector<Particle<2>>& particles);
+  void event(const Event& event, std::span<const Particle<2>> particles);
   // The particles brought to the end time.
-  void finish(const std::vector<Particle<2>>& particles);
+  void finish(std::span<const Particle<2>> particles);
 
  private:
   std::ostream& out_;

@@ -57,13 +57,17 @@ constexpr WallHit next_wall_hit(const Particle<D>& p, const Box<D>& box) {
 }
 
 // The periodic image of particle b that particle a sees: the multiple of the box size to subtract
-// from a separation so that it is the shortest. Zero for a box with walls.
+// from a separation so that it is the shortest. Zero for a box with walls. Separations within half
+// a box, nearly all of them, need no division.
 template <std::size_t D>
 constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
   Vec<D> offset;
   if (box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
-      offset[k] = box.size[k] * std::nearbyint(separation[k] / box.size[k]);
+      const double side = box.size[k];
+      if (!(std::abs(separation[k]) <= 0.5 * side)) {
+        offset[k] = side * std::nearbyint(separation[k] / side);
+      }
     }
   }
   return offset;
