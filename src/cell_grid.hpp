@@ -20,6 +20,11 @@ template <std::size_t D>
 class CellGrid {
  public:
   static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+  static constexpr std::size_t kBlock = [] {  // 3^D: the cells around one, its own included
+    std::size_t cells = 1;
+    for (std::size_t k = 0; k < D; ++k) cells *= 3;
+    return cells;
+  }();
 
   // `min_width` is the largest distance at which two particles can touch. Cells are a hair
   // wider still, so that a particle whose cell was assigned at a crossing time (subject to
@@ -55,6 +60,7 @@ class CellGrid {
   std::size_t cell_count() const { return head_.size(); }
   std::uint32_t cells_along(std::size_t axis) const { return count_[axis]; }
   std::uint32_t cell_of(std::uint32_t particle) const { return cell_of_[particle]; }
+  void prefetch_cell_of(std::uint32_t particle) const { __builtin_prefetch(&cell_of_[particle]); }
 
   // The cell that contains `position` (wrapped into a periodic box); positions on or beyond the
   // edge of a box with walls go to the edge cell.
@@ -86,6 +92,12 @@ class CellGrid {
   // included.
   template <class Visit>
   void for_each_near(std::uint32_t cell, Visit&& visit) const {
+    for_each_near(
+        cell, [](std::uint32_t) {}, visit);
+  }
+
+  template <class LookAhead, class Visit>
+  void for_each_near(std::uint32_t cell, LookAhead&& look_ahead, Visit&& visit) const {
     const std::array<std::uint32_t, D> at = coordinates(cell);
     // Per axis, the neighbouring coordinates: at - 1 .. at + 1, wrapped in a periodic box (all of
     // them, once each, when the axis has fewer than three cells), clipped by walls.
@@ -104,11 +116,15 @@ class CellGrid {
         }
       }
     }
+    // First every list's head, then the lists: the heads are loaded side by side rather than each
+    // after the last list's walk (at a million particles each is a cache miss).
+    std::array<std::uint32_t, kBlock> heads;
+    std::size_t cells = 0;
     std::array<std::uint32_t, D> pick{};
     while (true) {
       std::uint32_t index = 0;
       for (std::size_t k = 0; k < D; ++k) index += along[k][pick[k]] * stride_[k];
-      for (std::uint32_t j = head_[index]; j != kNone; j = next_[j]) visit(j);
+      heads[cells++] = head_[index];
       std::size_t k = 0;
       while (k < D && pick[k] + 1 == size[k]) {
         pick[k] = 0;
@@ -116,6 +132,15 @@ class CellGrid {
       }
       if (k == D) break;
       ++pick[k];
+    }
+    for (std::size_t c = 0; c < cells; ++c) {
+      if (heads[c] != kNone) {
+        __builtin_prefetch(&next_[heads[c]]);
+        look_ahead(heads[c]);
+      }
+    }
+    for (std::size_t c = 0; c < cells; ++c) {
+      for (std::uint32_t j = heads[c]; j != kNone; j = next_[j]) visit(j);
     }
   }
 

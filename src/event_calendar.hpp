@@ -32,13 +32,19 @@ class EventCalendar {
   explicit EventCalendar(std::uint32_t slots)
       : slot_(slots), bucket_(std::max<std::uint32_t>(slots, 16), kEnd) {}
 
-  // The slot with the earliest event (any slot when none has one: its key is then kNone).
-  std::uint32_t top() {
-    if (current_.empty()) advance();
+  // The slot with the earliest event (any slot when none has one: its key is then kNone). When a
+  // bucket is entered, ahead(slot) is called for every slot of the next one: events a few steps
+  // away, whose data the caller may start fetching.
+  template <class Ahead>
+  std::uint32_t top(Ahead&& ahead) {
+    if (current_.empty()) advance(ahead);
     return current_.empty() ? 0 : current_.front().slot;
   }
+  std::uint32_t top() {
+    return top([](std::uint32_t) {});
+  }
   EventKey top_key() {
-    if (current_.empty()) advance();
+    if (current_.empty()) advance([](std::uint32_t) {});
     return current_.empty() ? kNone : current_.front().key;
   }
   EventKey key(std::uint32_t slot) const { return slot_[slot].key; }
@@ -116,7 +122,8 @@ class EventCalendar {
   }
 
   // Moves on to the next bucket holding events, starting a new year when this one is over.
-  void advance() {
+  template <class Ahead>
+  void advance(Ahead&& ahead) {
     const auto buckets = static_cast<std::uint32_t>(bucket_.size());
     while (current_.empty()) {
       if (current_bucket_ + 1 < buckets) {
@@ -124,6 +131,11 @@ class EventCalendar {
         std::uint32_t& head = bucket_[current_bucket_];
         for (std::uint32_t s = head; s != kEnd; s = slot_[s].next) heap_push({slot_[s].key, s});
         head = kEnd;
+        if (current_bucket_ + 1 < buckets) {
+          for (std::uint32_t s = bucket_[current_bucket_ + 1]; s != kEnd; s = slot_[s].next) {
+            ahead(s);
+          }
+        }
       } else if (!new_year()) {
         return;
       }

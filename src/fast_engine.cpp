@@ -69,7 +69,8 @@ void FastEngine<D>::predict(std::uint32_t i) {
   if (hit.time != kNever) {
     consider({std::max(hit.time, clock_), i, hit.label}, {Kind::wall, hit.label, 0, 0});
   }
-  grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
+  const auto prefetch = [&](std::uint32_t j) { __builtin_prefetch(&particles[j]); };
+  grid_.for_each_near(grid_.cell_of(i), prefetch, [&](std::uint32_t j) {
     if (j == i) return;
     // The image seen now (as Engine::image), with this particle's position computed once.
     const Vec<D> offset =
@@ -78,8 +79,10 @@ void FastEngine<D>::predict(std::uint32_t i) {
     const double t = contact_time(p, particles[j], offset);
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
-             {Kind::pair, static_cast<std::int32_t>(j), 0, particles[j].version()});
+             {Kind::pair, static_cast<std::int32_t>(j), 0, 0});
   });
+  // The winner's version only: the counters sit on another cache line than the state.
+  if (best.kind == Kind::pair) best.partner_version = particles[best.partner].version();
   const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     // Ordered after every collision of particle i at the same time: crossing changes no physics.
@@ -98,7 +101,14 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& particles = this->system_.particles;
   if (predictions_stale_) predict_all();
   while (true) {
-    const std::uint32_t i = queue_.top();
+    // Events a few steps away are known: their particles are fetched while these are handled.
+    const std::uint32_t i = queue_.top([&](std::uint32_t s) {
+      if (s >= horizon_slot_) return;
+      __builtin_prefetch(&pending_[s]);
+      __builtin_prefetch(&particles[s]);
+      __builtin_prefetch(reinterpret_cast<const char*>(&particles[s]) + 64);
+      grid_.prefetch_cell_of(s);
+    });
     const double t = queue_.top_key().time;
     if (!(t <= end_time)) return std::nullopt;
     const Pending pending = pending_[i];
