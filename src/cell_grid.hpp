@@ -89,7 +89,8 @@ class CellGrid {
   }
 
   // Calls visit(j) once for every particle j in `cell` and the cells around it, `cell`'s own
-  // included.
+  // included; first look_ahead(j) for the first particle of every cell, which may start fetching
+  // it.
   template <class Visit>
   void for_each_near(std::uint32_t cell, Visit&& visit) const {
     for_each_near(
@@ -98,42 +99,12 @@ class CellGrid {
 
   template <class LookAhead, class Visit>
   void for_each_near(std::uint32_t cell, LookAhead&& look_ahead, Visit&& visit) const {
-    const std::array<std::uint32_t, D> at = coordinates(cell);
-    // Per axis, the neighbouring coordinates: at - 1 .. at + 1, wrapped in a periodic box (all of
-    // them, once each, when the axis has fewer than three cells), clipped by walls.
-    std::array<std::array<std::uint32_t, 3>, D> along{};
-    std::array<std::uint32_t, D> size{};
-    for (std::size_t k = 0; k < D; ++k) {
-      const std::uint32_t n = count_[k];
-      if (box_.periodic() && n < 3) {
-        for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c;
-      } else if (box_.periodic()) {
-        along[k] = {(at[k] + n - 1) % n, at[k], (at[k] + 1) % n};
-        size[k] = 3;
-      } else {
-        for (std::uint32_t c = at[k] > 0 ? at[k] - 1 : 0; c <= std::min(at[k] + 1, n - 1); ++c) {
-          along[k][size[k]++] = c;
-        }
-      }
-    }
     // First every list's head, then the lists: the heads are loaded side by side rather than each
     // after the last list's walk (at a million particles each is a cache miss).
     std::array<std::uint32_t, kBlock> heads;
-    std::size_t cells = 0;
-    std::array<std::uint32_t, D> pick{};
-    while (true) {
-      std::uint32_t index = 0;
-      for (std::size_t k = 0; k < D; ++k) index += along[k][pick[k]] * stride_[k];
-      heads[cells++] = head_[index];
-      std::size_t k = 0;
-      while (k < D && pick[k] + 1 == size[k]) {
-        pick[k] = 0;
-        ++k;
-      }
-      if (k == D) break;
-      ++pick[k];
-    }
+    const std::size_t cells = block(cell, heads);
     for (std::size_t c = 0; c < cells; ++c) {
+      heads[c] = head_[heads[c]];
       if (heads[c] != kNone) {
         __builtin_prefetch(&next_[heads[c]]);
         look_ahead(heads[c]);
@@ -142,6 +113,13 @@ class CellGrid {
     for (std::size_t c = 0; c < cells; ++c) {
       for (std::uint32_t j = heads[c]; j != kNone; j = next_[j]) visit(j);
     }
+  }
+
+  // Starts fetching what for_each_near(cell) will read first, for an event a few steps away.
+  void prefetch_near(std::uint32_t cell) const {
+    std::array<std::uint32_t, kBlock> cells;
+    const std::size_t count = block(cell, cells);
+    for (std::size_t c = 0; c < count; ++c) __builtin_prefetch(&head_[cells[c]]);
   }
 
   struct Crossing {
@@ -186,6 +164,42 @@ class CellGrid {
     std::array<std::uint32_t, D> at{};
     for (std::size_t k = 0; k < D; ++k) at[k] = (cell / stride_[k]) % count_[k];
     return at;
+  }
+
+  // The cells around `cell`, its own included, each once: per axis at - 1 .. at + 1, wrapped in
+  // a periodic box (all of them, once each, when the axis has fewer than three cells), clipped by
+  // walls. Returns how many.
+  std::size_t block(std::uint32_t cell, std::array<std::uint32_t, kBlock>& out) const {
+    const std::array<std::uint32_t, D> at = coordinates(cell);
+    std::array<std::array<std::uint32_t, 3>, D> along{};
+    std::array<std::uint32_t, D> size{};
+    for (std::size_t k = 0; k < D; ++k) {
+      const std::uint32_t n = count_[k];
+      if (box_.periodic() && n < 3) {
+        for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c;
+      } else if (box_.periodic()) {
+        along[k] = {(at[k] + n - 1) % n, at[k], (at[k] + 1) % n};
+        size[k] = 3;
+      } else {
+        for (std::uint32_t c = at[k] > 0 ? at[k] - 1 : 0; c <= std::min(at[k] + 1, n - 1); ++c) {
+          along[k][size[k]++] = c;
+        }
+      }
+    }
+    std::size_t count = 0;
+    std::array<std::uint32_t, D> pick{};
+    while (true) {
+      std::uint32_t index = 0;
+      for (std::size_t k = 0; k < D; ++k) index += along[k][pick[k]] * stride_[k];
+      out[count++] = index;
+      std::size_t k = 0;
+      while (k < D && pick[k] + 1 == size[k]) {
+        pick[k] = 0;
+        ++k;
+      }
+      if (k == D) return count;
+      ++pick[k];
+    }
   }
 
   void remove(std::uint32_t particle) {

@@ -33,18 +33,19 @@ class EventCalendar {
       : slot_(slots), bucket_(std::max<std::uint32_t>(slots, 16), kEnd) {}
 
   // The slot with the earliest event (any slot when none has one: its key is then kNone). When a
-  // bucket is entered, ahead(slot) is called for every slot of the next one: events a few steps
-  // away, whose data the caller may start fetching.
+  // bucket is entered, ahead(slot, 1) is called for each of its slots and ahead(slot, 2) for each
+  // of the next bucket's: events one or a few steps away, whose data the caller may start
+  // fetching.
   template <class Ahead>
   std::uint32_t top(Ahead&& ahead) {
     if (current_.empty()) advance(ahead);
     return current_.empty() ? 0 : current_.front().slot;
   }
   std::uint32_t top() {
-    return top([](std::uint32_t) {});
+    return top([](std::uint32_t, int) {});
   }
   EventKey top_key() {
-    if (current_.empty()) advance([](std::uint32_t) {});
+    if (current_.empty()) advance([](std::uint32_t, int) {});
     return current_.empty() ? kNone : current_.front().key;
   }
   EventKey key(std::uint32_t slot) const { return slot_[slot].key; }
@@ -129,11 +130,14 @@ class EventCalendar {
       if (current_bucket_ + 1 < buckets) {
         ++current_bucket_;
         std::uint32_t& head = bucket_[current_bucket_];
-        for (std::uint32_t s = head; s != kEnd; s = slot_[s].next) heap_push({slot_[s].key, s});
+        for (std::uint32_t s = head; s != kEnd; s = slot_[s].next) {
+          heap_push({slot_[s].key, s});
+          ahead(s, 1);
+        }
         head = kEnd;
         if (current_bucket_ + 1 < buckets) {
           for (std::uint32_t s = bucket_[current_bucket_ + 1]; s != kEnd; s = slot_[s].next) {
-            ahead(s);
+            ahead(s, 2);
           }
         }
       } else if (!new_year()) {

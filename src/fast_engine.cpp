@@ -101,13 +101,24 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& particles = this->system_.particles;
   if (predictions_stale_) predict_all();
   while (true) {
-    // Events a few steps away are known: their particles are fetched while these are handled.
-    const std::uint32_t i = queue_.top([&](std::uint32_t s) {
+    // Events a few steps away are known: what they will read is fetched while these are handled,
+    // in two stages (what the second reads, the first has fetched).
+    const std::uint32_t i = queue_.top([&](std::uint32_t s, int distance) {
       if (s >= horizon_slot_) return;
-      __builtin_prefetch(&pending_[s]);
-      __builtin_prefetch(&particles[s]);
-      __builtin_prefetch(reinterpret_cast<const char*>(&particles[s]) + 64);
-      grid_.prefetch_cell_of(s);
+      if (distance == 2) {
+        __builtin_prefetch(&pending_[s]);
+        __builtin_prefetch(&particles[s]);
+        __builtin_prefetch(reinterpret_cast<const char*>(&particles[s]) + 64);
+        grid_.prefetch_cell_of(s);
+        return;
+      }
+      grid_.prefetch_near(grid_.cell_of(s));
+      if (pending_[s].kind == Kind::pair) {
+        const auto j = static_cast<std::uint32_t>(pending_[s].partner);
+        __builtin_prefetch(&particles[j]);
+        __builtin_prefetch(reinterpret_cast<const char*>(&particles[j]) + 64);
+        grid_.prefetch_cell_of(j);
+      }
     });
     const double t = queue_.top_key().time;
     if (!(t <= end_time)) return std::nullopt;
