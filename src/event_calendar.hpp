@@ -30,7 +30,7 @@ class EventCalendar {
   static constexpr EventKey kNone{kNever, std::numeric_limits<std::uint64_t>::max()};
 
   explicit EventCalendar(std::uint32_t slots)
-      : slot_(slots), bucket_(std::max<std::uint32_t>(slots, 16), kEnd) {}
+      : slot_(slots), bucket_(std::max<std::uint32_t>(2 * slots, 16), kEnd) {}
 
   // The slot with the earliest event (any slot when none has one: its key is then kNone). When a
   // bucket is entered, ahead(slot, 1) is called for each of its slots and ahead(slot, 2) for each
