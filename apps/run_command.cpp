@@ -264,10 +264,13 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   return run;
 }
 
-void run_command(const RunArguments& args) {
-  const double end_time = parse_number(args.end_time, "END_TIME");
+namespace {
+
+// END_TIME as a number the run can reach: not negative, not beyond what a double resolves.
+double parse_end_time(const std::string& text) {
+  const double end_time = parse_number(text, "END_TIME");
   if (end_time < 0.0) {
-    throw UsageError(fmt::format("END_TIME must not be negative, got {}", args.end_time));
+    throw UsageError(fmt::format("END_TIME must not be negative, got {}", text));
   }
   // Times are absolute doubles: beyond this, a double resolves time only to 1e-4 and collisions
   // would pile up at one instant (time re-basing is not implemented yet).
@@ -275,12 +278,16 @@ void run_command(const RunArguments& args) {
   if (end_time > kLatestTime) {
     throw UsageError(fmt::format(
         "END_TIME {} is beyond {}, where time is resolved too coarsely; rescale the time unit",
-        args.end_time, kLatestTime));
+        text, kLatestTime));
   }
-  check(args, end_time);
-  Start start = args.resume ? resume_from(args.input) : start_from(args);
+  return end_time;
+}
+
+// Refuses a start that cannot reach END_TIME: before the checkpoint, or needing more box
+// crossings than could ever be processed.
+void check_reachable(const Start& start, const std::string& end_text, double end_time) {
   if (end_time < start.checkpoint.time) {
-    throw UsageError(fmt::format("END_TIME {} is before the checkpoint's time {}", end_time,
+    throw UsageError(fmt::format("END_TIME {} is before the checkpoint's time {}", end_text,
                                  start.checkpoint.time));
   }
   const double crossings =
@@ -292,27 +299,107 @@ void run_command(const RunArguments& args) {
         "masses, box and time unit",
         crossings, kMostCrossings));
   }
-  Output out(args.output);
-  std::optional<Output> summary, dump, events;
-  if (!args.summary.empty()) summary.emplace(args.summary);
-  std::unique_ptr<TrajectoryWriter> frames;
-  if (!args.dump.empty()) {
-    try {
-      frames = trajectory_writer_for(args.dump);
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(e.what());
+}
+
+// Every file a run writes, opened (as temporary files) before it starts and committed together
+// at the end, so that a failed run leaves none of them behind.
+struct RunOutputs {
+  explicit RunOutputs(const RunArguments& args) : main(args.output) {
+    if (!args.summary.empty()) summary.emplace(args.summary);
+    if (!args.dump.empty()) {
+      try {
+        frames = trajectory_writer_for(args.dump);
+      } catch (const std::invalid_argument& e) {
+        throw UsageError(e.what());
+      }
+      dump.emplace(args.dump);
     }
-    dump.emplace(args.dump);
-  }
-  if (!args.events.empty()) {
-    events.emplace(args.events);
-    events->stream() << "time,kind,first,partner\n";
+    if (!args.events.empty()) {
+      events.emplace(args.events);
+      events->stream() << "time,kind,first,partner\n";
+    }
   }
 
-  Checkpoint& saved = start.checkpoint;
-  const CollisionRule rule = saved.rule;
+  void commit() {
+    main.commit();
+    if (dump) dump->commit();
+    if (events) events->commit();
+    if (summary) summary->commit();
+  }
+
+  Output main;
+  std::optional<Output> summary, dump, events;
+  std::unique_ptr<TrajectoryWriter> frames;
+};
+
+// Runs the engine to END_TIME, stopping at every frame time and at the end of equilibration;
+// stopping changes nothing (events are processed as they come), so the dynamics are the same
+// with or without them. Returns the kinetic energy the measurement started from.
+template <class OnEvent>
+double simulate(Engine<2>& engine, const RunArguments& args, const Start& start,
+                const Checkpoint& saved, double end_time, RunOutputs& outputs,
+                CheckpointWriter& checkpoints, OnEvent&& on_event) {
   const double equilibrate = saved.equilibrate;
-  auto engine = make_engine(saved.engine, std::move(saved.system), rule);
+  TrajectoryWriter* const frames = outputs.frames.get();
+  // Frames fall on multiples of --every, counted from t = 0 also when resuming.
+  auto frame = static_cast<std::uint64_t>(frames ? std::ceil(engine.time() / args.every) : 0.0);
+  double next_frame = frames ? static_cast<double>(frame) * args.every : kNever;
+  if (next_frame > end_time) next_frame = kNever;
+  bool equilibrating = equilibrate > engine.time() ||
+                       (equilibrate > 0.0 && equilibrate == engine.time() && !start.resumed);
+  double kinetic_energy_initial =
+      start.resumed ? saved.kinetic_energy_initial : kinetic_energy(engine.system());
+  checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
+  while (true) {
+    const double stop = std::min({next_frame, equilibrating ? equilibrate : kNever, end_time});
+    while (const auto event = engine.step(stop)) on_event(*event);
+    if (equilibrating && stop == equilibrate) {
+      engine.reset_counts();
+      kinetic_energy_initial = kinetic_energy(engine.system());
+      checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
+      equilibrating = false;
+    }
+    if (stop == next_frame) {
+      frames->frame(outputs.dump->stream(), stop, engine.system());
+      next_frame = static_cast<double>(++frame) * args.every;
+      if (next_frame > end_time) next_frame = kNever;
+    }
+    if (stop == end_time) break;
+  }
+  // Saved before the particles are brought to the end time, so that a resumed run continues
+  // from exactly the state an uninterrupted one would have.
+  checkpoints.save(engine);
+  engine.finish(end_time);
+  return kinetic_energy_initial;
+}
+
+// The final state in the chosen format, and the summary.
+void write_results(const RunArguments& args, const RunSettings& settings, const Engine<2>& engine,
+                   std::optional<TraceWriter>& trace, RunOutputs& outputs) {
+  const auto& particles = engine.system().particles;
+  if (trace) {
+    trace->finish(particles);
+  } else if (args.format == Format::table) {
+    write_table(outputs.main.stream(), particles);
+  } else if (args.format == Format::csv) {
+    write_csv(outputs.main.stream(), particles);
+  } else {
+    write_json(outputs.main.stream(), settings, engine);
+  }
+  if (outputs.summary) write_json(outputs.summary->stream(), settings, engine, false);
+}
+
+}  // namespace
+
+void run_command(const RunArguments& args) {
+  const double end_time = parse_end_time(args.end_time);
+  check(args, end_time);
+  Start start = args.resume ? resume_from(args.input) : start_from(args);
+  check_reachable(start, args.end_time, end_time);
+  RunOutputs outputs(args);
+
+  Checkpoint& saved = start.checkpoint;
+  auto engine = make_engine(saved.engine, std::move(saved.system), saved.rule);
   engine->restore_counts(saved.counts);
   const auto& particles = engine->system().particles;
   CheckpointWriter checkpoints(args, saved);
@@ -321,73 +408,33 @@ void run_command(const RunArguments& args) {
                                               : std::max<std::uint64_t>(1000, particles.size()));
   std::optional<TraceWriter> trace;
   if (args.trace) {
-    trace.emplace(out.stream());
+    trace.emplace(outputs.main.stream());
     trace->start(args.input, end_time, particles);
   }
   Progress progress(engine->time(), end_time, args.quiet);
   const auto on_event = [&](const Event& event) {
     if (trace) trace->event(event, particles);
-    if (events) {
-      events->stream() << fmt::format("{},{},{},{}\n", event.time,
-                                      event.is_wall() ? "wall" : "pair", event.first,
-                                      event.partner);
+    if (outputs.events) {
+      outputs.events->stream() << fmt::format("{},{},{},{}\n", event.time,
+                                              event.is_wall() ? "wall" : "pair", event.first,
+                                              event.partner);
     }
     progress.update(event.time);
     invariants.after_event(*engine, event);
     checkpoints.after_event(*engine);
   };
 
-  // The run stops at every frame time and at the end of equilibration; stopping changes nothing
-  // (events are processed as they come), so the dynamics are the same with or without them.
   const auto started = std::chrono::steady_clock::now();
-  // Frames fall on multiples of --every, counted from t = 0 also when resuming.
-  auto frame = static_cast<std::uint64_t>(frames ? std::ceil(engine->time() / args.every) : 0.0);
-  double next_frame = frames ? static_cast<double>(frame) * args.every : kNever;
-  if (next_frame > end_time) next_frame = kNever;
-  bool equilibrating = equilibrate > engine->time() ||
-                       (equilibrate > 0.0 && equilibrate == engine->time() && !start.resumed);
-  double& kinetic_energy_initial = saved.kinetic_energy_initial;
-  if (!start.resumed) kinetic_energy_initial = kinetic_energy(engine->system());
-  checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
-  while (true) {
-    const double stop = std::min({next_frame, equilibrating ? equilibrate : kNever, end_time});
-    while (const auto event = engine->step(stop)) on_event(*event);
-    if (equilibrating && stop == equilibrate) {
-      engine->reset_counts();
-      kinetic_energy_initial = kinetic_energy(engine->system());
-      checkpoints.set_kinetic_energy_initial(kinetic_energy_initial);
-      equilibrating = false;
-    }
-    if (stop == next_frame) {
-      frames->frame(dump->stream(), stop, engine->system());
-      next_frame = static_cast<double>(++frame) * args.every;
-      if (next_frame > end_time) next_frame = kNever;
-    }
-    if (stop == end_time) break;
-  }
-  // Saved before the particles are brought to the end time, so that a resumed run continues
-  // from exactly the state an uninterrupted one would have.
-  checkpoints.save(*engine);
-  engine->finish(end_time);
+  const double kinetic_energy_initial =
+      simulate(*engine, args, start, saved, end_time, outputs, checkpoints, on_event);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 
-  const RunSettings settings{
-      saved.input, end_time, equilibrate, rule, saved.engine, kinetic_energy_initial, seconds};
-  if (trace) {
-    trace->finish(particles);
-  } else if (args.format == Format::table) {
-    write_table(out.stream(), particles);
-  } else if (args.format == Format::csv) {
-    write_csv(out.stream(), particles);
-  } else {
-    write_json(out.stream(), settings, *engine);
-  }
-  if (summary) write_json(summary->stream(), settings, *engine, false);
-  out.commit();
-  if (dump) dump->commit();
-  if (events) events->commit();
-  if (summary) summary->commit();
+  const RunSettings settings{saved.input, end_time,     saved.equilibrate,
+                             saved.rule,  saved.engine, kinetic_energy_initial,
+                             seconds};
+  write_results(args, settings, *engine, trace, outputs);
+  outputs.commit();
 }
 
 }  // namespace carom::cli
