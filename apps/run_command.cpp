@@ -246,7 +246,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                 "No progress line (shown on stderr during long runs when it is a terminal)");
   add_choice<EngineKind>(run, "--engine", args.engine,
                          {{"fast", EngineKind::fast}, {"reference", EngineKind::reference}},
-                         "fast: cell grid and event queue, O(log N) per event; reference: the "
+                         "fast: cell grid and event calendar, O(1) per event; reference: the "
                          "seed's algorithm, every pair checked after every event (O(N^2), for "
                          "checking)");
   run->add_option("--checkpoint", args.checkpoint,

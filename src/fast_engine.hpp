@@ -1,7 +1,8 @@
 // The production engine: a cell grid limits predictions to nearby particles, each particle holds
-// exactly one pending event (its earliest collision, wall hit or cell crossing) in an indexed
-// heap, and an event against a partner that has collided since is detected by the partner's
-// version and predicted again lazily. An event costs O(log N) plus the particles in 3^D cells.
+// exactly one pending event (its earliest collision, wall hit or cell crossing) in an event
+// calendar, and an event against a partner that has collided since is detected by the partner's
+// version and predicted again lazily. An event costs O(1) on average: the particles in 3^D cells
+// and a bucket of the calendar.
 //
 // Why no collision is missed: two particles about to touch are in the same or adjacent cells, and
 // the later of them to change cell or velocity predicted their contact then. In a periodic box

@@ -33,7 +33,7 @@ class JamError : public std::runtime_error {
 };
 
 enum class EngineKind {
-  fast,       // cell grid, one pending event per particle, O(log N) per event
+  fast,       // cell grid, one pending event per particle in a calendar, O(1) per event
   reference,  // the seed's algorithm done right: every pair predicted again after every event
 };
 
