@@ -97,6 +97,14 @@ void FastEngine<D>::predict(std::uint32_t i) {
 }
 
 template <std::size_t D>
+void FastEngine<D>::fetch_ahead(std::uint32_t i) const {
+  const auto* state = reinterpret_cast<const char*>(&this->system_.particles[i]);
+  __builtin_prefetch(state);
+  __builtin_prefetch(state + 64);  // the counters, whose sum is the version, may start a new line
+  grid_.prefetch_cell_of(i);
+}
+
+template <std::size_t D>
 std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& particles = this->system_.particles;
   if (predictions_stale_) predict_all();
@@ -107,18 +115,12 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
       if (s >= horizon_slot_) return;
       if (distance == 2) {
         __builtin_prefetch(&pending_[s]);
-        __builtin_prefetch(&particles[s]);
-        __builtin_prefetch(reinterpret_cast<const char*>(&particles[s]) + 64);
-        grid_.prefetch_cell_of(s);
+        fetch_ahead(s);
         return;
       }
       grid_.prefetch_near(grid_.cell_of(s));
-      if (pending_[s].kind == Kind::pair) {
-        const auto j = static_cast<std::uint32_t>(pending_[s].partner);
-        __builtin_prefetch(&particles[j]);
-        __builtin_prefetch(reinterpret_cast<const char*>(&particles[j]) + 64);
-        grid_.prefetch_cell_of(j);
-      }
+      if (pending_[s].kind == Kind::pair)
+        fetch_ahead(static_cast<std::uint32_t>(pending_[s].partner));
     });
     const double t = queue_.top_key().time;
     if (!(t <= end_time)) return std::nullopt;

@@ -42,6 +42,8 @@ class FastEngine final : public Engine<D> {
 
   // Finds the earliest event of particle i from the current time and queues it.
   void predict(std::uint32_t i);
+  // Starts fetching what processing an event of particle i will read first.
+  void fetch_ahead(std::uint32_t i) const;
   // Predicts every particle afresh (at the start and after every stored state changed at once).
   void predict_all();
   // Queues the next time every particle is predicted again, or none.
