@@ -17,7 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "carom/event.hpp"
@@ -27,12 +26,10 @@ namespace carom {
 
 class EventCalendar {
  public:
-  static constexpr EventKey kNone{kNever, std::numeric_limits<std::uint64_t>::max()};
-
   explicit EventCalendar(std::uint32_t slots)
       : slot_(slots), bucket_(std::max<std::uint32_t>(2 * slots, 16), kEnd) {}
 
-  // The slot with the earliest event (any slot when none has one: its key is then kNone). When a
+  // The slot with the earliest event (any slot when none has one: its key is then kNoEvent). When a
   // bucket is entered, ahead(slot, 1) is called for each of its slots and ahead(slot, 2) for each
   // of the next bucket's: events one or a few steps away, whose data the caller may start
   // fetching.
@@ -46,11 +43,11 @@ class EventCalendar {
   }
   EventKey top_key() {
     if (current_.empty()) advance([](std::uint32_t, int) {});
-    return current_.empty() ? kNone : current_.front().key;
+    return current_.empty() ? kNoEvent : current_.front().key;
   }
   EventKey key(std::uint32_t slot) const { return slot_[slot].key; }
 
-  // Replaces the pending event of `slot` (kNone: no event).
+  // Replaces the pending event of `slot` (kNoEvent: no event).
   void update(std::uint32_t slot, const EventKey& key) {
     remove(slot);
     slot_[slot].key = key;
@@ -67,7 +64,7 @@ class EventCalendar {
 
   // Everything about one slot in one place: a single cache miss reaches it.
   struct alignas(32) Slot {
-    EventKey key = kNone;
+    EventKey key = kNoEvent;
     std::uint32_t next = kEnd, prev = kEnd;  // neighbours in a bucket's list or the overflow
     std::uint32_t where = kIdle;
   };

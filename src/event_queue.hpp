@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "carom/event.hpp"
@@ -18,12 +17,10 @@ namespace carom {
 
 class EventQueue {
  public:
-  static constexpr EventKey kNone{kNever, std::numeric_limits<std::uint64_t>::max()};
-
   explicit EventQueue(std::uint32_t particles)
-      : heap_(particles), slot_(particles), order_(particles, kNone.order) {
+      : heap_(particles), slot_(particles), order_(particles, kNoEvent.order) {
     for (std::uint32_t i = 0; i < particles; ++i) {
-      heap_[i] = {kNone.time, i};
+      heap_[i] = {kNoEvent.time, i};
       slot_[i] = i;
     }
   }

@@ -46,7 +46,7 @@ void FastEngine<D>::schedule_horizon() {
   if (horizon_ == kNever) return;
   if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
   pending_[horizon_slot_] = {Kind::horizon, 0, 0, 0};
-  queue_.update(horizon_slot_, {clock_ + horizon_, ~std::uint64_t{0}});
+  queue_.update(horizon_slot_, {clock_ + horizon_, kNoEvent.order});  // after every event then
 }
 
 template <std::size_t D>
@@ -56,7 +56,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
   const bool periodic = this->system_.box.periodic();
   const Vec<D> here = position_at(p, clock_);
   Pending best;
-  EventKey best_key = EventCalendar::kNone;
+  EventKey best_key = kNoEvent;
   const auto consider = [&](const Event& candidate, const Pending& meaning) {
     const EventKey key = key_of<D>(candidate);
     if (key < best_key) {

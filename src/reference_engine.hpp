@@ -39,7 +39,7 @@ class ReferenceEngine final : public Engine<D> {
     const auto& particles = this->system_.particles;
     const auto n = static_cast<std::uint32_t>(particles.size());
     Event best{kNever, 0, 0};
-    EventKey best_key{kNever, ~std::uint64_t{0}};
+    EventKey best_key = kNoEvent;
     const auto consider = [&](const Event& candidate) {
       const EventKey key = key_of<D>(candidate);
       if (key < best_key) {

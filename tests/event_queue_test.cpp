@@ -47,7 +47,7 @@ TYPED_TEST(EventQueues, AgreesWithASortedListUnderRandomUpdates) {
   pcg32 rng(5);
   const std::uint32_t n = 257;
   TypeParam queue(n);
-  std::vector<EventKey> keys(n, TypeParam::kNone);
+  std::vector<EventKey> keys(n, kNoEvent);
   for (int step = 0; step < 20000; ++step) {
     const std::uint32_t i = rng() % n;
     keys[i] = {static_cast<double>(rng() % 50), rng() % 3};
@@ -67,7 +67,7 @@ TYPED_TEST(EventQueues, AgreesWithASortedListAsTimeGoesOn) {
   pcg32 rng(7);
   const std::uint32_t n = 300;
   TypeParam queue(n);
-  std::vector<EventKey> keys(n, TypeParam::kNone);
+  std::vector<EventKey> keys(n, kNoEvent);
   const auto uniform = [&] { return static_cast<double>(rng()) / 4294967296.0; };
   for (std::uint32_t i = 0; i < n; ++i) {
     keys[i] = {uniform(), i % 4};
@@ -87,7 +87,7 @@ TYPED_TEST(EventQueues, AgreesWithASortedListAsTimeGoesOn) {
     if (kind == 1) later = now;
     if (kind == 2) later = now + 1e6 * uniform();
     if (kind == 3) later = now + 1e-12 * uniform();
-    keys[i] = later == kNever ? TypeParam::kNone : EventKey{later, rng() % 4};
+    keys[i] = later == kNever ? kNoEvent : EventKey{later, rng() % 4};
     queue.update(i, keys[i]);
   }
 }
@@ -97,9 +97,9 @@ TYPED_TEST(EventQueues, EqualTimesAndEmptiness) {
   for (std::uint32_t i = 0; i < 40; ++i) queue.update(i, {1.0, 5});
   for (std::uint32_t i = 0; i < 40; ++i) {
     ASSERT_EQ(queue.top(), i);
-    queue.update(i, TypeParam::kNone);
+    queue.update(i, kNoEvent);
   }
-  EXPECT_EQ(queue.top_key(), TypeParam::kNone);
+  EXPECT_EQ(queue.top_key(), kNoEvent);
   queue.update(17, {3.0, 1});  // after a year with nothing left, an event starts a new one
   EXPECT_EQ(queue.top(), 17u);
 }

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <tuple>
 
 namespace carom {
@@ -31,6 +32,10 @@ struct EventKey {
   }
   friend bool operator==(const EventKey&, const EventKey&) = default;
 };
+
+// No event at all: after every real one, also in the tie-break order.
+inline constexpr EventKey kNoEvent{std::numeric_limits<double>::infinity(),
+                                   std::numeric_limits<std::uint64_t>::max()};
 
 template <std::size_t D>
 constexpr std::uint64_t partner_rank(std::int32_t partner) {
