@@ -1,7 +1,8 @@
-// Pieces the carom subcommands share: usage errors, named choices, output files.
+// Pieces the carom subcommands share: usage errors, the stop signal, named choices, output files.
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "carom/atomic_file.hpp"
+#include "carom/names.hpp"
 
 namespace carom::cli {
 
@@ -19,37 +21,43 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// A run stopped by a signal after writing its checkpoint; the exit code is 128 + the signal.
+// A command stopped by a signal; the exit code is 128 + the signal. The message says what was
+// kept.
 struct Interrupted : std::runtime_error {
-  Interrupted(int signal, const std::string& checkpoint)
-      : std::runtime_error("interrupted; the run so far is saved in " + checkpoint +
-                           ": continue it with 'carom run --resume " + checkpoint + " END_TIME'"),
-        signal(signal) {}
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal(signal) {}
   int signal;
 };
 
-// An option whose value is one of a few names; help lists them and anything else is refused.
-template <class T>
-CLI::Option* add_choice(CLI::App* app, const std::string& flag, T& target,
-                        const std::vector<std::pair<std::string, T>>& names,
+// The signal (SIGINT, SIGTERM, SIGHUP) that asked the command to stop, or 0. The command line's
+// handlers set it; the simulation polls it (the library installs no handler of its own). A second
+// signal stops the process at once.
+std::atomic<int>& stop_signal();
+void install_stop_handlers();
+// Throws Interrupted(`what`) if a stop signal arrived.
+void stop_if_asked(const std::string& what);
+std::string signal_name(int signal);
+
+// An option whose value is one of an enum's names (its EnumNames table); help lists them,
+// anything else is refused, and case does not matter.
+template <class E>
+CLI::Option* add_choice(CLI::App* app, const std::string& flag, E& target,
                         const std::string& help) {
   std::vector<std::string> keys;
-  for (const auto& [key, value] : names) keys.push_back(key);
+  for (const auto& entry : EnumNames<E>::table) keys.emplace_back(entry.first);
   return app
       ->add_option_function<std::string>(
           flag,
-          [&target, names](const std::string& chosen) {
-            for (const auto& [key, value] : names) {
-              if (CLI::detail::to_lower(chosen) == key) target = value;
-            }
+          [&target](const std::string& chosen) {
+            target = *from_name<E>(CLI::detail::to_lower(chosen));
           },
           help)
       ->check(CLI::IsMember(keys, CLI::ignore_case))
       ->default_str(keys.front());
 }
 
-// Where a command writes: standard output, or a file that appears only when complete. Opened
-// before any work, so that an unwritable path fails at once.
+// Where a command writes its result: standard output, or a file that appears only when complete.
+// Opened before any work, so that an unwritable path fails at once; not committed when a stop
+// signal arrived meanwhile.
 class Output {
  public:
   explicit Output(const std::string& path) {
@@ -62,6 +70,7 @@ class Output {
   }
   std::ostream& stream() { return file_ ? file_->stream() : std::cout; }
   void commit() {
+    stop_if_asked("nothing was written");
     if (file_) {
       file_->commit();
     } else if (!std::cout.flush()) {

@@ -48,7 +48,6 @@ Examples:
   init->add_option("--kT", o.temperature, "Temperature (masses are 1)")->default_str("1");
   init->add_option("--seed", o.seed, "Random seed")->default_str("1");
   add_choice<Boundary>(init, "--boundary", o.boundary,
-                       {{"walls", Boundary::walls}, {"periodic", Boundary::periodic}},
                        "The box the file is meant for: with walls, disks keep R from them");
   auto* lattice = init->add_flag("--lattice", args.lattice, "Place on a triangular lattice");
   init->add_flag("--random", args.random, "Place at random (random sequential addition)")
@@ -72,7 +71,7 @@ void init_command(InitArguments args) {
   double sum = 0.0;
   for (const Particle<2>& p : system.particles) sum += p.radius;
   const double mean = o.polydispersity == 0.0 ? system.particles.front().radius
-                                              : sum / static_cast<double>(system.particles.size());
+                                              : sum / static_cast<double>(system.size());
   write_classic(out.stream(), system, mean);
   out.commit();
 }

@@ -1,9 +1,11 @@
-// The carom command line: parses arguments, calls the library, formats. Exit codes: 0 success,
-// 2 usage or input error, 1 runtime failure.
+// The carom command line: parses arguments, builds a Simulation, attaches outputs, formats.
+// Exit codes: 0 success, 2 usage or input error, 1 runtime failure, 128 + N stopped by signal N.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <exception>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include "carom/classic_input.hpp"
 #include "carom/version.hpp"
@@ -21,6 +23,64 @@ double parse_number(const std::string& text, const std::string& what) {
     throw UsageError(what + ": " + e.what());
   }
 }
+
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// The known word closest to `word`, if it is close enough to be what was meant.
+std::string closest(const std::string& word, const std::vector<std::string>& known) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const std::string& candidate : known) {
+    const std::size_t d = edit_distance(word, candidate);
+    if (d < best_distance) {
+      best = candidate;
+      best_distance = d;
+    }
+  }
+  return best;
+}
+
+// "did you mean" for the words of the command line the parser did not know: options of the
+// subcommand in use, or subcommands.
+std::string suggestions(const CLI::App& app, const CLI::App* command, int argc, char** argv) {
+  std::vector<std::string> options, commands;
+  for (const CLI::App* sub : app.get_subcommands({})) commands.push_back(sub->get_name());
+  if (command != nullptr) {
+    for (const CLI::Option* option : command->get_options()) {
+      for (const std::string& name : option->get_lnames()) options.push_back("--" + name);
+    }
+  }
+  std::string said;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = std::string(argv[i]).substr(0, std::string(argv[i]).find('='));
+    std::string guess;
+    if (word.rfind("--", 0) == 0 && command != nullptr &&
+        std::find(options.begin(), options.end(), word) == options.end()) {
+      guess = closest(word, options);
+    } else if (i == 1 && command == nullptr && word[0] != '-') {
+      guess = closest(word, commands);
+    }
+    if (!guess.empty()) said += "\n  '" + word + "': did you mean '" + guess + "'?";
+  }
+  return said;
+}
+
+}  // namespace
 
 }  // namespace carom::cli
 
@@ -48,14 +108,26 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
   ViewArguments view_args;
   CLI::App* view = add_view_command(app, view_args);
 
+  if (argc <= 1) {
+    std::cout << app.help();
+    return 0;
+  }
+  // The command named on the line, for messages (the parser may fail before it knows).
+  CLI::App* named = nullptr;
+  for (CLI::App* command : {run, init, view}) {
+    if (command->get_name() == argv[1]) named = command;
+  }
+  const std::string usage = named != nullptr ? "carom " + named->get_name() : "carom";
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : kUsageError;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    std::cerr << "carom: error: " << e.what() << suggestions(app, named, argc, argv) << "\nRun '"
+              << usage << " --help' for usage.\n";
+    return kUsageError;
   }
 
-  const std::string command = run->parsed() ? "run" : init->parsed() ? "init" : "view";
+  install_stop_handlers();
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
@@ -65,13 +137,17 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
     std::cerr << "carom: " << e.what() << '\n';
     return 128 + e.signal;
   } catch (const UsageError& e) {
-    std::cerr << "carom: error: " << e.what() << "\nRun 'carom " << command
-              << " --help' for usage.\n";
+    std::cerr << "carom: error: " << e.what() << "\nRun '" << usage << " --help' for usage.\n";
     return kUsageError;
   } catch (const carom::InputError& e) {
     std::cerr << "carom: error: " << e.what() << '\n';
     return kUsageError;
   } catch (const std::exception& e) {
+    // A stop signal may have cut a write short: say so rather than report the write.
+    if (const int signal = stop_signal().load(); signal != 0) {
+      std::cerr << "carom: " << signal_name(signal) << ": nothing was written\n";
+      return 128 + signal;
+    }
     std::cerr << "carom: error: " << e.what() << '\n';
     return kRuntimeError;
   }

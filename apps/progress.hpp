@@ -9,27 +9,33 @@
 #include <cstdint>
 #include <cstdio>
 
+#include "carom/simulation.hpp"
+
 namespace carom::cli {
 
-class Progress {
+template <std::size_t D>
+class Progress final : public Observer<D> {
  public:
-  Progress(double start, double end, bool quiet)
-      : start_(start), end_(end), enabled_(!quiet && ::isatty(STDERR_FILENO) == 1) {}
-  ~Progress() {
+  // Looks at the clock every few thousand events.
+  Progress(double start, double end)
+      : Observer<D>(Trigger::every_events(4096)), start_(start), end_(end) {}
+  ~Progress() override {
     if (shown_) std::fprintf(stderr, "\r%*s\r", 79, "");
   }
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
 
-  // Called after every event; looks at the clock only every few thousand events.
-  void update(double time) {
-    ++events_;
-    if (!enabled_ || events_ % 4096 != 0) return;
+  // Whether a progress line belongs on this stderr.
+  static bool wanted(bool quiet) { return !quiet && ::isatty(STDERR_FILENO) == 1; }
+
+  void observe(const Simulation<D>& simulation) override {
+    events_ += 4096;
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - began_).count();
     if (elapsed < 1.0 || now - last_ < std::chrono::milliseconds(250)) return;
     last_ = now;
     shown_ = true;
+    const double time = simulation.time();
     const double done = end_ > start_ ? (time - start_) / (end_ - start_) : 1.0;
     const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
     std::fprintf(stderr, "\rt = %.6g / %.6g (%4.1f%%)  %.3g events/s  %d:%02d left   ", time, end_,
@@ -41,7 +47,6 @@ class Progress {
  private:
   using Clock = std::chrono::steady_clock;
   double start_, end_;
-  bool enabled_;
   bool shown_ = false;
   std::uint64_t events_ = 0;
   Clock::time_point began_ = Clock::now(), last_ = began_;

@@ -2,6 +2,7 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "carom/engine.hpp"
@@ -26,9 +27,9 @@ struct RunArguments {
   std::uint64_t check_every = 0;
   Rule rule = Rule::swap;
   double restitution = 1.0;
-  double tc = 1e-5;
+  double tc = kDefaultTc;
   Boundary boundary = Boundary::walls;
-  double equilibrate = 0.0;
+  std::optional<double> equilibrate;
   EngineKind engine = EngineKind::fast;
   bool quiet = false;
 };

@@ -63,7 +63,8 @@ BENCHMARK(BM_NextWallHit);
 void BM_ElasticCollision(benchmark::State& state) {
   auto p = particles(2);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(collide(p[0], p[1], p[0].position - p[1].position, Rule::elastic));
+    benchmark::DoNotOptimize(
+        collide(p[0], p[1], p[0].position - p[1].position, Rule::elastic, 1.0, 1.0, 1.0));
   }
 }
 BENCHMARK(BM_ElasticCollision);

@@ -5,9 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <array>
 #include <cerrno>
-#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -22,41 +20,6 @@ namespace fs = std::filesystem;
 
 [[noreturn]] void fail(const std::string& what, const std::string& path) {
   throw std::runtime_error(fmt::format("{} '{}': {}", what, path, std::strerror(errno)));
-}
-
-// Temporary files still open, removed by the signal handler if the run is interrupted. A fixed
-// table of fixed buffers: the handler may use nothing that allocates.
-constexpr std::size_t kMaxOpen = 8;
-std::array<std::array<char, 4096>, kMaxOpen> open_files{};
-volatile std::sig_atomic_t handlers_installed = 0;
-
-extern "C" void remove_temporaries_and_reraise(int signal) {
-  for (auto& name : open_files) {
-    if (name[0] != '\0') ::unlink(name.data());
-  }
-  std::signal(signal, SIG_DFL);
-  std::raise(signal);
-}
-
-void track(const std::string& name) {
-  if (!handlers_installed) {
-    handlers_installed = 1;
-    std::signal(SIGINT, remove_temporaries_and_reraise);
-    std::signal(SIGTERM, remove_temporaries_and_reraise);
-    std::signal(SIGHUP, remove_temporaries_and_reraise);
-  }
-  for (auto& slot : open_files) {
-    if (slot[0] == '\0' && name.size() < slot.size()) {
-      std::memcpy(slot.data(), name.c_str(), name.size() + 1);
-      return;
-    }
-  }
-}
-
-void untrack(const std::string& name) {
-  for (auto& slot : open_files) {
-    if (name == slot.data()) slot[0] = '\0';
-  }
 }
 
 }  // namespace
@@ -92,7 +55,6 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
   }
   ::close(fd);
   temporary_.assign(name.data());
-  track(temporary_);
   stream_.open(temporary_, std::ios::binary | std::ios::trunc);
   if (!stream_) fail("cannot open", temporary_);
 }
@@ -101,7 +63,6 @@ AtomicFile::~AtomicFile() {
   if (!committed_ && !temporary_.empty()) {
     stream_.close();
     std::remove(temporary_.c_str());
-    untrack(temporary_);
   }
 }
 
@@ -121,7 +82,6 @@ void AtomicFile::commit() {
     committed_ = false;
     fail("cannot rename into", path_);
   }
-  untrack(temporary_);
 }
 
 }  // namespace carom

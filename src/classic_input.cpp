@@ -202,16 +202,16 @@ ClassicInput read_classic(std::istream& in, const std::string& name, Boundary bo
     p.position = {v[0], v[1]};
     p.velocity = {v[2], v[3]};
     p.radius = v.size() > 4 ? v[4] : input.radius;
-    p.mass = v.size() > 5 ? v[5] : 1.0;
+    const double mass = v.size() > 5 ? v[5] : 1.0;
     if (!(p.radius > 0.0)) {
       throw InputError(
           name, lines.number(),
           fmt::format("the radius of particle {} must be greater than 0, found {}", i, p.radius));
     }
-    if (!(p.mass > 0.0)) {
+    if (!(mass > 0.0)) {
       throw InputError(
           name, lines.number(),
-          fmt::format("the mass of particle {} must be greater than 0, found {}", i, p.mass));
+          fmt::format("the mass of particle {} must be greater than 0, found {}", i, mass));
     }
     for (std::size_t k = 0; k < 2; ++k) {
       if (p.position[k] < 0.0 || p.position[k] > b.size[k]) {
@@ -236,7 +236,7 @@ ClassicInput read_classic(std::istream& in, const std::string& name, Boundary bo
                                      i, v[0], v[1], p.radius, wall_name(label)));
       }
     }
-    input.system.particles.push_back(p);
+    input.system.add(p, mass);
     input.line_of.push_back(lines.number());
   }
   if (lines.next(tokens)) {

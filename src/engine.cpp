@@ -12,6 +12,11 @@ namespace carom {
 template <std::size_t D>
 Engine<D>::Engine(System<D> system, const CollisionRule& rule)
     : system_(std::move(system)), rule_(rule) {
+  // No records at all: every particle of mass 1, nothing happened to it yet.
+  if (system_.records.empty()) system_.records.resize(system_.particles.size());
+  if (system_.records.size() != system_.particles.size()) {
+    throw std::invalid_argument("a system needs one record per particle (or none)");
+  }
   for (const Particle<D>& p : system_.particles) now_ = std::max(now_, p.time);
   if (system_.box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
@@ -24,7 +29,7 @@ Engine<D>::Engine(System<D> system, const CollisionRule& rule)
 }
 
 template <std::size_t D>
-void Engine<D>::apply(const Event& event) {
+void Engine<D>::apply(Event& event) {
   // Simultaneous events are common (corners, symmetric starts) but bounded: a few per particle.
   events_at_now_ = event.time == now_ ? events_at_now_ + 1 : 0;
   if (events_at_now_ > 64 * system_.particles.size() + 1000) {
@@ -36,24 +41,30 @@ void Engine<D>::apply(const Event& event) {
   now_ = event.time;
   const double t = event.time;
   Particle<D>& a = system_.particles[event.first];
+  ParticleRecord& ra = system_.records[event.first];
   if (event.is_wall()) {
     advance(a, t);
-    counts_.wall_momentum += bounce(a, event.partner, system_.box);
-    ++counts_.wall_collisions;
+    event.impulse = bounce(a, event.partner, system_.box, ra.mass);
+    ++ra.wall_collisions;
   } else {
-    Particle<D>& b = system_.particles[static_cast<std::size_t>(event.partner)];
-    const bool recent = t - a.time < rule_.elastic_within || t - b.time < rule_.elastic_within;
-    const bool elastic_by_tc = recent && rule_.restitution < 1.0;
+    const auto j = static_cast<std::size_t>(event.partner);
+    Particle<D>& b = system_.particles[j];
+    ParticleRecord& rb = system_.records[j];
+    // The TC model reads each particle's own last collision, never its stored time.
+    const bool recent = t - ra.last_collision < rule_.elastic_within ||
+                        t - rb.last_collision < rule_.elastic_within;
+    event.elastic_by_tc = recent && rule_.restitution < 1.0;
     advance(a, t);
     advance(b, t);
-    counts_.virial += collide(a, b, separation(a, b, system_.box), rule_.rule,
-                              elastic_by_tc ? 1.0 : rule_.restitution);
+    event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule,
+                            event.elastic_by_tc ? 1.0 : rule_.restitution, ra.mass, rb.mass);
     wrap(a.position, system_.box);
     wrap(b.position, system_.box);
-    ++counts_.pair_collisions;
-    if (elastic_by_tc) ++counts_.elastic_by_tc;
+    ++ra.pair_collisions;
+    ++rb.pair_collisions;
+    rb.last_collision = t;
   }
-  ++counts_.events;
+  ra.last_collision = t;
 }
 
 template <std::size_t D>
@@ -81,35 +92,12 @@ void Engine<D>::throw_too_fast(double t) const {
 }
 
 template <std::size_t D>
-void Engine<D>::finish(double end_time) {
-  if (end_time < now_) throw std::logic_error("Engine::finish: end time precedes the last event");
-  for (Particle<D>& p : system_.particles) {
-    advance(p, end_time);
-    wrap(p.position, system_.box);
-  }
-  now_ = end_time;
-  resync();
-}
-
-template <std::size_t D>
 std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
                                        const CollisionRule& rule) {
   if (kind == EngineKind::reference) {
     return std::make_unique<ReferenceEngine<D>>(std::move(system), rule);
   }
   return std::make_unique<FastEngine<D>>(std::move(system), rule);
-}
-
-std::string_view rule_name(Rule rule) {
-  return rule == Rule::swap ? "swap" : "elastic";
-}
-
-std::string_view boundary_name(Boundary boundary) {
-  return boundary == Boundary::walls ? "walls" : "periodic";
-}
-
-std::string_view engine_name(EngineKind kind) {
-  return kind == EngineKind::fast ? "fast" : "reference";
 }
 
 template class Engine<2>;

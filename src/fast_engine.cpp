@@ -26,19 +26,10 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
 }
 
 template <std::size_t D>
-void FastEngine<D>::resync() {
-  // Predicting afresh waits for the next step: a run that ends here (the usual case) never pays
-  // for it.
-  clock_ = std::max(clock_, this->now_);
-  predictions_stale_ = true;
-}
-
-template <std::size_t D>
 void FastEngine<D>::predict_all() {
   const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
   schedule_horizon();
-  predictions_stale_ = false;
 }
 
 template <std::size_t D>
@@ -81,8 +72,8 @@ void FastEngine<D>::predict(std::uint32_t i) {
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, 0});
   });
-  // The winner's version only: the counters sit on another cache line than the state.
-  if (best.kind == Kind::pair) best.partner_version = particles[best.partner].version();
+  // The winner's version only: the counters are cold data, apart from the state.
+  if (best.kind == Kind::pair) best.partner_version = this->system_.records[best.partner].version();
   const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     // Ordered after every collision of particle i at the same time: crossing changes no physics.
@@ -100,14 +91,14 @@ template <std::size_t D>
 void FastEngine<D>::fetch_ahead(std::uint32_t i) const {
   const auto* state = reinterpret_cast<const char*>(&this->system_.particles[i]);
   __builtin_prefetch(state);
-  __builtin_prefetch(state + 64);  // the counters, whose sum is the version, may start a new line
+  __builtin_prefetch(state + sizeof(Particle<D>) - 1);  // a disk's 48 bytes may straddle lines
+  __builtin_prefetch(&this->system_.records[i]);        // the counters, whose sum is the version
   grid_.prefetch_cell_of(i);
 }
 
 template <std::size_t D>
 std::optional<Event> FastEngine<D>::step(double end_time) {
-  const auto& particles = this->system_.particles;
-  if (predictions_stale_) predict_all();
+  const auto& records = this->system_.records;
   while (true) {
     // Events a few steps away are known: what they will read is fetched while these are handled,
     // in two stages (what the second reads, the first has fetched).
@@ -139,19 +130,19 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         break;
       case Kind::wall: {
         clock_ = t;
-        const Event event{t, i, pending.partner};
+        Event event{t, i, pending.partner};
         this->apply(event);
         predict(i);
         return event;
       }
       case Kind::pair: {
         const auto j = static_cast<std::uint32_t>(pending.partner);
-        if (particles[j].version() != pending.partner_version) {
+        if (records[j].version() != pending.partner_version) {
           predict(i);  // the partner has collided since: this event will not happen
           break;
         }
         clock_ = t;
-        const Event event = pair_event(t, i, j);
+        Event event = pair_event(t, i, j);
         this->apply(event);
         predict(i);
         predict(j);

@@ -27,9 +27,6 @@ class FastEngine final : public Engine<D> {
   FastEngine(System<D> system, const CollisionRule& rule);
   std::optional<Event> step(double end_time) override;
 
- protected:
-  void resync() override;
-
  private:
   enum class Kind : std::uint8_t { none, wall, pair, crossing, horizon };
   // What a particle's entry in the queue means; the time and order are in the queue itself.
@@ -44,7 +41,7 @@ class FastEngine final : public Engine<D> {
   void predict(std::uint32_t i);
   // Starts fetching what processing an event of particle i will read first.
   void fetch_ahead(std::uint32_t i) const;
-  // Predicts every particle afresh (at the start and after every stored state changed at once).
+  // Predicts every particle afresh (at the start and at every renewal horizon).
   void predict_all();
   // Queues the next time every particle is predicted again, or none.
   void schedule_horizon();
@@ -57,7 +54,6 @@ class FastEngine final : public Engine<D> {
   // through more than one image, and predictions are renewed at least this often (see
   // Engine::image_horizon); otherwise infinite.
   double horizon_ = kNever;
-  bool predictions_stale_ = false;  // every stored state changed (resync): predict all first
   std::uint32_t horizon_slot_ = 0;  // the queue entry (after the particles') of the renewal
 };
 

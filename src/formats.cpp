@@ -4,7 +4,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <vector>
 
 #include "carom/observables.hpp"
 #include "carom/version.hpp"
@@ -13,8 +16,10 @@ namespace carom {
 
 namespace {
 
+template <std::size_t D>
 constexpr const char* kTableHeader =
-    "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
+    D == 3 ? "particle id: (xpos, ypos, zpos) (xvel, yvel, zvel): last_update : (cwall, cpart)\n"
+           : "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
 
 // printf's %.6f, exactly as the seed's C program printed (round-half-even on exact ties, `-0`
 // kept), which is what users compare against.
@@ -31,51 +36,74 @@ std::string c_format(const char* format, Args... args) {
   return big;
 }
 
+// The components of a vector, `%.6f, %.6f[, %.6f]`.
+template <std::size_t D>
+std::string components(const Vec<D>& v) {
+  std::string text = c_format("%.6f", v[0]);
+  for (std::size_t k = 1; k < D; ++k) text += c_format(", %.6f", v[k]);
+  return text;
+}
+
 }  // namespace
 
-std::string particle_line(std::size_t index, const Particle<2>& p) {
-  return c_format("particle %zu: (%.6f, %.6f) (%.6f, %.6f): %.6f : (%llu, %llu)", index,
-                  p.position[0], p.position[1], p.velocity[0], p.velocity[1], p.time,
-                  static_cast<unsigned long long>(p.wall_collisions),
-                  static_cast<unsigned long long>(p.pair_collisions));
+template <std::size_t D>
+std::string particle_line(std::size_t index, const Particle<D>& p, const ParticleRecord& record) {
+  return c_format("particle %zu: (", index) + components(p.position) + ") (" +
+         components(p.velocity) +
+         c_format("): %.6f : (%llu, %llu)", p.time,
+                  static_cast<unsigned long long>(record.wall_collisions),
+                  static_cast<unsigned long long>(record.pair_collisions));
 }
 
-void write_table(std::ostream& out, std::span<const Particle<2>> particles) {
-  out << kTableHeader;
-  for (std::size_t i = 0; i < particles.size(); ++i) out << particle_line(i, particles[i]) << '\n';
-}
-
-void write_csv(std::ostream& out, std::span<const Particle<2>> particles) {
-  for (const Particle<2>& p : particles) {
-    out << c_format("%.6f, %.6f, %llu, %llu\n", p.position[0], p.position[1],
-                    static_cast<unsigned long long>(p.wall_collisions),
-                    static_cast<unsigned long long>(p.pair_collisions));
+template <std::size_t D>
+void write_table(std::ostream& out, std::span<const Particle<D>> particles,
+                 std::span<const ParticleRecord> records) {
+  out << kTableHeader<D>;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    out << particle_line(i, particles[i], records[i]) << '\n';
   }
 }
 
-void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine,
+template <std::size_t D>
+void write_csv(std::ostream& out, std::span<const Particle<D>> particles,
+               std::span<const ParticleRecord> records) {
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    out << components(particles[i].position)
+        << c_format(", %llu, %llu\n", static_cast<unsigned long long>(records[i].wall_collisions),
+                    static_cast<unsigned long long>(records[i].pair_collisions));
+  }
+}
+
+template <std::size_t D>
+void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles) {
-  const System<2>& system = engine.system();
-  const RunCounts& counts = engine.counts();
-  const double elapsed = settings.end_time - settings.equilibrate;
-  const Observables<2> o = measure(engine, elapsed, settings.kinetic_energy_initial);
+  const System<D>& system = simulation.state();
+  const Counts& counts = simulation.measurement().counts;
+  const Observables<D> o = simulation.observables();
+  const CollisionRule& rule = simulation.settings().rule;
   // Infinity (no collision yet) is not a json number: null says "undefined".
   const auto number = [](double x) {
     return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
   };
+  const auto vector = [](const Vec<D>& v) {
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < D; ++k) list.push_back(v[k]);
+    return list;
+  };
   const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
-      {"input", settings.input},
-      {"n", system.particles.size()},
-      {"box", {system.box.size[0], system.box.size[1]}},
-      {"boundary", boundary_name(system.box.boundary)},
-      {"rule", rule_name(settings.rule.rule)},
-      {"restitution", settings.rule.restitution},
-      {"tc", settings.rule.elastic_within},
-      {"engine", engine_name(settings.engine)},
+      {"input", report.input},
+      {"dimension", D},
+      {"n", system.size()},
+      {"box", vector(system.box.size)},
+      {"boundary", name_of(system.box.boundary)},
+      {"rule", name_of(rule.rule)},
+      {"restitution", rule.restitution},
+      {"tc", rule.elastic_within},
+      {"engine", name_of(simulation.settings().engine)},
       {"seed", nullptr},  // a run draws no random numbers; the start file's seed is carom init's
-      {"end_time", settings.end_time},
-      {"equilibrate", settings.equilibrate},
+      {"end_time", simulation.time()},
+      {"equilibrate", simulation.measurement().start_time},
       {"events", counts.events},
       {"pair_collisions", counts.pair_collisions},
       {"wall_collisions", counts.wall_collisions},
@@ -83,7 +111,8 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
       {"packing_fraction", o.packing_fraction},
       {"kinetic_energy_initial", o.kinetic_energy_initial},
       {"kinetic_energy_final", o.kinetic_energy_final},
-      {"momentum_final", {o.momentum_final[0], o.momentum_final[1]}},
+      {"momentum_final", vector(o.momentum_final)},
+      {"degrees_of_freedom", o.degrees_of_freedom},
       {"temperature", o.temperature},
       {"pressure", o.pressure},
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
@@ -91,10 +120,10 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
       {"compressibility_factor", o.compressibility_factor},
       {"collision_rate", o.collision_rate},
       {"mean_free_time", number(o.mean_free_time)},
-      {"wall_seconds", settings.wall_seconds},
+      {"wall_seconds", report.wall_seconds},
       {"events_per_second",
-       settings.wall_seconds > 0.0
-           ? nlohmann::ordered_json(static_cast<double>(counts.events) / settings.wall_seconds)
+       report.wall_seconds > 0.0
+           ? nlohmann::ordered_json(static_cast<double>(counts.events) / report.wall_seconds)
            : nlohmann::ordered_json(nullptr)},
   };
   if (!particles) {
@@ -106,17 +135,20 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
   std::string text = head.dump(2);
   text.resize(text.size() - 2);  // reopen the object: drop the closing "\n}"
   out << text << ",\n  \"particles\": [";
-  for (std::size_t i = 0; i < system.particles.size(); ++i) {
-    const Particle<2>& p = system.particles[i];
-    const nlohmann::ordered_json particle = {{"id", i},
-                                             {"x", p.position[0]},
-                                             {"y", p.position[1]},
-                                             {"vx", p.velocity[0]},
-                                             {"vy", p.velocity[1]},
-                                             {"radius", p.radius},
-                                             {"last_update", p.time},
-                                             {"wall_collisions", p.wall_collisions},
-                                             {"pair_collisions", p.pair_collisions}};
+  const std::vector<Particle<D>> now = simulation.snapshot();
+  constexpr const char* kAxes[] = {"x", "y", "z"};
+  constexpr const char* kVelocities[] = {"vx", "vy", "vz"};
+  for (std::size_t i = 0; i < now.size(); ++i) {
+    const Particle<D>& p = now[i];
+    const ParticleRecord& r = system.records[i];
+    nlohmann::ordered_json particle = {{"id", i}};
+    for (std::size_t k = 0; k < D; ++k) particle[kAxes[k]] = p.position[k];
+    for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = p.velocity[k];
+    particle["radius"] = p.radius;
+    particle["mass"] = r.mass;
+    particle["last_update"] = p.time;
+    particle["wall_collisions"] = r.wall_collisions;
+    particle["pair_collisions"] = r.pair_collisions;
     out << (i == 0 ? "\n    " : ",\n    ") << particle.dump();
   }
   out << "\n  ]\n}\n";
@@ -124,12 +156,14 @@ void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>&
 
 void write_classic(std::ostream& out, const System<2>& system, double radius) {
   // Shortest round-trip representation: reading the file back gives the same doubles.
-  out << fmt::format("{}\n{}\n{} {}\n", system.particles.size(), radius, system.box.size[0],
+  out << fmt::format("{}\n{}\n{} {}\n", system.size(), radius, system.box.size[0],
                      system.box.size[1]);
-  for (const Particle<2>& p : system.particles) {
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    const Particle<2>& p = system.particles[i];
+    const double mass = system.records[i].mass;
     out << fmt::format("{} {} {} {}", p.position[0], p.position[1], p.velocity[0], p.velocity[1]);
-    if (p.radius != radius || p.mass != 1.0) out << fmt::format(" {}", p.radius);
-    if (p.mass != 1.0) out << fmt::format(" {}", p.mass);
+    if (p.radius != radius || mass != 1.0) out << fmt::format(" {}", p.radius);
+    if (mass != 1.0) out << fmt::format(" {}", mass);
     out << '\n';
   }
 }
@@ -142,22 +176,63 @@ std::string describe(const Event& event) {
   return fmt::format("Collision: particle {} with particle {}", event.first, event.partner);
 }
 
-void TraceWriter::start(const std::string& input, double end_time,
-                        std::span<const Particle<2>> particles) {
+template <std::size_t D>
+void TraceWriter<D>::start(const std::string& input, double end_time,
+                           const Simulation<D>& simulation) {
   out_ << "Input File: " << input << '\n'
        << c_format("Target Time: %f\n", end_time) << "======== Initial Particles =========\n";
-  write_table(out_, particles);
+  write_table<D>(out_, simulation.state().particles, simulation.state().records);
 }
 
-void TraceWriter::event(const Event& event, std::span<const Particle<2>> particles) {
-  out_ << c_format("                 TIME = %f\n", event.time) << describe(event) << '\n'
+template <std::size_t D>
+void TraceWriter<D>::observe(const Simulation<D>& simulation) {
+  out_ << c_format("                 TIME = %f\n", simulation.last_event().time)
+       << describe(simulation.last_event()) << '\n'
        << "======== Particles =========\n";
-  write_table(out_, particles);
+  write_table<D>(out_, simulation.state().particles, simulation.state().records);
+  if (!out_) throw std::runtime_error("cannot write the trace");
 }
 
-void TraceWriter::finish(std::span<const Particle<2>> particles) {
+template <std::size_t D>
+void TraceWriter<D>::finish(const Simulation<D>& simulation) {
   out_ << "======== Final Particles =========\n";
-  write_table(out_, particles);
+  write_table<D>(out_, simulation.snapshot(), simulation.state().records);
 }
+
+template <std::size_t D>
+void EventLogWriter<D>::observe(const Simulation<D>& simulation) {
+  const Event& event = simulation.last_event();
+  out_ << fmt::format("{},{},{},{}\n", event.time, event.is_wall() ? "wall" : "pair", event.first,
+                      event.partner);
+  if (!out_) throw std::runtime_error("cannot write the event log");
+}
+
+template <std::size_t D>
+std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool inclusive) {
+  std::string line;
+  std::uint64_t kept = 0;
+  if (!std::getline(in, line) || in.eof() || line + "\n" != kHeader) return 0;
+  kept = line.size() + 1;
+  while (std::getline(in, line) && !in.eof()) {
+    char* end = nullptr;
+    const double time = std::strtod(line.c_str(), &end);
+    if (end == line.c_str() || *end != ',' || !(time < t || (inclusive && time == t))) break;
+    kept += line.size() + 1;
+  }
+  return kept;
+}
+
+#define CAROM_FORMATS(D)                                                                      \
+  template std::string particle_line(std::size_t, const Particle<D>&, const ParticleRecord&); \
+  template void write_table(std::ostream&, std::span<const Particle<D>>,                      \
+                            std::span<const ParticleRecord>);                                 \
+  template void write_csv(std::ostream&, std::span<const Particle<D>>,                        \
+                          std::span<const ParticleRecord>);                                   \
+  template void write_json(std::ostream&, const Simulation<D>&, const RunReport&, bool);      \
+  template class TraceWriter<D>;                                                              \
+  template class EventLogWriter<D>;
+CAROM_FORMATS(2)
+CAROM_FORMATS(3)
+#undef CAROM_FORMATS
 
 }  // namespace carom

@@ -150,15 +150,17 @@ void sort_along_space_filling_curve(System<2>& system) {
 
 void draw_velocities(System<2>& system, double temperature, pcg32& rng) {
   auto& particles = system.particles;
-  for (Particle<2>& p : particles) {
-    const double scale = std::sqrt(temperature / p.mass);
-    p.velocity = {{scale * normal(rng), scale * normal(rng)}};
-  }
   double mass = 0.0;
-  for (const Particle<2>& p : particles) mass += p.mass;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double scale = std::sqrt(temperature / system.records[i].mass);
+    particles[i].velocity = {{scale * normal(rng), scale * normal(rng)}};
+    mass += system.records[i].mass;
+  }
   const Vec<2> drift = (1.0 / mass) * momentum(system);
   for (Particle<2>& p : particles) p.velocity -= drift;
-  const double current = 2.0 * kinetic_energy(system) / (2.0 * particles.size());
+  // The temperature the observables measure: over D N degrees of freedom with walls, D (N - 1)
+  // in a periodic box.
+  const double current = kinetic_temperature(system);
   if (current > 0.0) {
     const double scale = std::sqrt(temperature / current);
     for (Particle<2>& p : particles) p.velocity *= scale;
@@ -195,6 +197,7 @@ System<2> make_initial(const InitialOptions& o) {
   System<2> system;
   system.box.boundary = o.boundary;
   system.particles.resize(o.n);
+  system.records.resize(o.n);
   // Radii relative to their mean, uniform with the requested relative standard deviation.
   double area = 0.0;
   for (Particle<2>& p : system.particles) {
@@ -212,6 +215,14 @@ System<2> make_initial(const InitialOptions& o) {
     system.box.size = {{lx, box_area / lx}};
   }
   for (Particle<2>& p : system.particles) p.radius *= scale;
+  // carom run refuses a periodic box that a particle could touch two images of another across.
+  const double largest = largest_radius(system);
+  if (system.box.periodic() && !(shortest_side(system.box) > 4.0 * largest)) {
+    throw InitialError(fmt::format(
+        "a periodic box of {} x {} is too small for disks of radius {}: each side must exceed "
+        "two diameters; ask for more disks or a lower --phi",
+        system.box.size[0], system.box.size[1], largest));
+  }
 
   const bool random = o.placement == Placement::random ||
                       (o.placement == Placement::automatic && o.packing_fraction <= kRandomUpTo);

@@ -21,7 +21,7 @@ class ReferenceEngine final : public Engine<D> {
 
   std::optional<Event> step(double end_time) override {
     while (true) {
-      const Event best = earliest();
+      Event best = earliest();
       const double window_end = window_start_ + horizon_;
       if (best.time <= window_end || window_end > end_time) {
         if (best.time == kNever || !(best.time <= end_time)) return std::nullopt;

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "carom/physics.hpp"
 
@@ -10,64 +12,160 @@ namespace carom {
 
 namespace {
 
-// Extended XYZ: the box as a lattice (z of thickness 1), per-disk species, position, velocity
-// and radius, the periodic axes and the time.
-class ExtendedXyz final : public TrajectoryWriter {
-  void header(std::ostream& out, double t, const System<2>& system) override {
+// x y z of a position or velocity: disks lie in the plane z = 0.
+template <std::size_t D>
+std::string xyz(const Vec<D>& v) {
+  return D == 3 ? fmt::format("{} {} {}", v[0], v[1], v[D - 1])
+                : fmt::format("{} {} 0", v[0], v[1]);
+}
+
+// Reads whole lines, tracking the offset after the last one read; false at the end or at a
+// final line without its newline (a frame cut off by a crash).
+struct LineReader {
+  std::istream& in;
+  std::uint64_t offset = 0;
+  std::string line;
+  bool next() {
+    if (!std::getline(in, line) || in.eof()) return false;
+    offset += line.size() + 1;
+    return true;
+  }
+  bool skip(std::uint64_t lines) {
+    for (std::uint64_t i = 0; i < lines; ++i) {
+      if (!next()) return false;
+    }
+    return true;
+  }
+};
+
+bool taken_before(double frame_time, double t, bool inclusive) {
+  return frame_time < t || (inclusive && frame_time == t);
+}
+
+// Extended XYZ: the box as a lattice (z of thickness 1 for disks), per-particle species,
+// position, velocity, radius and collision count, the periodic axes and the time.
+template <std::size_t D>
+class ExtendedXyz final : public TrajectoryFormat<D> {
+ public:
+  std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
+                                    double) const override {
+    LineReader reader{in};
+    std::uint64_t kept = 0;
+    try {
+      while (reader.next()) {
+        const std::uint64_t count = std::stoull(reader.line);
+        if (!reader.next()) break;
+        const auto at = reader.line.find("Time=");
+        if (at == std::string::npos) break;
+        const double frame_time = std::stod(reader.line.substr(at + 5));
+        if (!reader.skip(count) || !taken_before(frame_time, t, inclusive)) break;
+        kept = reader.offset;
+      }
+    } catch (const std::exception&) {
+      // A line that does not parse ends the frames worth keeping.
+    }
+    return kept;
+  }
+
+ private:
+  void header(std::ostream& out, std::uint64_t, double t, const System<D>& system) override {
+    const Vec<D>& L = system.box.size;
+    const double lz = D == 3 ? L[D - 1] : 1.0;
+    const char* pbc = !system.box.periodic() ? "F F F" : D == 3 ? "T T T" : "T T F";
     out << fmt::format(
-        "{}\nLattice=\"{} 0 0 0 {} 0 0 0 1\" "
+        "{}\nLattice=\"{} 0 0 0 {} 0 0 0 {}\" "
         "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1 pbc=\"{}\" "
         "Time={}\n",
-        system.particles.size(), system.box.size[0], system.box.size[1],
-        system.box.periodic() ? "T T F" : "F F F", t);
+        system.size(), L[0], L[1], lz, pbc, t);
   }
-  void line(std::ostream& out, std::size_t, const Vec<2>& at, const Particle<2>& p) override {
-    out << fmt::format("H {} {} 0 {} {} 0 {} {}\n", at[0], at[1], p.velocity[0], p.velocity[1],
-                       p.radius, p.wall_collisions + p.pair_collisions);
+  void line(std::ostream& out, std::size_t, const Vec<D>& at, const Particle<D>& p,
+            const ParticleRecord& record) override {
+    out << fmt::format("H {} {} {} {}\n", xyz(at), xyz(p.velocity), p.radius, record.version());
   }
 };
 
 // LAMMPS text dump: TIMESTEP is the frame number (LAMMPS steps are integers; the time is the
-// frame number times --every), ids count from 1 as in LAMMPS, z spans [-0.5, 0.5].
-class LammpsDump final : public TrajectoryWriter {
-  void header(std::ostream& out, double, const System<2>& system) override {
-    out << fmt::format(
-        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 {}\n0 "
-        "{}\n-0.5 0.5\nITEM: ATOMS id type x y z vx vy vz radius\n",
-        frames_++, system.particles.size(), system.box.periodic() ? "pp pp pp" : "ff ff pp",
-        system.box.size[0], system.box.size[1]);
-  }
-  void line(std::ostream& out, std::size_t index, const Vec<2>& at, const Particle<2>& p) override {
-    out << fmt::format("{} 1 {} {} 0 {} {} 0 {}\n", index + 1, at[0], at[1], p.velocity[0],
-                       p.velocity[1], p.radius);
+// frame number times the frame interval), ids count from 1 as in LAMMPS; disks span z in
+// [-0.5, 0.5].
+template <std::size_t D>
+class LammpsDump final : public TrajectoryFormat<D> {
+ public:
+  std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
+                                    double every) const override {
+    LineReader reader{in};
+    std::uint64_t kept = 0;
+    try {
+      while (reader.next() && reader.line.rfind("ITEM: TIMESTEP", 0) == 0) {
+        if (!reader.next()) break;
+        const double frame_time = static_cast<double>(std::stoull(reader.line)) * every;
+        if (!reader.skip(1) || !reader.next()) break;
+        const std::uint64_t count = std::stoull(reader.line);
+        if (!reader.skip(5 + count) || !taken_before(frame_time, t, inclusive)) break;
+        kept = reader.offset;
+      }
+    } catch (const std::exception&) {
+      // A line that does not parse ends the frames worth keeping.
+    }
+    return kept;
   }
 
-  std::uint64_t frames_ = 0;
+ private:
+  void header(std::ostream& out, std::uint64_t index, double, const System<D>& system) override {
+    const Vec<D>& L = system.box.size;
+    const char* bounds = system.box.periodic() ? "pp pp pp" : D == 3 ? "ff ff ff" : "ff ff pp";
+    out << fmt::format(
+        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 {}\n0 {}\n{}\n"
+        "ITEM: ATOMS id type x y z vx vy vz radius\n",
+        index, system.size(), bounds, L[0], L[1],
+        D == 3 ? fmt::format("0 {}", L[D - 1]) : std::string("-0.5 0.5"));
+  }
+  void line(std::ostream& out, std::size_t index, const Vec<D>& at, const Particle<D>& p,
+            const ParticleRecord&) override {
+    out << fmt::format("{} 1 {} {} {}\n", index + 1, xyz(at), xyz(p.velocity), p.radius);
+  }
 };
 
 }  // namespace
 
-void TrajectoryWriter::frame(std::ostream& out, double t, const System<2>& system) {
-  header(out, t, system);
-  for (std::size_t i = 0; i < system.particles.size(); ++i) {
-    const Particle<2>& p = system.particles[i];
-    Vec<2> at = position_at(p, t);
+template <std::size_t D>
+void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
+                                const System<D>& system) {
+  header(out, index, t, system);
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    const Particle<D>& p = system.particles[i];
+    Vec<D> at = position_at(p, t);
     wrap(at, system.box);
-    line(out, i, at, p);
+    line(out, i, at, p, system.records[i]);
   }
 }
 
-std::unique_ptr<TrajectoryWriter> trajectory_writer_for(const std::string& path) {
+template <std::size_t D>
+std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path) {
   const auto ends_with = [&](const std::string& suffix) {
     return path.size() >= suffix.size() &&
            path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
-  if (ends_with(".xyz")) return std::make_unique<ExtendedXyz>();
-  if (ends_with(".lammpstrj")) return std::make_unique<LammpsDump>();
+  if (ends_with(".xyz")) return std::make_unique<ExtendedXyz<D>>();
+  if (ends_with(".lammpstrj")) return std::make_unique<LammpsDump<D>>();
   throw std::invalid_argument(fmt::format(
       "cannot tell the trajectory format of '{}': name it .xyz (extended XYZ) or .lammpstrj "
       "(LAMMPS dump)",
       path));
 }
+
+template <std::size_t D>
+void FrameWriter<D>::observe(const Simulation<D>& simulation) {
+  const double t = simulation.time();
+  const auto index = static_cast<std::uint64_t>(std::llround(t / this->trigger().period));
+  format_->frame(out_, index, t, simulation.state());
+  if (!out_.flush()) throw std::runtime_error("cannot write the trajectory");
+}
+
+template class TrajectoryFormat<2>;
+template class TrajectoryFormat<3>;
+template std::unique_ptr<TrajectoryFormat<2>> trajectory_format_for(const std::string&);
+template std::unique_ptr<TrajectoryFormat<3>> trajectory_format_for(const std::string&);
+template class FrameWriter<2>;
+template class FrameWriter<3>;
 
 }  // namespace carom

@@ -30,7 +30,7 @@ TEST(ClassicInput, ReadsThePlainFormat) {
   EXPECT_EQ(input.system.particles[1].position, (Vec2{{5, 5}}));
   EXPECT_EQ(input.system.particles[0].velocity, (Vec2{{0.1, -0.2}}));
   EXPECT_EQ(input.system.particles[0].radius, 0.5);
-  EXPECT_EQ(input.system.particles[0].mass, 1.0);
+  EXPECT_EQ(input.system.records[0].mass, 1.0);
   EXPECT_EQ(input.system.particles[0].time, 0.0);
   EXPECT_EQ(input.line_of, (std::vector<std::size_t>{4, 5}));
 }
@@ -50,11 +50,11 @@ TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
   const ClassicInput input = read("3\n1\n20 20\n5 5 0 0\n10 10 0 0 2\n15 15 0 0 0.5 3\n");
   const auto& p = input.system.particles;
   EXPECT_EQ(p[0].radius, 1.0);
-  EXPECT_EQ(p[0].mass, 1.0);
+  EXPECT_EQ(input.system.records[0].mass, 1.0);
   EXPECT_EQ(p[1].radius, 2.0);
-  EXPECT_EQ(p[1].mass, 1.0);
+  EXPECT_EQ(input.system.records[1].mass, 1.0);
   EXPECT_EQ(p[2].radius, 0.5);
-  EXPECT_EQ(p[2].mass, 3.0);
+  EXPECT_EQ(input.system.records[2].mass, 3.0);
   // Overlap and wall checks use each disk's own radius.
   EXPECT_EQ(error_of("2\n1\n20 20\n5 5 0 0\n8.5 5 0 0 2.6\n"),
             "test.txt:5: particle 1 at (8.5, 5) overlaps particle 0 at (5, 5) on line 4: their "

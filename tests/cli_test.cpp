@@ -291,8 +291,7 @@ TEST_F(Cli, BadEndTimeAndUsageAreUsageErrors) {
                                                {"run", input, "10", "--format", "xml"},
                                                {"run", input, "10", "--rule", "sticky"},
                                                {"run", input, "10", "--trace", "--format", "csv"},
-                                               {"fly"},
-                                               {}}) {
+                                               {"fly"}}) {
     const Result r = carom(args);
     EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
     EXPECT_EQ(r.out, "") << fmt::format("{}", fmt::join(args, " "));

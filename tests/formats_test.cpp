@@ -18,20 +18,26 @@ Particle<2> sample() {
   p.position = {8.3001204, 11.4604334};
   p.velocity = {0.3, -0.31};
   p.time = 18;
-  p.wall_collisions = 2;
-  p.pair_collisions = 7;
   return p;
 }
 
+ParticleRecord sample_record() {
+  ParticleRecord r;
+  r.wall_collisions = 2;
+  r.pair_collisions = 7;
+  return r;
+}
+
 TEST(Formats, ParticleLineIsTheSeedsPrintf) {
-  EXPECT_EQ(particle_line(1, sample()),
+  EXPECT_EQ(particle_line(1, sample(), sample_record()),
             "particle 1: (8.300120, 11.460433) (0.300000, -0.310000): 18.000000 : (2, 7)");
 }
 
 TEST(Formats, TableHasTheHeaderThenOneLineADisk) {
   std::ostringstream out;
   const std::vector<Particle<2>> particles{sample(), sample()};
-  write_table(out, particles);
+  const std::vector<ParticleRecord> records{sample_record(), sample_record()};
+  write_table<2>(out, particles, records);
   EXPECT_EQ(out.str(),
             "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n"
             "particle 0: (8.300120, 11.460433) (0.300000, -0.310000): 18.000000 : (2, 7)\n"
@@ -41,7 +47,8 @@ TEST(Formats, TableHasTheHeaderThenOneLineADisk) {
 TEST(Formats, CsvIsPositionsAndCounts) {
   std::ostringstream out;
   const std::vector<Particle<2>> particles{sample()};
-  write_csv(out, particles);
+  const std::vector<ParticleRecord> records{sample_record()};
+  write_csv<2>(out, particles, records);
   EXPECT_EQ(out.str(), "8.300120, 11.460433, 2, 7\n");
 }
 
@@ -49,7 +56,8 @@ TEST(Formats, RoundingIsPrintfs) {
   Particle<2> p;
   p.position = {0.0078125, -1e-9};  // an exact tie rounds to even; a tiny negative keeps its sign
   std::ostringstream out;
-  write_csv(out, std::span(&p, 1));
+  const ParticleRecord r;
+  write_csv<2>(out, std::span(&p, 1), std::span(&r, 1));
   EXPECT_EQ(out.str(), "0.007812, -0.000000, 0, 0\n");
 }
 
@@ -87,29 +95,35 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
   b.velocity = {-1.0 / 7.0, 0.0};
   b.radius = 0.25;
   a.time = b.time = 0.0;
-  system.particles = {a, b};
-  auto engine = make_engine(EngineKind::fast, system, {Rule::swap});
-  run(*engine, 12.5);
+  system.add(a);
+  system.add(b, 2.5);
+  Simulation<2> simulation(system);
+  simulation.run_until(12.5);
   std::ostringstream out;
-  write_json(out, {"in.txt", 12.5, 0.0, {Rule::swap}, EngineKind::fast, 0.0, 0.0}, *engine);
+  write_json(out, simulation, {"in.txt", 0.0});
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["input"], "in.txt");
   EXPECT_EQ(json["end_time"], 12.5);
   EXPECT_EQ(json["n"], 2);
-  EXPECT_EQ(json["events"], engine->counts().events);
-  EXPECT_EQ(json["wall_collisions"], engine->counts().wall_collisions);
-  EXPECT_EQ(json["pair_collisions"], engine->counts().pair_collisions);
+  EXPECT_EQ(json["dimension"], 2);
+  EXPECT_GT(simulation.counts().events, 0u);
+  EXPECT_EQ(json["events"], simulation.counts().events);
+  EXPECT_EQ(json["wall_collisions"], simulation.counts().wall_collisions);
+  EXPECT_EQ(json["pair_collisions"], simulation.counts().pair_collisions);
   ASSERT_EQ(json["particles"].size(), 2u);
+  const std::vector<Particle<2>> now = simulation.snapshot();
   for (std::size_t i = 0; i < 2; ++i) {
-    const Particle<2>& p = engine->system().particles[i];
+    const Particle<2>& p = now[i];
+    const ParticleRecord& r = simulation.state().records[i];
     const auto& q = json["particles"][i];
+    EXPECT_EQ(q["mass"].get<double>(), r.mass);
     EXPECT_EQ(q["id"], i);
     EXPECT_EQ(q["x"].get<double>(), p.position[0]);
     EXPECT_EQ(q["y"].get<double>(), p.position[1]);
     EXPECT_EQ(q["vx"].get<double>(), p.velocity[0]);
     EXPECT_EQ(q["vy"].get<double>(), p.velocity[1]);
     EXPECT_EQ(q["last_update"].get<double>(), 12.5);
-    EXPECT_EQ(q["wall_collisions"], p.wall_collisions);
+    EXPECT_EQ(q["wall_collisions"], r.wall_collisions);
   }
 }
 

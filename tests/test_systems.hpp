@@ -3,10 +3,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <pcg_random.hpp>
 #include <vector>
 
+#include "carom/engine.hpp"
+#include "carom/measurement.hpp"
 #include "carom/overlap.hpp"
+#include "carom/simulation.hpp"
 #include "carom/system.hpp"
 
 namespace carom::testing {
@@ -35,7 +39,7 @@ inline System<2> boxed(Vec2 size, std::vector<Particle<2>> particles,
                        Boundary boundary = Boundary::walls) {
   System<2> system;
   system.box = {size, boundary};
-  system.particles = std::move(particles);
+  for (const Particle<2>& p : particles) system.add(p);
   return system;
 }
 
@@ -51,13 +55,13 @@ inline System<2> random_gas(pcg32& rng, std::size_t n, double r_min, double r_ma
     if (2 * p.radius >= lx || 2 * p.radius >= ly) continue;
     p.position = {uniform(rng, p.radius, lx - p.radius), uniform(rng, p.radius, ly - p.radius)};
     p.velocity = {uniform(rng, -1, 1), uniform(rng, -1, 1)};
-    p.mass = uniform(rng, 0.5, 2.0);
+    const double mass = uniform(rng, 0.5, 2.0);
     bool free = true;
     for (const Particle<2>& q : system.particles) {
       const double sigma = p.radius + q.radius;
       if (norm2(p.position - q.position) < sigma * sigma) free = false;
     }
-    if (free) system.particles.push_back(p);
+    if (free) system.add(p, mass);
   }
   return system;
 }
@@ -80,10 +84,44 @@ inline System<2> square_lattice(pcg32& rng, std::size_t cells, double r, double 
       } else {
         p.velocity = {uniform(rng, -1, 1), uniform(rng, -1, 1)};
       }
-      system.particles.push_back(p);
+      system.add(p);
     }
   }
   return system;
+}
+
+// Every event up to `end_time` that `engine` processes.
+template <std::size_t D>
+std::vector<Event> events_until(Engine<D>& engine, double end_time) {
+  std::vector<Event> events;
+  while (const auto event = engine.step(end_time)) events.push_back(*event);
+  return events;
+}
+
+// Keeps every event of a simulation it observes.
+template <std::size_t D>
+struct EventRecorder final : Observer<D> {
+  EventRecorder() : Observer<D>(Trigger::each_event()) {}
+  void observe(const Simulation<D>& simulation) override {
+    events.push_back(simulation.last_event());
+  }
+  std::vector<Event> events;
+};
+
+// Runs `system` to `end_time` in a Simulation and returns its events.
+template <std::size_t D>
+std::vector<Event> simulate(Simulation<D>& simulation, double end_time) {
+  auto recorder = std::make_shared<EventRecorder<D>>();
+  simulation.add_observer(recorder);
+  simulation.run_until(end_time);
+  return recorder->events;
+}
+
+// What a list of events adds up to.
+inline Counts count(const std::vector<Event>& events) {
+  Counts counts;
+  for (const Event& event : events) counts.add(event);
+  return counts;
 }
 
 }  // namespace carom::testing

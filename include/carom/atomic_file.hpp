@@ -1,7 +1,8 @@
 // An output file that appears whole or not at all: written to a temporary file beside the
-// target, then renamed over it. A failed run, or one stopped by SIGINT, SIGTERM or SIGHUP, leaves
-// neither a partial file nor a clobbered one (a crash can leave the temporary file, never a
-// partial target). A symbolic link is written through; a device or pipe is written directly.
+// target, then renamed over it. A failed or stopped run (its AtomicFile destroyed uncommitted)
+// leaves neither a partial file nor a clobbered one; a crash or SIGKILL can leave the temporary
+// file, never a partial target. A symbolic link is written through; a device or pipe is written
+// directly. No signal handlers: stopping on a signal is the caller's (see Simulation).
 #pragma once
 
 #include <fstream>

@@ -1,34 +1,59 @@
-// Checkpoints: the complete state of a run, from which `carom run --resume` continues exactly
-// as if never interrupted. Every particle's stored (lazy) state is kept as it is, double for
+// Checkpoints: a Simulation serialised, from which it continues exactly as if never
+// interrupted. Every particle's stored (lazy) state and record are kept as they are, double for
 // double: predictions are functions of the stored states alone, so the resumed run finds the
 // same events at the same times, bit for bit.
 #pragma once
 
 #include <istream>
+#include <memory>
+#include <optional>
 #include <ostream>
 #include <string>
+#include <variant>
 
-#include "carom/engine.hpp"
+#include "carom/simulation.hpp"
 
 namespace carom {
 
-inline constexpr int kCheckpointFormat = 1;
+// Format 2 records the dimension, the TC model's last-collision times, the run's counts apart
+// from the measurement window's, and whether the run is whole at its time. Format 1 (carom 1.0)
+// is still read.
+inline constexpr int kCheckpointFormat = 2;
 
+template <std::size_t D>
 struct Checkpoint {
-  std::string input;  // the file the run started from
-  System<2> system;   // stored states, not brought to a common time
-  CollisionRule rule;
-  EngineKind engine = EngineKind::fast;
-  double time = 0.0;  // the last processed event
-  RunCounts counts;
-  double equilibrate = 0.0;
-  double kinetic_energy_initial = 0.0;  // at the start of the measurement
+  std::string source;  // the input the run began from (provenance only)
+  System<D> system;    // stored states, not brought to a common time
+  Settings settings;
+  double time = 0.0;     // Simulation::time()
+  bool settled = false;  // every event up to `time` processed
+  Counts counts;         // since the run began
+  Measurement measurement;
+  std::optional<double> measure_from;  // a measurement window still to open
 };
 
-// json, numbers in shortest round-trip form; written through AtomicFile by the caller.
-void write_checkpoint(std::ostream& out, const Checkpoint& checkpoint);
+using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;
 
-// Throws InputError naming `name` for anything that is not a complete checkpoint of this format.
-Checkpoint read_checkpoint(std::istream& in, const std::string& name);
+// json, numbers in shortest round-trip form; written through AtomicFile by the caller.
+template <std::size_t D>
+void write_checkpoint(std::ostream& out, const Checkpoint<D>& checkpoint);
+
+// Throws InputError naming `name` for anything that is not a complete, consistent checkpoint.
+AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name);
+
+// Writes the simulation's checkpoint to `path` (atomically) when its trigger fires; save() writes
+// it at any moment.
+template <std::size_t D>
+class CheckpointWriter final : public Observer<D> {
+ public:
+  CheckpointWriter(std::string path, std::string source, Trigger trigger)
+      : Observer<D>(trigger), path_(std::move(path)), source_(std::move(source)) {}
+  void observe(const Simulation<D>& simulation) override { save(simulation); }
+  void save(const Simulation<D>& simulation) const;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_, source_;
+};
 
 }  // namespace carom

@@ -9,14 +9,20 @@
 namespace carom {
 
 // A processed or pending collision: particle `first` with `partner`, a particle index (>= 0)
-// or a wall label (< 0). For a pair, first < partner.
+// or a wall label (< 0). For a pair, first < partner. A processed one also says what it did.
 struct Event {
   double time = 0.0;
   std::uint32_t first = 0;
   std::int32_t partner = 0;
+  // A pair: the collision virial r . (momentum given to `first`); a wall: the momentum given to it.
+  double impulse = 0.0;
+  bool elastic_by_tc = false;  // an inelastic collision made elastic by the TC model
 
   bool is_wall() const { return partner < 0; }
-  friend bool operator==(const Event&, const Event&) = default;
+  // The same collision: who met whom when (what it did follows from that).
+  friend bool operator==(const Event& a, const Event& b) {
+    return a.time == b.time && a.first == b.first && a.partner == b.partner;
+  }
 };
 
 // Events are processed by time; ties (a corner, a symmetric start, several contacts at once)

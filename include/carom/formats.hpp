@@ -1,4 +1,5 @@
-// Output formats for a 2D run: the seed's table and trace, the classic csv, and json.
+// Output formats of a run: the seed's table and trace, the classic csv, json, and the event log.
+// Disks print (x, y), spheres (x, y, z).
 #pragma once
 
 #include <cstddef>
@@ -6,58 +7,81 @@
 #include <span>
 #include <string>
 
-#include "carom/engine.hpp"
 #include "carom/event.hpp"
+#include "carom/simulation.hpp"
 #include "carom/system.hpp"
 
 namespace carom {
 
 enum class Format { table, csv, json };
 
-// `particle %d: (%.6f, %.6f) (%.6f, %.6f): %.6f : (%d, %d)`, without a newline.
-std::string particle_line(std::size_t index, const Particle<2>& p);
-
-// The header `particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)`, then one
-// particle_line a disk.
-void write_table(std::ostream& out, std::span<const Particle<2>> particles);
-
-// One line a disk: `%.6f, %.6f, %d, %d` (x, y, wall collisions, disk collisions).
-void write_csv(std::ostream& out, std::span<const Particle<2>> particles);
-
-// What a json result says about how it was made and how long it took.
-struct RunSettings {
-  std::string input;
-  double end_time = 0.0;
-  double equilibrate = 0.0;  // observables are measured from this time on
-  CollisionRule rule;
-  EngineKind engine = EngineKind::fast;
-  double kinetic_energy_initial = 0.0;  // at the start of the measurement
-  double wall_seconds = 0.0;            // wall-clock time of the simulation
+template <>
+struct EnumNames<Format> {
+  static constexpr std::array<std::pair<std::string_view, Format>, 3> table{
+      {{"table", Format::table}, {"csv", Format::csv}, {"json", Format::json}}};
 };
 
-// The settings, the run's counts and observables (see measure()) and, with `particles`, every
-// disk's final state; numbers in full precision.
-void write_json(std::ostream& out, const RunSettings& settings, const Engine<2>& engine,
+// `particle %d: (%.6f, %.6f) (%.6f, %.6f): %.6f : (%d, %d)`, without a newline.
+template <std::size_t D>
+std::string particle_line(std::size_t index, const Particle<D>& p, const ParticleRecord& record);
+
+// The header `particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)`, then one
+// particle_line a particle.
+template <std::size_t D>
+void write_table(std::ostream& out, std::span<const Particle<D>> particles,
+                 std::span<const ParticleRecord> records);
+
+// One line a particle: `%.6f, %.6f, %d, %d` (x, y, wall collisions, particle collisions).
+template <std::size_t D>
+void write_csv(std::ostream& out, std::span<const Particle<D>> particles,
+               std::span<const ParticleRecord> records);
+
+// What a json result says beyond the simulation itself.
+struct RunReport {
+  std::string input;          // the file the run began from
+  double wall_seconds = 0.0;  // wall-clock time of the simulation
+};
+
+// The settings, the measurement window's counts and observables and, with `particles`, every
+// particle at the simulation's time; numbers in full precision.
+template <std::size_t D>
+void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles = true);
 
-// The step-by-step trace users compare their own programs against.
-class TraceWriter {
+// The step-by-step trace users compare their own programs against: `Input File:`, `Target
+// Time:` and the initial particles; after every event its time, what collided and every
+// particle's stored state; at the end every particle brought to the end time.
+template <std::size_t D>
+class TraceWriter final : public Observer<D> {
  public:
-  explicit TraceWriter(std::ostream& out) : out_(out) {}
-  // `Input File:`, `Target Time:` and the initial particles.
-  void start(const std::string& input, double end_time, std::span<const Particle<2>> particles);
-  // `TIME = t`, the event, and every disk's stored state.
-  void event(const Event& event, std::span<const Particle<2>> particles);
-  // The particles brought to the end time.
-  void finish(std::span<const Particle<2>> particles);
+  explicit TraceWriter(std::ostream& out) : Observer<D>(Trigger::each_event()), out_(out) {}
+  void start(const std::string& input, double end_time, const Simulation<D>& simulation);
+  void observe(const Simulation<D>& simulation) override;
+  void finish(const Simulation<D>& simulation);
+
+ private:
+  std::ostream& out_;
+};
+
+// `time,kind,first,partner` a collision (kind wall or pair; partner a particle or a wall label),
+// times in full precision. Throws std::runtime_error when the stream fails.
+template <std::size_t D>
+class EventLogWriter final : public Observer<D> {
+ public:
+  static constexpr const char* kHeader = "time,kind,first,partner\n";
+  explicit EventLogWriter(std::ostream& out) : Observer<D>(Trigger::each_event()), out_(out) {}
+  void observe(const Simulation<D>& simulation) override;
+  // The length of the leading part of an event log holding the header and the events before
+  // `t` (or at it, when `inclusive`): what a resumed run keeps before appending.
+  static std::uint64_t events_before(std::istream& in, double t, bool inclusive);
 
  private:
   std::ostream& out_;
 };
 
 // A system in the classic input format, every number in its shortest form that reads back as the
-// same double. Disks whose radius differs from `radius`, or whose mass is not
-// 1, carry the optional columns `r [m]`.
+// same double. Particles whose radius differs from `radius`, or whose mass is not 1, carry the
+// optional columns `r [m]`.
 void write_classic(std::ostream& out, const System<2>& system, double radius);
 
 // One line naming an event: `Collision: particle 1 with particle 2` or

@@ -5,7 +5,8 @@
 
 #include <cstddef>
 
-#include "carom/engine.hpp"
+#include "carom/measurement.hpp"
+#include "carom/system.hpp"
 
 namespace carom {
 
@@ -19,14 +20,27 @@ Vec<D> momentum(const System<D>& system);
 template <std::size_t D>
 double packing_fraction(const System<D>& system);
 
+// Kinetic degrees of freedom: D N with walls; D (N - 1) in a periodic box, where the total
+// momentum is conserved and the motion of the centre of mass carries no temperature.
+template <std::size_t D>
+double degrees_of_freedom(const System<D>& system);
+
+// kT from the kinetic energy in the centre-of-mass frame over the degrees of freedom (0 for a
+// single particle in a periodic box, which has none).
+template <std::size_t D>
+double kinetic_temperature(const System<D>& system);
+
 template <std::size_t D>
 struct Observables {
   double elapsed = 0.0;  // the time over which rates and pressures are measured
   double kinetic_energy_initial = 0.0;
   double kinetic_energy_final = 0.0;
   Vec<D> momentum_final;
-  double temperature = 0.0;  // kT = sum m v^2 / (D N), at the end
+  double degrees_of_freedom = 0.0;
+  double temperature = 0.0;  // kinetic_temperature() at the end
   // From the collision virial: P V = N kT + (sum over collisions of r_ij . dp_i) / (D elapsed).
+  // With the D (N - 1) temperature in a periodic box this is the exact-N pressure that Monte
+  // Carlo gives at the same N (Li et al. 2022), not one biased by 1/N.
   double pressure = 0.0;
   double compressibility_factor = 0.0;  // Z = P V / (N kT)
   // Box with walls: the momentum given to the walls per unit time and unit wall length (area).
@@ -36,9 +50,8 @@ struct Observables {
   double packing_fraction = 0.0;
 };
 
-// The observables of `engine` since the moment its counts started (see Engine::reset_counts),
-// `elapsed` time ago, when the kinetic energy was `kinetic_energy_initial`.
+// The observables of `system` at time `now` over the window `measurement` opened.
 template <std::size_t D>
-Observables<D> measure(const Engine<D>& engine, double elapsed, double kinetic_energy_initial);
+Observables<D> measure(const System<D>& system, const Measurement& measurement, double now);
 
 }  // namespace carom

@@ -13,6 +13,7 @@
 #include <limits>
 #include <utility>
 
+#include "carom/names.hpp"
 #include "carom/system.hpp"
 
 namespace carom {
@@ -122,15 +123,25 @@ enum class Rule {
   elastic,  // momentum along the line of centres is exchanged, with masses (real hard disks)
 };
 
+// The TC model's default time: far below the mean free time of any gas worth simulating, far
+// above the time resolution of a double.
+inline constexpr double kDefaultTc = 1e-5;
+
+template <>
+struct EnumNames<Rule> {
+  static constexpr std::array<std::pair<std::string_view, Rule>, 2> table{
+      {{"swap", Rule::swap}, {"elastic", Rule::elastic}}};
+};
+
 struct CollisionRule {
   Rule rule = Rule::swap;
   // For Rule::elastic: the normal relative velocity is reversed and scaled by this (1: elastic,
   // < 1: inelastic, as in granular gases).
   double restitution = 1.0;
   // The TC model (Luding and McNamara 1998) against inelastic collapse: a collision of a
-  // particle that already collided less than this long ago is elastic, so that clusters cannot
-  // collide infinitely often in finite time.
-  double elastic_within = 0.0;
+  // particle that already collided (with a wall or a particle) less than this long ago is
+  // elastic, so that clusters cannot collide infinitely often in finite time.
+  double elastic_within = kDefaultTc;
 };
 
 // Applies `rule` to two particles already advanced to their moment of contact; `r` is the
@@ -138,7 +149,7 @@ struct CollisionRule {
 // from which the pressure follows.
 template <std::size_t D>
 constexpr double collide(Particle<D>& a, Particle<D>& b, const Vec<D>& r, Rule rule,
-                         double restitution = 1.0) {
+                         double restitution, double mass_a, double mass_b) {
   const Vec<D> before = a.velocity;
   if (rule == Rule::swap) {
     std::swap(a.velocity, b.velocity);
@@ -146,25 +157,22 @@ constexpr double collide(Particle<D>& a, Particle<D>& b, const Vec<D>& r, Rule r
     const double approach = dot(a.velocity - b.velocity, r);
     // Impulse along r, scaled so that the normal relative velocity is reversed and scaled by the
     // restitution.
-    const double j = (1.0 + restitution) * approach / ((a.mass + b.mass) * norm2(r));
-    a.velocity -= (j * b.mass) * r;
-    b.velocity += (j * a.mass) * r;
+    const double j = (1.0 + restitution) * approach / ((mass_a + mass_b) * norm2(r));
+    a.velocity -= (j * mass_b) * r;
+    b.velocity += (j * mass_a) * r;
   }
-  ++a.pair_collisions;
-  ++b.pair_collisions;
-  return a.mass * dot(r, a.velocity - before);
+  return mass_a * dot(r, a.velocity - before);
 }
 
 // Reflects a particle already advanced to its wall hit. The position is put exactly on the
 // contact plane so that round-off can never carry a particle through a wall over long runs.
 // Returns the momentum given to the wall.
 template <std::size_t D>
-constexpr double bounce(Particle<D>& p, int wall, const Box<D>& box) {
+constexpr double bounce(Particle<D>& p, int wall, const Box<D>& box, double mass) {
   const std::size_t k = wall_axis(wall);
   p.position[k] = wall_is_upper(wall) ? box.size[k] - p.radius : p.radius;
   p.velocity[k] = -p.velocity[k];
-  ++p.wall_collisions;
-  return 2.0 * p.mass * std::abs(p.velocity[k]);
+  return 2.0 * mass * std::abs(p.velocity[k]);
 }
 
 }  // namespace carom

@@ -3,25 +3,36 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 #include <vector>
 
+#include "carom/names.hpp"
 #include "carom/vec.hpp"
 
 namespace carom {
 
-// One hard disk (D = 2) or sphere (D = 3). The stored state is the one the seed prints: the
-// position at `time`, the moment the particle last collided (or the start). Other particles are
-// never touched by an event; their current position is derived on demand (see position_at).
+// One hard disk (D = 2) or sphere (D = 3): the hot data every prediction reads, kept together
+// (48 bytes for a disk, one 64-byte line for a sphere). The stored state is the one the seed
+// prints: the position at `time`, the moment the particle last collided (or the start). Other
+// particles are never touched by an event; their current position is derived on demand (see
+// position_at).
 template <std::size_t D>
 struct Particle {
   Vec<D> position;
   Vec<D> velocity;
   double time = 0.0;
   double radius = 0.0;
+};
+
+// The cold data of a particle, read only when it collides: its mass and what has happened to it.
+struct ParticleRecord {
   double mass = 1.0;
   std::uint64_t wall_collisions = 0;
   std::uint64_t pair_collisions = 0;
+  // The time of its last collision (wall or pair), for the TC model; before any, -infinity.
+  // Kept apart from Particle::time, which also moves when states are brought to a common time.
+  double last_collision = -std::numeric_limits<double>::infinity();
 
   // Changes whenever the particle's trajectory changes; events predicted against an older
   // value are stale. Derived from the counters, which grow on every velocity change.
@@ -31,6 +42,12 @@ struct Particle {
 enum class Boundary {
   walls,     // a hard wall on every face (the seed's box)
   periodic,  // the box repeats in every direction: minimum image convention, no walls
+};
+
+template <>
+struct EnumNames<Boundary> {
+  static constexpr std::array<std::pair<std::string_view, Boundary>, 2> table{
+      {{"walls", Boundary::walls}, {"periodic", Boundary::periodic}}};
 };
 
 // A rectangular box [0, size[0]] x ... x [0, size[D-1]].
@@ -49,10 +66,18 @@ double shortest_side(const Box<D>& box) {
   return side;
 }
 
+// The state of a run: the box, every particle's hot data and, index for index, its record.
 template <std::size_t D>
 struct System {
   Box<D> box;
   std::vector<Particle<D>> particles;
+  std::vector<ParticleRecord> records;
+
+  std::size_t size() const { return particles.size(); }
+  void add(const Particle<D>& particle, double mass = 1.0) {
+    particles.push_back(particle);
+    records.push_back({mass});
+  }
 };
 
 template <std::size_t D>

@@ -1,33 +1,55 @@
-// Trajectory files that other tools read: snapshots of every disk at chosen times.
+// Trajectory files that other tools read: snapshots of every particle at chosen times.
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <istream>
 #include <memory>
 #include <ostream>
 #include <string>
 
-#include "carom/system.hpp"
+#include "carom/simulation.hpp"
 
 namespace carom {
 
-// Writes one frame per call, each disk at time `t` (computed from its stored state, which is not
-// changed, so writing frames cannot change the dynamics). Positions are wrapped into a periodic
-// box; z = 0 for the 2D disks.
-class TrajectoryWriter {
+// A trajectory format: a frame header and one line a particle. Frames are snapshots at time t,
+// computed from the stored states, which are not changed, so writing frames cannot change the
+// dynamics. Positions are wrapped into a periodic box; disks have z = 0.
+template <std::size_t D>
+class TrajectoryFormat {
  public:
-  virtual ~TrajectoryWriter() = default;
-  void frame(std::ostream& out, double t, const System<2>& system);
+  virtual ~TrajectoryFormat() = default;
+  // Frame number `index` of a run writing a frame every `every`: t = index x every.
+  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system);
+  // The length of the leading part of a file in this format made of whole frames taken before
+  // `t` (or at it, when `inclusive`): what a resumed run keeps before appending its own frames.
+  virtual std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
+                                            double every) const = 0;
 
  private:
-  // A format is a frame header and one line a particle, `at` its position at the frame's time.
-  virtual void header(std::ostream& out, double t, const System<2>& system) = 0;
-  virtual void line(std::ostream& out, std::size_t index, const Vec<2>& at,
-                    const Particle<2>& p) = 0;
+  virtual void header(std::ostream& out, std::uint64_t index, double t,
+                      const System<D>& system) = 0;
+  virtual void line(std::ostream& out, std::size_t index, const Vec<D>& at, const Particle<D>& p,
+                    const ParticleRecord& record) = 0;
 };
 
-// The writer for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
+// The format for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
 // dump. Throws std::invalid_argument naming the supported endings for anything else.
-std::unique_ptr<TrajectoryWriter> trajectory_writer_for(const std::string& path);
+template <std::size_t D>
+std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path);
+
+// Writes a frame every `every` (at t = 0, every, 2 every, ...) and flushes it, so that the frames
+// of an interrupted run are on disk. Throws std::runtime_error when the stream fails.
+template <std::size_t D>
+class FrameWriter final : public Observer<D> {
+ public:
+  FrameWriter(std::ostream& out, std::unique_ptr<TrajectoryFormat<D>> format, double every)
+      : Observer<D>(Trigger::every_time(every)), out_(out), format_(std::move(format)) {}
+  void observe(const Simulation<D>& simulation) override;
+
+ private:
+  std::ostream& out_;
+  std::unique_ptr<TrajectoryFormat<D>> format_;
+};
 
 }  // namespace carom

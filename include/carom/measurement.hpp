@@ -1,0 +1,41 @@
+// What a run counts and accumulates, event by event: over the whole run, and over the
+// measurement window the observables are computed from.
+#pragma once
+
+#include <cstdint>
+
+#include "carom/event.hpp"
+
+namespace carom {
+
+struct Counts {
+  std::uint64_t events = 0;  // processed collisions: wall_collisions + pair_collisions
+  std::uint64_t wall_collisions = 0;
+  std::uint64_t pair_collisions = 0;
+  std::uint64_t elastic_by_tc = 0;  // inelastic collisions made elastic by the TC model
+  double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
+  double wall_momentum = 0.0;       // total momentum given to the walls
+
+  void add(const Event& event) {
+    ++events;
+    if (event.is_wall()) {
+      ++wall_collisions;
+      wall_momentum += event.impulse;
+    } else {
+      ++pair_collisions;
+      virial += event.impulse;
+      elastic_by_tc += event.elastic_by_tc ? 1 : 0;
+    }
+  }
+};
+
+// The measurement window: observables are measured from `start_time`, when the kinetic energy
+// was `kinetic_energy_initial`, with the counts since then. Resetting it (after equilibration,
+// say) changes nothing in the dynamics.
+struct Measurement {
+  double start_time = 0.0;
+  double kinetic_energy_initial = 0.0;
+  Counts counts;
+};
+
+}  // namespace carom

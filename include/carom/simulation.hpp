@@ -1,0 +1,195 @@
+// The library's owner of a run: the state, the engine, the measurement window and the
+// non-physical timeline (frames, checkpoints, checks, progress) that observers are called on.
+// Every front end (the command line, the Python module, a C++ program) drives a run through it:
+//
+//   carom::Simulation<2> sim(carom::read_classic_file("gas.txt").system, {.rule =
+//   {carom::Rule::elastic}}); sim.measure_from(50.0);                          // equilibrate, then
+//   measure sim.run_until(100.0); carom::Observables<2> o = sim.observables();     // pressure,
+//   temperature, rates std::vector<carom::Particle<2>> now = sim.snapshot();
+//
+// Modelled on Box2D's world (a definition struct with defaults, a step, nothing global) and
+// HOOMD-blue's Simulation (a State and operations on triggers). The library installs no signal
+// handler and prints nothing: a caller that wants Ctrl-C to stop a run owns a flag and hands it
+// over (set_stop_flag).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "carom/engine.hpp"
+#include "carom/measurement.hpp"
+#include "carom/observables.hpp"
+
+namespace carom {
+
+// How a run is made; the defaults are the seed's (swap rule, walls come with the System's box).
+struct Settings {
+  CollisionRule rule;  // Rule::swap, restitution 1, TC time kDefaultTc
+  EngineKind engine = EngineKind::fast;
+};
+
+// When an observer looks at a run.
+struct Trigger {
+  enum class Kind {
+    time,        // at t = 0, dt, 2 dt, ...: multiples of `period` counted from t = 0
+    events,      // after every `period`-th event of the run (counted from its start)
+    seconds,     // every `period` seconds of wall-clock time (looked at every 1024 events)
+    each_event,  // after every event
+  };
+  Kind kind = Kind::time;
+  double period = 0.0;
+
+  static Trigger every_time(double dt) { return {Kind::time, dt}; }
+  static Trigger every_events(std::uint64_t n) { return {Kind::events, static_cast<double>(n)}; }
+  static Trigger every_seconds(double seconds) { return {Kind::seconds, seconds}; }
+  static Trigger each_event() { return {Kind::each_event, 0.0}; }
+};
+
+template <std::size_t D>
+class Simulation;
+
+// Something that looks at a run when its trigger fires: a trajectory writer, a checkpoint
+// writer, an invariant check, a progress line. A time trigger fires once every event up to that
+// time is processed; the others fire just after the event that makes them due
+// (Simulation::last_event()).
+template <std::size_t D>
+class Observer {
+ public:
+  explicit Observer(Trigger trigger) : trigger_(trigger) {}
+  virtual ~Observer() = default;
+  const Trigger& trigger() const { return trigger_; }
+  virtual void observe(const Simulation<D>& simulation) = 0;
+
+ private:
+  Trigger trigger_;
+};
+
+// Why run_until returned.
+enum class RunStatus {
+  reached,      // the target time: every event up to it is processed
+  stopped,      // the stop flag was set
+  event_limit,  // the events asked for are processed
+};
+
+// A target time the run cannot reach: before the current time, beyond the time resolution, or
+// needing more box crossings than could ever be processed.
+class RunLengthError : public std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
+template <std::size_t D>
+struct Checkpoint;
+
+template <std::size_t D>
+class Simulation {
+ public:
+  // Times are absolute doubles: beyond this a double resolves time only to 1e-4, and collisions
+  // would pile up at one instant.
+  static constexpr double kLatestTime = 1e12;
+  // Runs needing more box crossings than this (at the highest speed the energy allows) are
+  // refused as impossible to finish.
+  static constexpr double kMostCrossings = 1e13;
+  static constexpr std::uint64_t kNoLimit = std::numeric_limits<std::uint64_t>::max();
+
+  // Starts a run from `system` (every particle's stored state; usually all at t = 0; no records
+  // means mass 1 each). Throws std::invalid_argument for a system the engines cannot run (a
+  // periodic side not above two diameters, say).
+  explicit Simulation(System<D> system, const Settings& settings = {});
+  // Continues a checkpointed run exactly as if it had never stopped.
+  explicit Simulation(const Checkpoint<D>& checkpoint);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  // Processes every event up to time `t` in order, calling observers as their triggers fire,
+  // and returns `reached`; or returns early, after at least `max_events` events or once the stop
+  // flag is set, with every event at the time of the last one processed (so that time() is a
+  // moment the run is whole at). Any division of a run into calls gives the same events,
+  // observations and results, bit for bit, as one call. Throws RunLengthError (see
+  // check_target) and JamError.
+  RunStatus run_until(double t, std::uint64_t max_events = kNoLimit);
+  // Throws RunLengthError unless run_until(t) can be done: t not before time(), not beyond
+  // kLatestTime, and no particle could cross the box more than kMostCrossings times.
+  void check_target(double t) const;
+
+  // The time the run has reached; every stored state is at or before it.
+  double time() const { return time_; }
+  // Whether every event up to time() is processed (and every observer due then called): after
+  // any run_until; not for a new run at its start time, whose events then are still to come.
+  bool settled() const { return settled_; }
+  const Settings& settings() const { return settings_; }
+  // The stored (lazy) states: each particle at the time of its last collision (Particle::time).
+  const System<D>& state() const { return engine_->system(); }
+  // Every particle at time(), wrapped into a periodic box; the stored states are not touched.
+  std::vector<Particle<D>> snapshot() const { return synchronised(state(), time_); }
+  // The last processed event (valid once counts().events > 0).
+  const Event& last_event() const { return last_event_; }
+  // Everything counted since the run began, across checkpoints.
+  const Counts& counts() const { return counts_; }
+
+  // The measurement window and the observables measured over it.
+  const Measurement& measurement() const { return measurement_; }
+  Observables<D> observables() const { return measure(state(), measurement_, time_); }
+  // Opens the window now: counts from zero, the kinetic energy now.
+  void reset_measurement();
+  // Opens the window at time t (now if t is not ahead): equilibrate until then.
+  void measure_from(double t);
+  // The time a window is still to open at, if one is.
+  std::optional<double> pending_measurement() const { return measure_from_; }
+
+  // Observers are called in the order they were added; adding one at a time it is due (a frame
+  // at t = 0) calls it at the next run_until.
+  void add_observer(std::shared_ptr<Observer<D>> observer);
+  // A flag the caller owns (and may set from a signal handler): nonzero stops run_until after
+  // the event being processed. nullptr: none.
+  void set_stop_flag(const std::atomic<int>* flag) { stop_ = flag; }
+
+  // What a checkpoint holds: everything needed to continue exactly. `source` names the input
+  // the run began from.
+  Checkpoint<D> checkpoint(const std::string& source) const;
+
+ private:
+  struct Scheduled {
+    std::shared_ptr<Observer<D>> observer;
+    double next_time = 0.0;                            // Kind::time
+    std::uint64_t next_event = 0;                      // Kind::events
+    std::chrono::steady_clock::time_point next_clock;  // Kind::seconds
+  };
+
+  void schedule(Scheduled& entry) const;
+  double next_due_time() const;
+  // Records a processed event and calls the observers it makes due.
+  void record(const Event& event);
+  // Every event at the time of the last one, then the observers due then.
+  void complete_instant();
+  // The run has every event up to `t` processed: time observers and the window due then.
+  void settle_at(double t);
+
+  std::unique_ptr<Engine<D>> engine_;
+  Settings settings_;
+  double time_ = 0.0;
+  // Every event up to time_ is processed and every time observer due then has been called (false
+  // for a new run at its start time, whose events at that time are still to come).
+  bool settled_ = false;
+  Counts counts_;
+  Measurement measurement_;
+  std::optional<double> measure_from_;
+  Event last_event_;
+  const std::atomic<int>* stop_ = nullptr;
+  std::vector<Scheduled> observers_;
+  bool watch_events_ = false;  // an observer needs looking at after events
+};
+
+// A run of either dimension: the front ends choose it once, from the input, and dispatch with
+// std::visit.
+using AnySimulation = std::variant<Simulation<2>, Simulation<3>>;
+
+}  // namespace carom

@@ -1,0 +1,209 @@
+#include "carom/simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "carom/checkpoint.hpp"
+
+namespace carom {
+
+template <std::size_t D>
+Simulation<D>::Simulation(System<D> system, const Settings& settings)
+    : engine_(make_engine(settings.engine, std::move(system), settings.rule)),
+      settings_(settings),
+      time_(engine_->time()) {
+  measurement_ = {time_, kinetic_energy(state()), {}};
+}
+
+template <std::size_t D>
+Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
+    : engine_(make_engine(checkpoint.settings.engine, checkpoint.system, checkpoint.settings.rule)),
+      settings_(checkpoint.settings),
+      time_(checkpoint.time),
+      settled_(checkpoint.settled),
+      counts_(checkpoint.counts),
+      measurement_(checkpoint.measurement),
+      measure_from_(checkpoint.measure_from) {
+  if (!(time_ >= engine_->time())) {
+    throw std::invalid_argument("a checkpoint's time precedes a particle's stored time");
+  }
+}
+
+template <std::size_t D>
+Simulation<D>::~Simulation() = default;
+template <std::size_t D>
+Simulation<D>::Simulation(Simulation&&) noexcept = default;
+template <std::size_t D>
+Simulation<D>& Simulation<D>::operator=(Simulation&&) noexcept = default;
+
+template <std::size_t D>
+void Simulation<D>::check_target(double t) const {
+  if (!(t >= time_)) {
+    throw RunLengthError(fmt::format("{} is before the run's current time {}", t, time_));
+  }
+  if (t > kLatestTime) {
+    throw RunLengthError(fmt::format(
+        "{} is beyond {}, where a double resolves time too coarsely; rescale the time unit", t,
+        kLatestTime));
+  }
+  const double crossings = most_crossings(state(), t - time_);
+  if (crossings > kMostCrossings) {
+    throw RunLengthError(fmt::format(
+        "a particle could cross the box about {:.3g} times before {} (at the highest speed its "
+        "energy allows), more than the {:.0e} carom can process: check the velocities, masses, "
+        "box and time unit",
+        crossings, t, kMostCrossings));
+  }
+}
+
+template <std::size_t D>
+RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
+  check_target(t);
+  std::uint64_t processed = 0;
+  while (true) {
+    const double stop_at = std::min(t, next_due_time());
+    while (const std::optional<Event> event = engine_->step(stop_at)) {
+      record(*event);
+      ++processed;
+      const bool stop = stop_ != nullptr && stop_->load(std::memory_order_relaxed) != 0;
+      if (stop || processed >= max_events) {
+        complete_instant();
+        return stop ? RunStatus::stopped : RunStatus::event_limit;
+      }
+    }
+    settle_at(stop_at);
+    if (stop_at == t) return RunStatus::reached;
+    if (stop_ != nullptr && stop_->load(std::memory_order_relaxed) != 0) return RunStatus::stopped;
+  }
+}
+
+template <std::size_t D>
+void Simulation<D>::record(const Event& event) {
+  counts_.add(event);
+  measurement_.counts.add(event);
+  last_event_ = event;
+  time_ = event.time;
+  settled_ = false;
+  if (!watch_events_) return;
+  for (Scheduled& entry : observers_) {
+    Observer<D>& observer = *entry.observer;
+    switch (observer.trigger().kind) {
+      case Trigger::Kind::each_event:
+        observer.observe(*this);
+        break;
+      case Trigger::Kind::events:
+        if (counts_.events >= entry.next_event) {
+          observer.observe(*this);
+          schedule(entry);
+        }
+        break;
+      case Trigger::Kind::seconds:
+        if (counts_.events % 1024 == 0 && std::chrono::steady_clock::now() >= entry.next_clock) {
+          observer.observe(*this);
+          schedule(entry);
+        }
+        break;
+      case Trigger::Kind::time:
+        break;
+    }
+  }
+}
+
+template <std::size_t D>
+void Simulation<D>::complete_instant() {
+  const double now = time_;
+  while (const std::optional<Event> event = engine_->step(now)) record(*event);
+  settle_at(now);
+}
+
+template <std::size_t D>
+void Simulation<D>::settle_at(double t) {
+  time_ = t;
+  settled_ = true;
+  if (measure_from_ && *measure_from_ <= t) reset_measurement();
+  for (Scheduled& entry : observers_) {
+    if (entry.observer->trigger().kind == Trigger::Kind::time && entry.next_time <= t) {
+      entry.observer->observe(*this);
+      schedule(entry);
+    }
+  }
+}
+
+template <std::size_t D>
+double Simulation<D>::next_due_time() const {
+  double due = measure_from_.value_or(kNever);
+  for (const Scheduled& entry : observers_) {
+    if (entry.observer->trigger().kind == Trigger::Kind::time) due = std::min(due, entry.next_time);
+  }
+  return due;
+}
+
+template <std::size_t D>
+void Simulation<D>::schedule(Scheduled& entry) const {
+  const Trigger& trigger = entry.observer->trigger();
+  switch (trigger.kind) {
+    case Trigger::Kind::time: {
+      // The first multiple of the period not yet observed: from time_ on in a run that is not
+      // yet whole at time_, after it otherwise.
+      double k = std::ceil(time_ / trigger.period);
+      if (settled_ && k * trigger.period <= time_) k += 1.0;
+      entry.next_time = k * trigger.period;
+      break;
+    }
+    case Trigger::Kind::events: {
+      const auto n = static_cast<std::uint64_t>(trigger.period);
+      entry.next_event = (counts_.events / n + 1) * n;
+      break;
+    }
+    case Trigger::Kind::seconds:
+      entry.next_clock = std::chrono::steady_clock::now() +
+                         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                             std::chrono::duration<double>(trigger.period));
+      break;
+    case Trigger::Kind::each_event:
+      break;
+  }
+}
+
+template <std::size_t D>
+void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer) {
+  const Trigger& trigger = observer->trigger();
+  const bool positive = trigger.period > 0.0 && std::isfinite(trigger.period);
+  if (trigger.kind == Trigger::Kind::events && !(positive && trigger.period >= 1.0)) {
+    throw std::invalid_argument("an event trigger needs a period of at least one event");
+  }
+  if (trigger.kind != Trigger::Kind::each_event && !positive) {
+    throw std::invalid_argument("a trigger's period must be positive and finite");
+  }
+  Scheduled entry{std::move(observer)};
+  schedule(entry);
+  watch_events_ = watch_events_ || trigger.kind != Trigger::Kind::time;
+  observers_.push_back(std::move(entry));
+}
+
+template <std::size_t D>
+void Simulation<D>::reset_measurement() {
+  measurement_ = {time_, kinetic_energy(state()), {}};
+  measure_from_.reset();
+}
+
+template <std::size_t D>
+void Simulation<D>::measure_from(double t) {
+  if (t <= time_) {
+    reset_measurement();
+  } else {
+    measure_from_ = t;
+  }
+}
+
+template <std::size_t D>
+Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
+  return {source, state(), settings_, time_, settled_, counts_, measurement_, measure_from_};
+}
+
+template class Simulation<2>;
+template class Simulation<3>;
+
+}  // namespace carom
