@@ -177,7 +177,7 @@ void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer) {
   if (trigger.kind != Trigger::Kind::each_event && !positive) {
     throw std::invalid_argument("a trigger's period must be positive and finite");
   }
-  Scheduled entry{std::move(observer)};
+  Scheduled entry{std::move(observer), 0.0, 0, {}};
   schedule(entry);
   watch_events_ = watch_events_ || trigger.kind != Trigger::Kind::time;
   observers_.push_back(std::move(entry));

@@ -49,7 +49,7 @@ class ExtendedXyz final : public TrajectoryFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                     double) const override {
-    LineReader reader{in};
+    LineReader reader{in, 0, {}};
     std::uint64_t kept = 0;
     try {
       while (reader.next()) {
@@ -92,7 +92,7 @@ class LammpsDump final : public TrajectoryFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                     double every) const override {
-    LineReader reader{in};
+    LineReader reader{in, 0, {}};
     std::uint64_t kept = 0;
     try {
       while (reader.next() && reader.line.rfind("ITEM: TIMESTEP", 0) == 0) {
