@@ -191,6 +191,7 @@ void Simulation<D>::reset_measurement() {
 
 template <std::size_t D>
 void Simulation<D>::measure_from(double t) {
+  if (std::isnan(t)) throw std::invalid_argument("a measurement cannot start at NaN");
   if (t <= time_) {
     reset_measurement();
   } else {

@@ -1,11 +1,373 @@
-// The Simulation: runs cut into pieces equal whole runs bit for bit, the measurement window,
+// The Simulation: runs cut into pieces equal whole runs bit for bit (walls and periodic, swap,
+// elastic, inelastic with a large TC time, a measurement window inside a piece, 2D and 3D),
 // observers on their own timeline, the stop flag, run-length guards and checkpoints.
 #include "carom/simulation.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "carom/checkpoint.hpp"
+#include "carom/classic_input.hpp"
+#include "carom/initial.hpp"
+#include "test_systems.hpp"
+
 namespace carom {
 namespace {
+
+using carom::testing::boxed;
+using carom::testing::disk;
+using carom::testing::EventRecorder;
+using carom::testing::random_gas;
+using carom::testing::square_lattice;
+using carom::testing::uniform;
+
+// Two runs are the same run: same time, stored states, records, counts and window, bit for bit.
+template <std::size_t D>
+void expect_identical(const Simulation<D>& a, const Simulation<D>& b, const std::string& label) {
+  ASSERT_EQ(a.time(), b.time()) << label;
+  ASSERT_EQ(a.settled(), b.settled()) << label;
+  ASSERT_EQ(a.counts(), b.counts()) << label;
+  ASSERT_EQ(a.measurement(), b.measurement()) << label;
+  ASSERT_EQ(a.pending_measurement(), b.pending_measurement()) << label;
+  ASSERT_EQ(a.state().particles, b.state().particles) << label;
+  ASSERT_EQ(a.state().records, b.state().records) << label;
+  ASSERT_EQ(a.snapshot(), b.snapshot()) << label;
+}
+
+// Frames: the time and the snapshot a time observer saw.
+template <std::size_t D>
+struct FrameRecorder final : Observer<D> {
+  explicit FrameRecorder(double every) : Observer<D>(Trigger::every_time(every)) {}
+  void observe(const Simulation<D>& simulation) override {
+    times.push_back(simulation.time());
+    positions.push_back(simulation.snapshot());
+  }
+  std::vector<double> times;
+  std::vector<std::vector<Particle<D>>> positions;
+};
+
+struct Case {
+  std::string label;
+  System<2> system;
+  Settings settings;
+  double end_time;
+  double measure_from;
+};
+
+std::vector<Case> cases() {
+  pcg32 rng(20261122);
+  std::vector<Case> list;
+  for (int trial = 0; trial < 12; ++trial) {
+    System<2> gas = random_gas(rng, 30, 0.2, 0.5, 10, 8);
+    const bool periodic = trial % 2 == 1;
+    if (periodic) gas.box.boundary = Boundary::periodic;
+    Settings settings;
+    switch (trial % 4) {
+      case 0:
+        settings.rule = {Rule::swap};
+        break;
+      case 1:
+        settings.rule = {Rule::elastic};
+        break;
+      default:
+        // Inelastic, with a TC time long enough that many collisions are made elastic by it.
+        settings.rule = {Rule::elastic, 0.6, 0.3};
+        break;
+    }
+    list.push_back({"trial " + std::to_string(trial) + (periodic ? " periodic" : " walls"), gas,
+                    settings, uniform(rng, 15, 30), uniform(rng, 2, 10)});
+  }
+  // Touching lattices: many events at one instant, where an event limit can fall between them.
+  list.push_back({"lattice", square_lattice(rng, 6, 0.5, 0.1, true), {{Rule::elastic}}, 8.0, 1.0});
+  return list;
+}
+
+TEST(Simulation, RunsCutIntoPiecesEqualWholeRunsBitForBit) {
+  pcg32 rng(7);
+  for (const Case& c : cases()) {
+    Simulation<2> whole(c.system, c.settings);
+    auto whole_events = std::make_shared<EventRecorder<2>>();
+    auto whole_frames = std::make_shared<FrameRecorder<2>>(0.7);
+    whole.add_observer(whole_events);
+    whole.add_observer(whole_frames);
+    whole.measure_from(c.measure_from);
+    ASSERT_EQ(whole.run_until(c.end_time), RunStatus::reached);
+
+    Simulation<2> pieces(c.system, c.settings);
+    auto piece_events = std::make_shared<EventRecorder<2>>();
+    auto piece_frames = std::make_shared<FrameRecorder<2>>(0.7);
+    pieces.add_observer(piece_events);
+    pieces.add_observer(piece_frames);
+    pieces.measure_from(c.measure_from);
+    // Stops at random times, at the window's start exactly, at frame times exactly, and after
+    // random numbers of events.
+    std::vector<double> stops = {0.0, c.measure_from, 2.1, 1.4};
+    for (int k = 0; k < 6; ++k) stops.push_back(uniform(rng, 0, c.end_time));
+    std::sort(stops.begin(), stops.end());
+    for (const double stop : stops) {
+      if (stop < pieces.time()) continue;
+      while (pieces.run_until(stop, 1 + rng() % 40) == RunStatus::event_limit) {
+        ASSERT_TRUE(pieces.settled()) << c.label;
+      }
+    }
+    ASSERT_EQ(pieces.run_until(c.end_time), RunStatus::reached);
+    expect_identical(whole, pieces, c.label);
+    ASSERT_EQ(whole_events->events.size(), piece_events->events.size()) << c.label;
+    for (std::size_t i = 0; i < whole_events->events.size(); ++i) {
+      const Event& a = whole_events->events[i];
+      const Event& b = piece_events->events[i];
+      ASSERT_EQ(a, b) << c.label << " event " << i;
+      ASSERT_EQ(a.impulse, b.impulse) << c.label << " event " << i;
+      ASSERT_EQ(a.elastic_by_tc, b.elastic_by_tc) << c.label << " event " << i;
+    }
+    EXPECT_EQ(whole_frames->times, piece_frames->times) << c.label;
+    EXPECT_EQ(whole_frames->positions, piece_frames->positions) << c.label;
+    EXPECT_EQ(whole.measurement().start_time, c.measure_from) << c.label;
+    EXPECT_GT(whole.counts().events, whole.measurement().counts.events) << c.label;
+    if (c.settings.rule.restitution < 1.0) {
+      EXPECT_GT(whole.counts().elastic_by_tc, 0u) << c.label;
+    }
+  }
+}
+
+TEST(Simulation, ThreeDimensionalRunsCutIntoPiecesEqualWholeRuns) {
+  pcg32 rng(3);
+  for (const Boundary boundary : {Boundary::walls, Boundary::periodic}) {
+    System<3> system;
+    system.box = {{{6.5, 6.5, 6.5}}, boundary};
+    for (int i = 0; i < 27; ++i) {
+      Particle<3> p;
+      p.radius = 0.7;
+      p.position = {{1.1 + 2.1 * (i % 3), 1.1 + 2.1 * (i / 3 % 3), 1.1 + 2.1 * (i / 9)}};
+      p.velocity = {{uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1)}};
+      system.add(p, uniform(rng, 0.5, 2));
+    }
+    for (const EngineKind engine : {EngineKind::fast, EngineKind::reference}) {
+      const Settings settings{{Rule::elastic, 0.8, 0.2}, engine};
+      Simulation<3> whole(system, settings);
+      whole.measure_from(3.0);
+      whole.run_until(20.0);
+      Simulation<3> pieces(system, settings);
+      pieces.measure_from(3.0);
+      for (double t = 0.9; t < 20.0; t += 0.9) pieces.run_until(t, 17);
+      while (pieces.run_until(20.0, 13) != RunStatus::reached) {
+      }
+      const std::string label = std::string(name_of(boundary)) + " " + std::string(name_of(engine));
+      expect_identical(whole, pieces, label);
+      EXPECT_GT(whole.counts().pair_collisions, 100u) << label;
+    }
+  }
+}
+
+TEST(Simulation, BothEnginesGiveTheSameRun) {
+  for (const Case& c : cases()) {
+    Settings fast = c.settings, reference = c.settings;
+    reference.engine = EngineKind::reference;
+    Simulation<2> a(c.system, fast), b(c.system, reference);
+    a.measure_from(c.measure_from);
+    b.measure_from(c.measure_from);
+    a.run_until(c.end_time);
+    b.run_until(c.end_time);
+    expect_identical(a, b, c.label);
+  }
+}
+
+// Regression: the stored time doubled as the TC model's last-collision time, so a run whose
+// states had been brought to a common time (to print them) treated every disk as having just
+// collided, and the next collision came out elastic.
+TEST(Simulation, TheTcModelReadsLastCollisionsNotStoredTimes) {
+  // Head on, touching at t = 1; the TC time is 0.5.
+  const System<2> system = boxed({20, 20}, {disk({5, 10}, {1, 0}, 1), disk({9, 10}, {-1, 0}, 1)});
+  Simulation<2> simulation(system, {{Rule::elastic, 0.5, 0.5}});
+  simulation.run_until(0.9);
+  ASSERT_EQ(simulation.snapshot()[0].time, 0.9);  // printing the state
+  simulation.run_until(2.0);
+  ASSERT_EQ(simulation.counts().pair_collisions, 1u);
+  EXPECT_EQ(simulation.counts().elastic_by_tc, 0u);
+  EXPECT_EQ(simulation.state().particles[0].velocity, (Vec2{{-0.5, 0}}));  // restitution 0.5
+  EXPECT_EQ(simulation.state().records[0].last_collision, 1.0);
+
+  // A wall hit at t = 0.25, 0.25 before the pair collision, does count.
+  const System<2> after_wall =
+      boxed({20, 20}, {disk({1.25, 10}, {-1, 0}, 1), disk({3.75, 10}, {-1, 0}, 1)});
+  Simulation<2> second(after_wall, {{Rule::elastic, 0.5, 0.5}});
+  second.run_until(0.6);
+  EXPECT_EQ(second.counts().wall_collisions, 1u);
+  EXPECT_EQ(second.counts().elastic_by_tc, 1u);
+}
+
+TEST(Simulation, AStopFlagEndsTheRunAtAWholeInstantAndTheRunGoesOn) {
+  pcg32 rng(5);
+  const System<2> system = square_lattice(rng, 8, 0.5, 0.1, true);
+  Simulation<2> whole(system, {{Rule::elastic}});
+  whole.run_until(6.0);
+
+  Simulation<2> stopped(system, {{Rule::elastic}});
+  std::atomic<int> flag{0};
+  stopped.set_stop_flag(&flag);
+  // Set from "outside" after the 50th event, the way a signal handler would.
+  struct Raiser final : Observer<2> {
+    explicit Raiser(std::atomic<int>& flag) : Observer<2>(Trigger::every_events(50)), flag(flag) {}
+    void observe(const Simulation<2>&) override { flag = 2; }
+    std::atomic<int>& flag;
+  };
+  stopped.add_observer(std::make_shared<Raiser>(flag));
+  ASSERT_EQ(stopped.run_until(6.0), RunStatus::stopped);
+  EXPECT_GE(stopped.counts().events, 50u);
+  EXPECT_LT(stopped.time(), 6.0);
+  EXPECT_TRUE(stopped.settled());
+  // Every event at the time it stopped is processed: none is left at that time.
+  Simulation<2> probe(stopped.checkpoint(""));
+  auto events = std::make_shared<EventRecorder<2>>();
+  probe.add_observer(events);
+  probe.run_until(stopped.time());
+  EXPECT_TRUE(events->events.empty());
+  stopped.set_stop_flag(nullptr);
+  ASSERT_EQ(stopped.run_until(6.0), RunStatus::reached);
+  expect_identical(whole, stopped, "stopped and resumed");
+}
+
+TEST(Simulation, EarlyReturnsFinishTheInstantTheyStopAt) {
+  // A corner: two wall hits at t = 1. Stopping after the first still processes the second, so
+  // that the run is whole at the time it reports.
+  const System<2> corner = boxed({10, 10}, {disk({2, 3}, {-1, -2}, 1)});
+  Simulation<2> limited(corner);
+  auto seen = std::make_shared<FrameRecorder<2>>(1.0);
+  limited.add_observer(seen);
+  ASSERT_EQ(limited.run_until(5.0, 1), RunStatus::event_limit);
+  EXPECT_EQ(limited.counts().events, 2u);
+  EXPECT_EQ(limited.time(), 1.0);
+  EXPECT_TRUE(limited.settled());
+  EXPECT_EQ(seen->times, (std::vector<double>{0, 1}));  // the frame at 1 saw both hits
+  EXPECT_EQ(limited.state().particles[0].velocity, (Vec2{{1, 2}}));
+
+  Simulation<2> flagged(corner);
+  std::atomic<int> flag{1};  // set before the run: stops after the first event's instant
+  flagged.set_stop_flag(&flag);
+  ASSERT_EQ(flagged.run_until(5.0), RunStatus::stopped);
+  EXPECT_EQ(flagged.counts().events, 2u);
+  EXPECT_EQ(flagged.time(), 1.0);
+}
+
+TEST(Simulation, TargetsOutOfReachAreRefused) {
+  Simulation<2> simulation(boxed({10, 10}, {disk({5, 5}, {1, 0.5}, 1)}));
+  simulation.run_until(5.0);
+  EXPECT_THROW(simulation.run_until(4.0), RunLengthError);
+  EXPECT_THROW(simulation.run_until(std::nan("")), RunLengthError);
+  EXPECT_THROW(simulation.run_until(2e12), RunLengthError);
+  EXPECT_NO_THROW(simulation.check_target(5e11));  // 5.6e10 box crossings: fine...
+  Simulation<2> fast(boxed({10, 10}, {disk({5, 5}, {1e3, 0}, 1)}));
+  EXPECT_THROW(fast.check_target(2e11), RunLengthError);  // ...2e13 are not
+  EXPECT_NO_THROW(fast.check_target(1e9));
+  EXPECT_EQ(simulation.time(), 5.0);
+}
+
+TEST(Simulation, TheMeasurementWindowOpensWhenAsked) {
+  Simulation<2> simulation(boxed({10, 10}, {disk({5, 5}, {2, 0}, 1)}));  // walls at 2, 6, 10...
+  simulation.measure_from(5.0);
+  EXPECT_EQ(simulation.pending_measurement(), 5.0);
+  simulation.run_until(12.0);
+  EXPECT_EQ(simulation.pending_measurement(), std::nullopt);
+  EXPECT_EQ(simulation.measurement().start_time, 5.0);
+  EXPECT_EQ(simulation.measurement().counts.wall_collisions, 2u);  // 6, 10
+  EXPECT_EQ(simulation.counts().wall_collisions, 3u);
+  EXPECT_EQ(simulation.observables().elapsed, 7.0);
+  simulation.reset_measurement();
+  EXPECT_EQ(simulation.measurement().start_time, 12.0);
+  EXPECT_EQ(simulation.measurement().counts, Counts{});
+  EXPECT_EQ(simulation.measurement().kinetic_energy_initial, 2.0);
+  simulation.measure_from(3.0);  // in the past: now
+  EXPECT_EQ(simulation.measurement().start_time, 12.0);
+  EXPECT_THROW(simulation.measure_from(std::nan("")), std::invalid_argument);
+}
+
+TEST(Simulation, ObserversFireOnTheirOwnTimeline) {
+  Simulation<2> simulation(boxed({10, 10}, {disk({5, 5}, {2, 0}, 1)}));
+  auto frames = std::make_shared<FrameRecorder<2>>(2.5);
+  simulation.add_observer(frames);
+  struct Counter final : Observer<2> {
+    Counter() : Observer<2>(Trigger::every_events(2)) {}
+    void observe(const Simulation<2>& s) override { seen.push_back(s.counts().events); }
+    std::vector<std::uint64_t> seen;
+  };
+  auto counter = std::make_shared<Counter>();
+  simulation.add_observer(counter);
+  simulation.run_until(10.0);
+  EXPECT_EQ(frames->times, (std::vector<double>{0, 2.5, 5, 7.5, 10}));
+  // At t = 5 the disk, back from the right wall at t = 2, is at x = 9 - 2 x 3.
+  EXPECT_EQ(frames->positions[2][0].position, (Vec2{{3, 5}}));
+  EXPECT_EQ(counter->seen, (std::vector<std::uint64_t>{2}));  // hits at 2, 6, 10
+  // An observer added to a run that is whole at 10 starts after it.
+  auto late = std::make_shared<FrameRecorder<2>>(5.0);
+  simulation.add_observer(late);
+  simulation.run_until(15.0);
+  EXPECT_EQ(late->times, (std::vector<double>{15}));
+  EXPECT_THROW(simulation.add_observer(std::make_shared<FrameRecorder<2>>(0.0)),
+               std::invalid_argument);
+}
+
+TEST(Simulation, CheckpointsContinueExactly) {
+  for (const Case& c : cases()) {
+    Simulation<2> whole(c.system, c.settings);
+    whole.measure_from(c.measure_from);
+    whole.run_until(c.end_time);
+
+    Simulation<2> first(c.system, c.settings);
+    first.measure_from(c.measure_from);
+    first.run_until(c.measure_from / 2, 97);  // before the window opens
+    std::stringstream file;
+    write_checkpoint(file, first.checkpoint("start.txt"));
+    AnyCheckpoint read = read_checkpoint(file, "ck");
+    ASSERT_TRUE(std::holds_alternative<Checkpoint<2>>(read));
+    EXPECT_EQ(std::get<Checkpoint<2>>(read).source, "start.txt");
+    Simulation<2> resumed(std::get<Checkpoint<2>>(read));
+    expect_identical(first, resumed, c.label + " after reading");
+    resumed.run_until(c.end_time);
+    expect_identical(whole, resumed, c.label);
+  }
+}
+
+TEST(Simulation, ThreeDimensionalCheckpointsRecordTheirDimension) {
+  System<3> system;
+  system.box = {{{5, 6, 7}}, Boundary::periodic};
+  Particle<3> p;
+  p.radius = 0.5;
+  p.position = {{1, 2, 3}};
+  p.velocity = {{0.1, -0.2, 0.3}};
+  system.add(p, 2.0);
+  Simulation<3> simulation(system, {{Rule::elastic}});
+  simulation.run_until(4.0);
+  std::stringstream file;
+  write_checkpoint(file, simulation.checkpoint("x"));
+  EXPECT_NE(file.str().find("\"dimension\": 3"), std::string::npos);
+  const AnyCheckpoint read = read_checkpoint(file, "ck");
+  ASSERT_TRUE(std::holds_alternative<Checkpoint<3>>(read));
+  expect_identical(simulation, Simulation<3>(std::get<Checkpoint<3>>(read)), "3D");
+}
+
+TEST(Simulation, CarromOneCheckpointsAreStillRead) {
+  const std::string folder = std::string(CAROM_TEST_DATA) + "/checkpoint_v1/";
+  std::ifstream file(folder + "v1.ckpt");
+  const AnyCheckpoint read = read_checkpoint(file, "v1.ckpt");
+  ASSERT_TRUE(std::holds_alternative<Checkpoint<2>>(read));
+  Simulation<2> resumed(std::get<Checkpoint<2>>(read));
+  EXPECT_EQ(resumed.pending_measurement(), std::nullopt);
+  EXPECT_EQ(resumed.measurement().start_time, 2.0);
+  resumed.run_until(9.0);
+  // The same run made afresh by this carom (periodic, elastic, measuring from t = 2).
+  System<2> start = read_classic_file(folder + "gas.txt", Boundary::periodic).system;
+  Simulation<2> whole(start, {{Rule::elastic}});
+  whole.measure_from(2.0);
+  whole.run_until(9.0);
+  EXPECT_EQ(resumed.state().particles, whole.state().particles);
+  EXPECT_EQ(resumed.measurement().counts, whole.measurement().counts);
+  EXPECT_EQ(resumed.measurement().counts.events, 1115u);  // as carom 1.0 counted
+}
 
 }  // namespace
 }  // namespace carom

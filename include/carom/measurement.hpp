@@ -16,6 +16,8 @@ struct Counts {
   double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
   double wall_momentum = 0.0;       // total momentum given to the walls
 
+  friend bool operator==(const Counts&, const Counts&) = default;
+
   void add(const Event& event) {
     ++events;
     if (event.is_wall()) {
@@ -36,6 +38,8 @@ struct Measurement {
   double start_time = 0.0;
   double kinetic_energy_initial = 0.0;
   Counts counts;
+
+  friend bool operator==(const Measurement&, const Measurement&) = default;
 };
 
 }  // namespace carom

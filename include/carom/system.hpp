@@ -23,6 +23,8 @@ struct Particle {
   Vec<D> velocity;
   double time = 0.0;
   double radius = 0.0;
+
+  friend bool operator==(const Particle&, const Particle&) = default;
 };
 
 // The cold data of a particle, read only when it collides: its mass and what has happened to it.
@@ -37,6 +39,7 @@ struct ParticleRecord {
   // Changes whenever the particle's trajectory changes; events predicted against an older
   // value are stale. Derived from the counters, which grow on every velocity change.
   std::uint64_t version() const { return wall_collisions + pair_collisions; }
+  friend bool operator==(const ParticleRecord&, const ParticleRecord&) = default;
 };
 
 enum class Boundary {
