@@ -13,6 +13,7 @@
 
 #include "carom/atomic_file.hpp"
 #include "carom/names.hpp"
+#include "carom/stop_signal.hpp"
 
 namespace carom::cli {
 
@@ -28,14 +29,19 @@ struct Interrupted : std::runtime_error {
   int signal;
 };
 
-// The signal (SIGINT, SIGTERM, SIGHUP) that asked the command to stop, or 0. The command line's
-// handlers set it; the simulation polls it (the library installs no handler of its own). A second
-// signal stops the process at once.
-std::atomic<int>& stop_signal();
-void install_stop_handlers();
+// The signal (SIGINT, SIGTERM, SIGHUP) that asked the command to stop, or 0: main() has the
+// library's opt-in handlers set it (carom/stop_signal.hpp); the simulation polls it.
+inline std::atomic<int>& stop_signal() {
+  static std::atomic<int> requested{0};
+  return requested;
+}
+
 // Throws Interrupted(`what`) if a stop signal arrived.
-void stop_if_asked(const std::string& what);
-std::string signal_name(int signal);
+inline void stop_if_asked(const std::string& what) {
+  if (const int signal = stop_signal().load(); signal != 0) {
+    throw Interrupted(signal, describe_signal(signal) + ": " + what);
+  }
+}
 
 // An option whose value is one of an enum's names (its EnumNames table); help lists them,
 // anything else is refused, and case does not matter.

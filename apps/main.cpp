@@ -127,7 +127,7 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
     return kUsageError;
   }
 
-  install_stop_handlers();
+  carom::install_stop_handlers(stop_signal());
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
@@ -145,7 +145,7 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
   } catch (const std::exception& e) {
     // A stop signal may have cut a write short: say so rather than report the write.
     if (const int signal = stop_signal().load(); signal != 0) {
-      std::cerr << "carom: " << signal_name(signal) << ": nothing was written\n";
+      std::cerr << "carom: " << carom::describe_signal(signal) << ": nothing was written\n";
       return 128 + signal;
     }
     std::cerr << "carom: error: " << e.what() << '\n';

@@ -249,8 +249,8 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   outputs.events.flush();
   if (checkpoints) checkpoints->save(simulation);
   if (status == RunStatus::stopped) {
-    throw Interrupted(stop_signal().load(),
-                      signal_name(stop_signal().load()) + ": " + interruption(simulation, args));
+    throw Interrupted(stop_signal().load(), describe_signal(stop_signal().load()) + ": " +
+                                                interruption(simulation, args));
   }
 
   const RunReport report{start.source, seconds};

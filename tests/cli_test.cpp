@@ -1,13 +1,20 @@
 // The carom command line, run as a user runs it: exact seed outputs, formats, errors.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -54,6 +61,49 @@ class Cli : public ::testing::Test {
     command += " <" + quote(in) + " >" + quote(out) + " 2>" + quote(err);
     const int status = std::system(command.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_file(out), read_file(err)};
+  }
+
+  // Starts carom in the background, its output to files in the test's folder; returns its pid.
+  pid_t spawn(const std::vector<std::string>& args) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      if (!std::freopen((dir_ / "stdout").c_str(), "w", stdout) ||
+          !std::freopen((dir_ / "stderr").c_str(), "w", stderr)) {
+        ::_exit(126);
+      }
+      std::vector<char*> argv{const_cast<char*>(CAROM_EXE)};
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(CAROM_EXE, argv.data());
+      ::_exit(127);
+    }
+    return pid;
+  }
+
+  pid_t start_run(const fs::path& input, std::vector<std::string> args) {
+    args.insert(args.begin(), {"run", input.string()});
+    return spawn(args);
+  }
+
+  // Waits for a process started by spawn(): its exit code, or -1 if a signal ended it.
+  static int finish(pid_t pid) {
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // Polls until `ready` holds (the run has got somewhere), at most a minute.
+  static bool wait_until(const std::function<bool()>& ready) {
+    for (int i = 0; i < 6000; ++i) {
+      if (ready()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  // Whether a file holds `text` yet.
+  static bool holds(const fs::path& path, const std::string& text) {
+    return read_file(path).find(text) != std::string::npos;
   }
 
   fs::path write(const std::string& name, const std::string& text) {
@@ -199,10 +249,24 @@ TEST_F(Cli, StdinIsReadWithDash) {
 }
 
 TEST_F(Cli, ElasticRuleIsSelectable) {
-  const Result r =
-      carom({"run", kCases + "particles_only.txt", "18", "--rule", "Elastic", "--format", "json"});
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("\"rule\": \"elastic\""), std::string::npos);
+  const std::string input = kCases + "particles_only.txt";
+  const Result elastic = carom({"run", input, "18", "--rule", "Elastic", "--format", "json"});
+  ASSERT_EQ(elastic.exit_code, 0) << elastic.err;
+  const Result swap = carom({"run", input, "18", "--format", "json"});
+  ASSERT_EQ(swap.exit_code, 0) << swap.err;
+  const auto e = nlohmann::json::parse(elastic.out), w = nlohmann::json::parse(swap.out);
+  EXPECT_EQ(e["rule"], "elastic");
+  // The same two collisions, but with oblique contacts elastic disks leave with other velocities.
+  EXPECT_GT(e["pair_collisions"].get<int>(), 0);
+  EXPECT_NE(e["particles"][1]["vx"], w["particles"][1]["vx"]);
+  // Energy and momentum are conserved (the swap rule conserves them too, for equal masses).
+  EXPECT_NEAR(e["kinetic_energy_final"].get<double>(), e["kinetic_energy_initial"].get<double>(),
+              1e-12);
+  double px = 0.0;
+  for (const auto& p : e["particles"]) px += p["vx"].get<double>();
+  EXPECT_NEAR(px, e["momentum_final"][0].get<double>(), 1e-12);
+  for (const auto& p : w["particles"]) px -= p["vx"].get<double>();
+  EXPECT_NEAR(px, 0.0, 1e-12);  // the same total as the swap run's
 }
 
 TEST_F(Cli, HelpTeachesAndVersionAnswers) {
@@ -217,6 +281,66 @@ TEST_F(Cli, HelpTeachesAndVersionAnswers) {
   const Result version = carom({"--version"});
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_EQ(version.out.rfind("carom 1.", 0), 0u) << version.out;
+}
+
+TEST_F(Cli, NoArgumentsPrintTheHelpAndMistakesGetSuggestions) {
+  const Result none = carom({});
+  EXPECT_EQ(none.exit_code, 0);
+  EXPECT_NE(none.out.find("Subcommands:"), std::string::npos) << none.out;
+  EXPECT_NE(none.out.find("Examples:"), std::string::npos);
+
+  const Result option = carom({"run", kCases + "normal.txt", "10", "--formt", "csv"});
+  EXPECT_EQ(option.exit_code, 2);
+  EXPECT_EQ(option.err.rfind("carom: error: ", 0), 0u) << option.err;
+  EXPECT_NE(option.err.find("did you mean '--format'?"), std::string::npos) << option.err;
+  EXPECT_NE(option.err.find("Run 'carom run --help'"), std::string::npos) << option.err;
+  EXPECT_EQ(option.out, "");
+
+  const Result command = carom({"rnu", kCases + "normal.txt", "10"});
+  EXPECT_EQ(command.exit_code, 2);
+  EXPECT_NE(command.err.find("did you mean 'run'?"), std::string::npos) << command.err;
+
+  const Result lonely = carom({"run", kCases + "normal.txt", "10", "--checkpoint-every", "5"});
+  EXPECT_EQ(lonely.exit_code, 2);
+  EXPECT_NE(lonely.err.find("--checkpoint-every needs --checkpoint"), std::string::npos)
+      << lonely.err;
+}
+
+TEST_F(Cli, InitWritesNoPeriodicFileThatRunWouldRefuse) {
+  // Two disks at 0.5: a square box of side 1.77, under two diameters.
+  const Result tiny = carom({"init", "--n", "2", "--phi", "0.5", "--boundary", "periodic", "-o",
+                             (dir_ / "tiny.txt").string()});
+  EXPECT_EQ(tiny.exit_code, 2);
+  EXPECT_NE(tiny.err.find("too small"), std::string::npos) << tiny.err;
+  EXPECT_FALSE(fs::exists(dir_ / "tiny.txt"));
+  // Every periodic file it does write runs.
+  for (const char* n : {"3", "4", "5", "6", "12", "40"}) {
+    const fs::path start = dir_ / "small.txt";
+    const Result made =
+        carom({"init", "--n", n, "--phi", "0.5", "--boundary", "periodic", "-o", start});
+    if (made.exit_code != 0) continue;
+    const Result run = carom(
+        {"run", start, "5", "--boundary", "periodic", "--rule", "elastic", "--format", "csv"});
+    EXPECT_EQ(run.exit_code, 0) << n << ": " << run.err;
+  }
+}
+
+TEST_F(Cli, TheSwapRuleInAPeriodicBoxGetsANote) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(
+      carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
+  const Result swap = carom({"run", start, "1", "--boundary", "periodic", "--format", "csv"});
+  EXPECT_EQ(swap.exit_code, 0);
+  EXPECT_NE(swap.err.find("--rule elastic is the physical one"), std::string::npos) << swap.err;
+  const Result elastic =
+      carom({"run", start, "1", "--boundary", "periodic", "--rule", "elastic", "--format", "csv"});
+  EXPECT_EQ(elastic.err, "");
+  const Result quiet =
+      carom({"run", start, "1", "--boundary", "periodic", "--format", "csv", "--quiet"});
+  EXPECT_EQ(quiet.err, "");
+  const Result walls = carom({"run", kCases + "normal.txt", "1"});  // the seed's own box
+  EXPECT_EQ(walls.err, "");
 }
 
 // Each bad input: exit code 2, one message naming the file and line, nothing on stdout and no
@@ -327,19 +451,49 @@ TEST_F(Cli, OutputThroughASymlinkKeepsTheLink) {
   EXPECT_EQ(read_file(target), read_file(kCases + "normal.T20.csv"));
 }
 
-TEST_F(Cli, AnInterruptedRunLeavesNoFileBehind) {
+TEST_F(Cli, AnInterruptedRunLeavesNoPartialResultAndKeepsItsFrames) {
   const fs::path start = dir_ / "gas.txt";
   ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
-  const fs::path out = dir_ / "out.json";
-  const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
-                              " 1e6 --rule elastic --format json -o " + quote(out) +
-                              " & sleep 1; kill -TERM $!; wait $!";
-  const int status = std::system(("sh -c " + quote(command) + " 2>/dev/null").c_str());
-  EXPECT_NE(status, 0);
+  const fs::path out = dir_ / "out.json", movie = dir_ / "movie.xyz";
+  const pid_t pid = start_run(start, {"1e6", "--rule", "elastic", "--format", "json", "-o",
+                                      out.string(), "--dump", movie.string(), "--every", "0.5"});
+  ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=0.5"); }));
+  ::kill(pid, SIGTERM);
+  EXPECT_EQ(finish(pid), 143);
+  const std::string err = read_file(dir_ / "stderr");
+  EXPECT_NE(err.find("terminated (SIGTERM)"), std::string::npos) << err;
+  EXPECT_NE(err.find("nothing to resume from"), std::string::npos) << err;
+  EXPECT_NE(err.find("frames up to then are in"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(out));
   for (const auto& entry : fs::directory_iterator(dir_)) {
     EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
   }
+  // Every frame written is whole.
+  const std::string frames = read_file(movie);
+  EXPECT_EQ(std::count(frames.begin(), frames.end(), '\n') % 20002, 0);
+}
+
+// Regression: with --checkpoint-every, the first periodic save installed its own signal
+// handlers, so Ctrl-C ended the run silently and the checkpoint held the last periodic save.
+TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "ck", movie = dir_ / "m.xyz";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const pid_t pid =
+      start_run(start, {"1e6", "--rule", "elastic", "--checkpoint", checkpoint.string(),
+                        "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
+  ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(finish(pid), 130);
+  const std::string err = read_file(dir_ / "stderr");
+  EXPECT_NE(err.find("interrupted (SIGINT)"), std::string::npos) << err;
+  EXPECT_NE(err.find("carom run --resume " + checkpoint.string()), std::string::npos) << err;
+  EXPECT_EQ(read_file(dir_ / "stdout"), "");  // no final table for a run that did not finish
+  const auto saved = nlohmann::json::parse(read_file(checkpoint));
+  const std::uint64_t events = saved["counts"]["events"];
+  EXPECT_NE(err.find(fmt::format("after {} events", events)), std::string::npos) << err;
+  EXPECT_NE(events % 250000, 0u);  // not a periodic save
+  EXPECT_GE(saved["time"].get<double>(), 2.0);
+  EXPECT_TRUE(saved["settled"].get<bool>());
 }
 
 TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
@@ -512,44 +666,112 @@ TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
 }
 
 TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {
-  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt", out = dir_ / "o.json";
-  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
-  const Result whole = carom({"run", start, "25", "--rule", "elastic", "--format", "json"});
-  ASSERT_EQ(whole.exit_code, 0);
-  const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
-                              " 25 --rule elastic --format json -o " + quote(out) +
-                              " --checkpoint " + quote(checkpoint) +
-                              " 2>/dev/null & sleep 1; kill -INT $!; wait $!";
-  const int status = std::system(("sh -c " + quote(command)).c_str());
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 130);
-  EXPECT_FALSE(fs::exists(out));
-  ASSERT_TRUE(fs::exists(checkpoint));
-  const Result resumed = carom({"run", "--resume", checkpoint, "25", "--format", "json"});
+  // A slow run (an overlap check after every event): frames, events and the result of the
+  // interrupted and resumed run are those of the uninterrupted one, byte for byte.
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "1000", "--phi", "0.5", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const std::vector<std::string> physics = {"--rule",   "elastic",       "--boundary",
+                                            "periodic", "--check-every", "1"};
+  const auto with = [&](std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  const fs::path whole_xyz = dir_ / "whole.xyz", whole_events = dir_ / "whole.csv";
+  const Result whole = carom(with({"run", start, "8", "--format", "json", "--dump", whole_xyz,
+                                   "--every", "0.5", "--events", whole_events, "--check"},
+                                  physics));
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+
+  const fs::path movie = dir_ / "movie.xyz", events = dir_ / "events.csv";
+  const pid_t pid = spawn(with({"run", start.string(), "8", "--format", "json", "--check",
+                                "--checkpoint", checkpoint.string(), "--dump", movie.string(),
+                                "--every", "0.5", "--events", events.string()},
+                               physics));
+  ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
+  ::kill(pid, SIGINT);
+  ASSERT_EQ(finish(pid), 130) << read_file(dir_ / "stderr");
+  EXPECT_LT(read_file(movie).size(), read_file(whole_xyz).size());
+  const Result resumed = carom({"run", "--resume", checkpoint, "8", "--format", "json", "--dump",
+                                movie, "--every", "0.5", "--events", events});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out));
+  EXPECT_TRUE(read_file(movie) == read_file(whole_xyz)) << "the trajectories differ";
+  EXPECT_TRUE(read_file(events) == read_file(whole_events)) << "the event logs differ";
 }
 
 TEST_F(Cli, PeriodicCheckpointsSurviveAHardKill) {
-  // SIGKILL cannot be caught: what survives is the last checkpoint written every 20000 events,
-  // and resuming from it gives the uninterrupted result.
+  // SIGKILL cannot be caught: what survives is the last checkpoint written every 2000 events and
+  // the frames written up to the kill. Resuming drops the frames after the checkpoint and gives
+  // the uninterrupted result and trajectory.
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
-  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
-  const Result whole = carom({"run", start, "25", "--rule", "elastic", "--format", "json"});
+  ASSERT_EQ(carom({"init", "--n", "1000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const fs::path whole_xyz = dir_ / "whole.lammpstrj", movie = dir_ / "movie.lammpstrj";
+  const Result whole = carom({"run", start, "8", "--rule", "elastic", "--format", "json", "--dump",
+                              whole_xyz, "--every", "0.25"});
   ASSERT_EQ(whole.exit_code, 0);
-  const std::string command =
-      quote(CAROM_EXE) + " run " + quote(start) + " 25 --rule elastic --format json -o " +
-      quote(dir_ / "o.json") + " --checkpoint " + quote(checkpoint) +
-      " --checkpoint-every 20000 2>/dev/null & sleep 1; kill -KILL $!; wait $!";
-  std::system(("sh -c " + quote(command)).c_str());
-  ASSERT_TRUE(fs::exists(checkpoint));
-  const std::string saved = read_file(checkpoint);
-  const auto events_at = saved.find("\"events\": ");
-  ASSERT_NE(events_at, std::string::npos);
-  EXPECT_EQ(std::stoull(saved.substr(events_at + 10)) % 20000, 0u);
-  const Result resumed = carom({"run", "--resume", checkpoint, "25", "--format", "json"});
+  const pid_t pid =
+      start_run(start, {"8", "--rule", "elastic", "--format", "json", "--check", "--check-every",
+                        "1", "--checkpoint", checkpoint.string(), "--checkpoint-every", "2000",
+                        "--dump", movie.string(), "--every", "0.25"});
+  ASSERT_TRUE(wait_until([&] { return fs::exists(checkpoint) && holds(movie, "TIMESTEP\n12\n"); }));
+  ::kill(pid, SIGKILL);
+  finish(pid);
+  const auto saved = nlohmann::json::parse(read_file(checkpoint));
+  EXPECT_EQ(saved["counts"]["events"].get<std::uint64_t>() % 2000, 0u);
+  const Result resumed = carom(
+      {"run", "--resume", checkpoint, "8", "--format", "json", "--dump", movie, "--every", "0.25"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   EXPECT_EQ(particles_of(resumed.out), particles_of(whole.out));
+  EXPECT_TRUE(read_file(movie) == read_file(whole_xyz)) << "the trajectories differ";
+}
+
+// Regression: --equilibrate was refused with --resume, so a run equilibrated, checkpointed and
+// resumed could not measure its production part alone.
+TEST_F(Cli, AResumedRunCanStartItsMeasurementAtAnyLaterTime) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "eq.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "300", "--phi", "0.4", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const std::vector<std::string> physics = {"--rule", "elastic", "--boundary", "periodic"};
+  std::vector<std::string> direct = {"run", start, "20", "--format", "json", "--equilibrate", "8"};
+  direct.insert(direct.end(), physics.begin(), physics.end());
+  const Result whole = carom(direct);
+  ASSERT_EQ(whole.exit_code, 0) << whole.err;
+  std::vector<std::string> first = {"run", start, "5", "--checkpoint", checkpoint, "-q"};
+  first.insert(first.end(), physics.begin(), physics.end());
+  ASSERT_EQ(carom(first).exit_code, 0);
+  const Result resumed =
+      carom({"run", "--resume", checkpoint, "20", "--equilibrate", "8", "--format", "json"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(resumed.out);
+  for (const char* same : {"equilibrate", "events", "pressure", "temperature",
+                           "kinetic_energy_initial", "collision_rate"}) {
+    EXPECT_EQ(a[same], b[same]) << same;
+  }
+  EXPECT_EQ(b["equilibrate"], 8.0);
+  // Not before the checkpoint: that part of the run is not in it.
+  const Result early = carom({"run", "--resume", checkpoint, "20", "--equilibrate", "3"});
+  EXPECT_EQ(early.exit_code, 2);
+  EXPECT_NE(early.err.find("before the checkpoint's time"), std::string::npos) << early.err;
+}
+
+TEST_F(Cli, AClosedPipeIsAWriteErrorThatLeavesNoTemporaryFiles) {
+  const fs::path start = dir_ / "gas.txt", movie = dir_ / "movie.xyz";
+  ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
+                              " 50 --rule elastic --trace --summary " + quote(dir_ / "s.json") +
+                              " --dump " + quote(movie) + " --every 0.1 2>" + quote(dir_ / "err") +
+                              " | head -c 100000 > /dev/null";
+  std::system(("sh -c " + quote(command)).c_str());
+  EXPECT_NE(read_file(dir_ / "err").find("cannot write"), std::string::npos)
+      << read_file(dir_ / "err");
+  EXPECT_TRUE(fs::exists(movie));  // the frames so far are kept
+  EXPECT_FALSE(fs::exists(dir_ / "s.json"));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().string().find(".tmp."), std::string::npos) << entry.path();
+  }
 }
 
 TEST_F(Cli, BadCheckpointsAreRefusedClearly) {

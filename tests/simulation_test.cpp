@@ -87,23 +87,25 @@ std::vector<Case> cases() {
   return list;
 }
 
+// A simulation of a case, with recorders of its events and of frames every 0.7.
+struct Observed {
+  explicit Observed(const Case& c) : simulation(c.system, c.settings) {
+    simulation.add_observer(events);
+    simulation.add_observer(frames);
+    simulation.measure_from(c.measure_from);
+  }
+  Simulation<2> simulation;
+  std::shared_ptr<EventRecorder<2>> events = std::make_shared<EventRecorder<2>>();
+  std::shared_ptr<FrameRecorder<2>> frames = std::make_shared<FrameRecorder<2>>(0.7);
+};
+
 TEST(Simulation, RunsCutIntoPiecesEqualWholeRunsBitForBit) {
   pcg32 rng(7);
   for (const Case& c : cases()) {
-    Simulation<2> whole(c.system, c.settings);
-    auto whole_events = std::make_shared<EventRecorder<2>>();
-    auto whole_frames = std::make_shared<FrameRecorder<2>>(0.7);
-    whole.add_observer(whole_events);
-    whole.add_observer(whole_frames);
-    whole.measure_from(c.measure_from);
+    Observed a(c), b(c);
+    Simulation<2>& whole = a.simulation;
+    Simulation<2>& pieces = b.simulation;
     ASSERT_EQ(whole.run_until(c.end_time), RunStatus::reached);
-
-    Simulation<2> pieces(c.system, c.settings);
-    auto piece_events = std::make_shared<EventRecorder<2>>();
-    auto piece_frames = std::make_shared<FrameRecorder<2>>(0.7);
-    pieces.add_observer(piece_events);
-    pieces.add_observer(piece_frames);
-    pieces.measure_from(c.measure_from);
     // Stops at random times, at the window's start exactly, at frame times exactly, and after
     // random numbers of events.
     std::vector<double> stops = {0.0, c.measure_from, 2.1, 1.4};
@@ -117,16 +119,16 @@ TEST(Simulation, RunsCutIntoPiecesEqualWholeRunsBitForBit) {
     }
     ASSERT_EQ(pieces.run_until(c.end_time), RunStatus::reached);
     expect_identical(whole, pieces, c.label);
-    ASSERT_EQ(whole_events->events.size(), piece_events->events.size()) << c.label;
-    for (std::size_t i = 0; i < whole_events->events.size(); ++i) {
-      const Event& a = whole_events->events[i];
-      const Event& b = piece_events->events[i];
-      ASSERT_EQ(a, b) << c.label << " event " << i;
-      ASSERT_EQ(a.impulse, b.impulse) << c.label << " event " << i;
-      ASSERT_EQ(a.elastic_by_tc, b.elastic_by_tc) << c.label << " event " << i;
+    ASSERT_EQ(a.events->events.size(), b.events->events.size()) << c.label;
+    for (std::size_t i = 0; i < a.events->events.size(); ++i) {
+      const Event& x = a.events->events[i];
+      const Event& y = b.events->events[i];
+      ASSERT_EQ(x, y) << c.label << " event " << i;
+      ASSERT_EQ(x.impulse, y.impulse) << c.label << " event " << i;
+      ASSERT_EQ(x.elastic_by_tc, y.elastic_by_tc) << c.label << " event " << i;
     }
-    EXPECT_EQ(whole_frames->times, piece_frames->times) << c.label;
-    EXPECT_EQ(whole_frames->positions, piece_frames->positions) << c.label;
+    EXPECT_EQ(a.frames->times, b.frames->times) << c.label;
+    EXPECT_EQ(a.frames->positions, b.frames->positions) << c.label;
     EXPECT_EQ(whole.measurement().start_time, c.measure_from) << c.label;
     EXPECT_GT(whole.counts().events, whole.measurement().counts.events) << c.label;
     if (c.settings.rule.restitution < 1.0) {
