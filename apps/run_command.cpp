@@ -1,8 +1,11 @@
 #include "run_command.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -100,6 +103,24 @@ Start load(const RunArguments& args) {
           args.input, false};
 }
 
+// Refuses, before anything is created, a path that cannot be written: its folder is missing or
+// not writable, or it is a folder itself.
+void check_writable(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error)) {
+    throw UsageError(fmt::format("cannot write '{}': it is a directory", path));
+  }
+  fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  if (!fs::is_directory(folder, error)) {
+    throw UsageError(fmt::format("cannot write '{}': no folder {}", path, folder.string()));
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    throw UsageError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
+  }
+}
+
 // A file written as the run goes (frames, the event log): kept when the run stops early. A
 // resumed run continues it: whatever it holds from after the checkpoint (written by a run killed
 // after its last checkpoint) is cut off first, so that pieces of a run give one file.
@@ -107,9 +128,6 @@ std::ofstream open_streamed(const std::string& path, bool resumed,
                             const std::function<std::uint64_t(std::istream&)>& keep) {
   namespace fs = std::filesystem;
   std::error_code error;
-  if (fs::is_directory(path, error)) {
-    throw UsageError(fmt::format("cannot write '{}': it is a directory", path));
-  }
   auto mode = std::ios::binary | std::ios::trunc;
   if (resumed && fs::is_regular_file(path, error)) {
     std::uint64_t kept = 0;
@@ -132,6 +150,9 @@ template <std::size_t D>
 struct RunOutputs {
   RunOutputs(const RunArguments& args, const Simulation<D>& simulation, bool resumed)
       : main(args.output) {
+    for (const std::string& streamed : {args.dump, args.events}) {
+      if (!streamed.empty()) check_writable(streamed);
+    }
     if (!args.summary.empty()) summary.emplace(args.summary);
     const double t = simulation.time();
     const bool inclusive = simulation.settled();
@@ -212,6 +233,14 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
                  "elastic is the physical one\n";
   }
 
+  if (!args.checkpoint.empty()) {
+    // Creating (and dropping) a temporary file beside it checks the path before the run.
+    try {
+      const AtomicFile probe(args.checkpoint);
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());
+    }
+  }
   RunOutputs<D> outputs(args, simulation, start.resumed);
   std::shared_ptr<TraceWriter<D>> trace;
   if (args.trace) {
@@ -229,8 +258,6 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   }
   std::shared_ptr<CheckpointWriter<D>> checkpoints;
   if (!args.checkpoint.empty()) {
-    // Opening the file checks the path before the run; nothing is written until a save.
-    { const AtomicFile probe(args.checkpoint); }
     const Trigger every = args.checkpoint_every.empty() ? Trigger::every_time(kNever)
                                                         : checkpoint_trigger(args.checkpoint_every);
     checkpoints = std::make_shared<CheckpointWriter<D>>(args.checkpoint, start.source, every);

@@ -427,6 +427,21 @@ TEST_F(Cli, UnwritableOutputIsAUsageError) {
   const Result r = carom({"run", kCases + "walls_only.txt", "20", "-o", "/nonexistent/dir/out"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("/nonexistent/dir/out"), std::string::npos) << r.err;
+  // Every file the run would write is checked before it starts: nothing is created.
+  const fs::path frames = dir_ / "frames.xyz", log = dir_ / "log.csv";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--dump", frames, "--every", "1", "--checkpoint", "/no/dir/ck"},
+        {"--dump", frames, "--every", "1", "--events", "/no/dir/e.csv"},
+        {"--dump", frames, "--every", "1", "--summary", "/no/dir/s.json"},
+        {"--events", log, "--dump", "/no/dir/m.xyz", "--every", "1"}}) {
+    std::vector<std::string> command = {"run", kCases + "walls_only.txt", "20"};
+    command.insert(command.end(), args.begin(), args.end());
+    const Result bad = carom(command);
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_NE(bad.err.find("/no/dir/"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(frames)) << bad.err;
+    EXPECT_FALSE(fs::exists(log)) << bad.err;
+  }
 }
 
 TEST_F(Cli, AJamIsARuntimeErrorWithNoOutput) {
