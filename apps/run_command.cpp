@@ -256,12 +256,9 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
                                     : std::max<std::uint64_t>(1000, simulation.state().size());
     simulation.add_observer(std::make_shared<InvariantCheck<D>>(every));
   }
-  std::shared_ptr<CheckpointWriter<D>> checkpoints;
-  if (!args.checkpoint.empty()) {
-    const Trigger every = args.checkpoint_every.empty() ? Trigger::every_time(kNever)
-                                                        : checkpoint_trigger(args.checkpoint_every);
-    checkpoints = std::make_shared<CheckpointWriter<D>>(args.checkpoint, start.source, every);
-    if (!args.checkpoint_every.empty()) simulation.add_observer(checkpoints);
+  if (!args.checkpoint_every.empty()) {
+    simulation.add_observer(std::make_shared<CheckpointWriter<D>>(
+        args.checkpoint, start.source, checkpoint_trigger(args.checkpoint_every)));
   }
   if (Progress<D>::wanted(args.quiet)) {
     simulation.add_observer(std::make_shared<Progress<D>>(simulation.time(), end_time));
@@ -274,7 +271,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   outputs.dump.flush();
   outputs.events.flush();
-  if (checkpoints) checkpoints->save(simulation);
+  if (!args.checkpoint.empty()) save_checkpoint(args.checkpoint, simulation, start.source);
   if (status == RunStatus::stopped) {
     throw Interrupted(stop_signal().load(), describe_signal(stop_signal().load()) + ": " +
                                                 interruption(simulation, args));

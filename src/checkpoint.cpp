@@ -196,15 +196,16 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
 }
 
 template <std::size_t D>
-void CheckpointWriter<D>::save(const Simulation<D>& simulation) const {
-  AtomicFile file(path_);
-  write_checkpoint(file.stream(), simulation.checkpoint(source_));
+void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
+                     const std::string& source) {
+  AtomicFile file(path);
+  write_checkpoint(file.stream(), simulation.checkpoint(source));
   file.commit();
 }
 
 template void write_checkpoint(std::ostream&, const Checkpoint<2>&);
 template void write_checkpoint(std::ostream&, const Checkpoint<3>&);
-template class CheckpointWriter<2>;
-template class CheckpointWriter<3>;
+template void save_checkpoint(const std::string&, const Simulation<2>&, const std::string&);
+template void save_checkpoint(const std::string&, const Simulation<3>&, const std::string&);
 
 }  // namespace carom

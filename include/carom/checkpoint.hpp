@@ -41,16 +41,21 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& checkpoint);
 // Throws InputError naming `name` for anything that is not a complete, consistent checkpoint.
 AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name);
 
-// Writes the simulation's checkpoint to `path` (atomically) when its trigger fires; save() writes
-// it at any moment.
+// Writes the simulation's checkpoint to `path` atomically (a temporary file, then a rename):
+// a crash never leaves half a checkpoint. Throws std::runtime_error when it cannot.
+template <std::size_t D>
+void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
+                     const std::string& source);
+
+// Saves a checkpoint whenever its trigger fires (every so many events or seconds).
 template <std::size_t D>
 class CheckpointWriter final : public Observer<D> {
  public:
   CheckpointWriter(std::string path, std::string source, Trigger trigger)
       : Observer<D>(trigger), path_(std::move(path)), source_(std::move(source)) {}
-  void observe(const Simulation<D>& simulation) override { save(simulation); }
-  void save(const Simulation<D>& simulation) const;
-  const std::string& path() const { return path_; }
+  void observe(const Simulation<D>& simulation) override {
+    save_checkpoint(path_, simulation, source_);
+  }
 
  private:
   std::string path_, source_;
