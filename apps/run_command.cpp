@@ -97,10 +97,14 @@ Start load(const RunArguments& args) {
         },
         read_checkpoint(file, args.input));
   }
-  ClassicInput input = read_classic_file(args.input, args.boundary);
   const Settings settings{{args.rule, args.restitution, args.tc}, args.engine};
-  return {AnySimulation(std::in_place_type<Simulation<2>>, std::move(input.system), settings),
-          args.input, false};
+  return std::visit(
+      [&](auto&& input) {
+        using Sim = Simulation<std::tuple_size_v<decltype(input.system.box.size.c)>>;
+        return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
+                     args.input, false};
+      },
+      read_any_classic_file(args.input, args.boundary));
 }
 
 // Refuses, before anything is created, a path that cannot be written: its folder is missing or

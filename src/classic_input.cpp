@@ -1,6 +1,7 @@
 #include "carom/classic_input.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cctype>
 #include <cerrno>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <variant>
 
 #include "carom/overlap.hpp"
 #include "carom/physics.hpp"
@@ -122,143 +124,207 @@ double parse_finite_double(std::string_view token) {
   return value;
 }
 
-ClassicInput read_classic(std::istream& in, const std::string& name, Boundary boundary) {
-  DataLines lines(in, name);
-  std::vector<std::string_view> tokens;
+namespace {
 
-  // Reads the next data line, which must hold `fewest` to `most` numbers described by `what`.
-  const auto numbers = [&](std::size_t fewest, std::size_t most, const std::string& what) {
-    if (!lines.next(tokens)) {
-      throw InputError(name, lines.number(),
+// The data lines of one file, read as numbers with messages that name the file and the line.
+class Reader {
+ public:
+  Reader(std::istream& in, const std::string& name) : lines_(in, name), name_(name) {}
+
+  // The next data line, which must hold `fewest` to `most` numbers described by `what`.
+  std::vector<double> numbers(std::size_t fewest, std::size_t most, const std::string& what,
+                              const std::string& expected_text = "") {
+    if (!lines_.next(tokens_)) {
+      throw InputError(name_, lines_.number(),
                        fmt::format("the file ends where {} was expected", what));
     }
-    if (tokens.size() < fewest || tokens.size() > most) {
-      const std::string expected =
-          fewest == most ? fmt::format("{}", fewest) : fmt::format("{} to {}", fewest, most);
-      throw InputError(name, lines.number(),
-                       fmt::format("expected {} number{} ({}), found {}", expected,
-                                   most == 1 ? "" : "s", what, tokens.size()));
+    if (tokens_.size() < fewest || tokens_.size() > most) {
+      const std::string expected = !expected_text.empty() ? expected_text
+                                   : fewest == most
+                                       ? fmt::format("{} number{}", fewest, most == 1 ? "" : "s")
+                                       : fmt::format("{} to {} numbers", fewest, most);
+      throw InputError(name_, lines_.number(),
+                       fmt::format("expected {} ({}), found {}", expected, what, tokens_.size()));
     }
     std::vector<double> values;
-    for (std::string_view token : tokens) {
+    for (std::string_view token : tokens_) {
       try {
         values.push_back(parse_finite_double(token));
       } catch (const std::invalid_argument& e) {
-        throw InputError(name, lines.number(), fmt::format("{} (in {})", e.what(), what));
+        throw InputError(name_, lines_.number(), fmt::format("{} (in {})", e.what(), what));
       }
     }
     return values;
-  };
-
-  if (!lines.next(tokens)) throw InputError(name, 0, "the file is empty (expected N on line 1)");
-  if (tokens.size() != 1) {
-    throw InputError(
-        name, lines.number(),
-        fmt::format("expected 1 number (the particle count N), found {}", tokens.size()));
   }
-  long long count = 0;
-  {
-    const std::string_view token = tokens.front();
+
+  // The particle count N on the first data line.
+  long long count() {
+    if (!lines_.next(tokens_)) {
+      throw InputError(name_, 0, "the file is empty (expected N on line 1)");
+    }
+    if (tokens_.size() != 1) {
+      throw InputError(
+          name_, lines_.number(),
+          fmt::format("expected 1 number (the particle count N), found {}", tokens_.size()));
+    }
+    long long count = 0;
+    const std::string_view token = tokens_.front();
     const std::string_view digits = token.size() > 1 && token[0] == '+' ? token.substr(1) : token;
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
     if (error != std::errc() || end != digits.data() + digits.size()) {
       throw InputError(
-          name, lines.number(),
+          name_, lines_.number(),
           fmt::format("the particle count N must be a whole number, found {}", shown(token)));
     }
     if (count < 1) {
-      throw InputError(name, lines.number(),
+      throw InputError(name_, lines_.number(),
                        fmt::format("the particle count N must be at least 1, found {}", count));
     }
     if (count > kMaxParticles) {
-      throw InputError(name, lines.number(),
+      throw InputError(name_, lines_.number(),
                        fmt::format("the particle count N = {} is more than carom supports ({})",
                                    count, kMaxParticles));
     }
+    return count;
   }
 
-  ClassicInput input;
-  input.radius = numbers(1, 1, "the radius R").front();
-  if (!(input.radius > 0.0)) {
-    throw InputError(name, lines.number(),
-                     fmt::format("the radius R must be greater than 0, found {}", input.radius));
+  // Anything after the particles is an error.
+  void expect_end(long long count) {
+    if (lines_.next(tokens_)) {
+      throw InputError(
+          name_, lines_.number(),
+          fmt::format("unexpected data after the {} particle lines that N announced", count));
+    }
   }
-  const std::vector<double> box = numbers(2, 2, "the box size Lx Ly");
-  if (!(box[0] > 0.0 && box[1] > 0.0)) {
-    throw InputError(
-        name, lines.number(),
-        fmt::format("the box size must be positive, found Lx = {}, Ly = {}", box[0], box[1]));
-  }
-  input.system.box.size = {box[0], box[1]};
-  input.system.box.boundary = boundary;
-  const Box<2>& b = input.system.box;
 
+  std::size_t line() const { return lines_.number(); }
+  const std::string& name() const { return name_; }
+
+ private:
+  DataLines lines_;
+  const std::string& name_;
+  std::vector<std::string_view> tokens_;
+};
+
+// "(x, y)" or "(x, y, z)".
+template <std::size_t D>
+std::string point(const Vec<D>& v) {
+  return fmt::format("({})", fmt::join(v.c, ", "));
+}
+
+// The particle lines of a file whose header said N = `count`, R = `radius` and the box.
+template <std::size_t D>
+ClassicInput<D> read_particles(Reader& reader, long long count, double radius, const Box<D>& b) {
+  const std::string& name = reader.name();
+  ClassicInput<D> input;
+  input.radius = radius;
+  input.system.box = b;
+  const char* columns = D == 3 ? "x y z vx vy vz [r [m]]" : "x y vx vy [r [m]]";
   // Particles are added as their lines arrive, never reserved from the header's N, so a header
   // that promises more than the file holds costs no memory.
   for (long long i = 0; i < count; ++i) {
-    const std::string what = fmt::format("x y vx vy [r [m]] of particle {}", i);
-    const std::vector<double> v = numbers(4, 6, what);
-    Particle<2> p;
-    p.position = {v[0], v[1]};
-    p.velocity = {v[2], v[3]};
-    p.radius = v.size() > 4 ? v[4] : input.radius;
-    const double mass = v.size() > 5 ? v[5] : 1.0;
+    const std::vector<double> v =
+        reader.numbers(2 * D, 2 * D + 2, fmt::format("{} of particle {}", columns, i));
+    Particle<D> p;
+    for (std::size_t k = 0; k < D; ++k) {
+      p.position[k] = v[k];
+      p.velocity[k] = v[D + k];
+    }
+    p.radius = v.size() > 2 * D ? v[2 * D] : radius;
+    const double mass = v.size() > 2 * D + 1 ? v[2 * D + 1] : 1.0;
     if (!(p.radius > 0.0)) {
       throw InputError(
-          name, lines.number(),
+          name, reader.line(),
           fmt::format("the radius of particle {} must be greater than 0, found {}", i, p.radius));
     }
     if (!(mass > 0.0)) {
       throw InputError(
-          name, lines.number(),
+          name, reader.line(),
           fmt::format("the mass of particle {} must be greater than 0, found {}", i, mass));
     }
-    for (std::size_t k = 0; k < 2; ++k) {
+    for (std::size_t k = 0; k < D; ++k) {
       if (p.position[k] < 0.0 || p.position[k] > b.size[k]) {
-        throw InputError(name, lines.number(),
-                         fmt::format("particle {} at ({}, {}) is outside the box [0, {}] x [0, {}]",
-                                     i, v[0], v[1], b.size[0], b.size[1]));
+        std::string box = fmt::format("[0, {}]", b.size[0]);
+        for (std::size_t axis = 1; axis < D; ++axis) box += fmt::format(" x [0, {}]", b.size[axis]);
+        throw InputError(
+            name, reader.line(),
+            fmt::format("particle {} at {} is outside the box {}", i, point(p.position), box));
       }
       // In a periodic box a particle must not reach its own image or two images of another.
       if (b.periodic() && !(b.size[k] > 4.0 * p.radius)) {
         throw InputError(
-            name, lines.number(),
+            name, reader.line(),
             fmt::format("particle {} with radius {} is too large for the periodic box: "
                         "each side must exceed two diameters ({})",
                         i, p.radius, 4.0 * p.radius));
       }
     }
-    for (int label = -1; label >= -4 && !b.periodic(); --label) {
-      if (overlaps_wall(p, b, label)) {
-        throw InputError(name, lines.number(),
-                         fmt::format("particle {} at ({}, {}) with radius {} overlaps the {} wall "
-                                     "(its centre must be at least R from every wall)",
-                                     i, v[0], v[1], p.radius, wall_name(label)));
+    for (std::size_t k = 0; k < D && !b.periodic(); ++k) {
+      for (const bool upper : {false, true}) {
+        const int label = wall_label(k, upper);
+        if (overlaps_wall(p, b, label)) {
+          throw InputError(name, reader.line(),
+                           fmt::format("particle {} at {} with radius {} overlaps the {} wall "
+                                       "(its centre must be at least R from every wall)",
+                                       i, point(p.position), p.radius, wall_name(label)));
+        }
       }
     }
     input.system.add(p, mass);
-    input.line_of.push_back(lines.number());
+    input.line_of.push_back(reader.line());
   }
-  if (lines.next(tokens)) {
-    throw InputError(
-        name, lines.number(),
-        fmt::format("unexpected data after the {} particle lines that N announced", count));
-  }
+  reader.expect_end(count);
   if (const auto overlap = find_pair_overlap(input.system, 0.0)) {
     const auto [i, j] = *overlap;
     const auto& pi = input.system.particles[i];
     const auto& pj = input.system.particles[j];
     throw InputError(
         name, input.line_of[j],
-        fmt::format("particle {} at ({}, {}) overlaps particle {} at ({}, {}) on line {}: their "
-                    "centres are {} apart, less than {}",
-                    j, pj.position[0], pj.position[1], i, pi.position[0], pi.position[1],
-                    input.line_of[i], std::sqrt(norm2(separation(pi, pj, input.system.box))),
-                    pi.radius == input.radius && pj.radius == input.radius
-                        ? fmt::format("2R = {}", 2.0 * input.radius)
+        fmt::format("particle {} at {} overlaps particle {} at {} on line {}: their centres are "
+                    "{} apart, less than {}",
+                    j, point(pj.position), i, point(pi.position), input.line_of[i],
+                    std::sqrt(norm2(separation(pi, pj, input.system.box))),
+                    pi.radius == radius && pj.radius == radius
+                        ? fmt::format("2R = {}", 2.0 * radius)
                         : fmt::format("the sum of their radii, {}", pi.radius + pj.radius)));
   }
   return input;
+}
+
+}  // namespace
+
+AnyClassicInput read_any_classic(std::istream& in, const std::string& name, Boundary boundary) {
+  Reader reader(in, name);
+  const long long count = reader.count();
+  const double radius = reader.numbers(1, 1, "the radius R").front();
+  if (!(radius > 0.0)) {
+    throw InputError(name, reader.line(),
+                     fmt::format("the radius R must be greater than 0, found {}", radius));
+  }
+  // Two sides make disks, three spheres.
+  const std::vector<double> sides =
+      reader.numbers(2, 3, "the box size: Lx Ly for disks, Lx Ly Lz for spheres", "2 or 3 numbers");
+  for (const double side : sides) {
+    if (!(side > 0.0)) {
+      throw InputError(
+          name, reader.line(),
+          fmt::format("the box size must be positive, found {}", fmt::join(sides, " x ")));
+    }
+  }
+  if (sides.size() == 3) {
+    return read_particles<3>(reader, count, radius, {{{sides[0], sides[1], sides[2]}}, boundary});
+  }
+  return read_particles<2>(reader, count, radius, {{{sides[0], sides[1]}}, boundary});
+}
+
+template <std::size_t D>
+ClassicInput<D> read_classic(std::istream& in, const std::string& name, Boundary boundary) {
+  AnyClassicInput input = read_any_classic(in, name, boundary);
+  if (auto* wanted = std::get_if<ClassicInput<D>>(&input)) return std::move(*wanted);
+  throw InputError(
+      name, 0,
+      fmt::format("holds {} (its line 3 has {} box sides); {} were expected",
+                  D == 2 ? "spheres" : "disks", D == 2 ? 3 : 2, D == 2 ? "disks" : "spheres"));
 }
 
 std::ifstream open_input(const std::string& path) {
@@ -268,10 +334,22 @@ std::ifstream open_input(const std::string& path) {
   return file;
 }
 
-ClassicInput read_classic_file(const std::string& path, Boundary boundary) {
-  if (path == "-") return read_classic(std::cin, "<stdin>", boundary);
+AnyClassicInput read_any_classic_file(const std::string& path, Boundary boundary) {
+  if (path == "-") return read_any_classic(std::cin, "<stdin>", boundary);
   std::ifstream file = open_input(path);
-  return read_classic(file, path, boundary);
+  return read_any_classic(file, path, boundary);
 }
+
+template <std::size_t D>
+ClassicInput<D> read_classic_file(const std::string& path, Boundary boundary) {
+  if (path == "-") return read_classic<D>(std::cin, "<stdin>", boundary);
+  std::ifstream file = open_input(path);
+  return read_classic<D>(file, path, boundary);
+}
+
+template ClassicInput<2> read_classic(std::istream&, const std::string&, Boundary);
+template ClassicInput<3> read_classic(std::istream&, const std::string&, Boundary);
+template ClassicInput<2> read_classic_file(const std::string&, Boundary);
+template ClassicInput<3> read_classic_file(const std::string&, Boundary);
 
 }  // namespace carom

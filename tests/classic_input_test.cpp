@@ -7,9 +7,9 @@
 namespace carom {
 namespace {
 
-ClassicInput read(const std::string& text) {
+ClassicInput<2> read(const std::string& text) {
   std::istringstream in(text);
-  return read_classic(in, "test.txt");
+  return read_classic<2>(in, "test.txt");
 }
 
 // The message of the InputError that reading `text` throws.
@@ -23,7 +23,7 @@ std::string error_of(const std::string& text) {
 }
 
 TEST(ClassicInput, ReadsThePlainFormat) {
-  const ClassicInput input = read("2\n0.5\n10 8\n1 1 0.1 -0.2\n5 5 -1 0\n");
+  const ClassicInput<2> input = read("2\n0.5\n10 8\n1 1 0.1 -0.2\n5 5 -1 0\n");
   ASSERT_EQ(input.system.particles.size(), 2u);
   EXPECT_EQ(input.radius, 0.5);
   EXPECT_EQ(input.system.box.size, (Vec2{{10, 8}}));
@@ -37,7 +37,7 @@ TEST(ClassicInput, ReadsThePlainFormat) {
 
 TEST(ClassicInput, ReadsWhatRealFilesLookLike) {
   // CRLF, tabs, double spaces, -.38, +1, 1e-3, blank and comment lines, no final newline.
-  const ClassicInput input =
+  const ClassicInput<2> input =
       read("# made by hand\r\n2\r\n\r\n1\r\n15.1\t 13.2\r\n5  6 -0.09 -.38\r\n3 2 +1 1e-3");
   ASSERT_EQ(input.system.particles.size(), 2u);
   EXPECT_EQ(input.system.box.size, (Vec2{{15.1, 13.2}}));
@@ -47,7 +47,7 @@ TEST(ClassicInput, ReadsWhatRealFilesLookLike) {
 }
 
 TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
-  const ClassicInput input = read("3\n1\n20 20\n5 5 0 0\n10 10 0 0 2\n15 15 0 0 0.5 3\n");
+  const ClassicInput<2> input = read("3\n1\n20 20\n5 5 0 0\n10 10 0 0 2\n15 15 0 0 0.5 3\n");
   const auto& p = input.system.particles;
   EXPECT_EQ(p[0].radius, 1.0);
   EXPECT_EQ(input.system.records[0].mass, 1.0);
@@ -66,10 +66,10 @@ TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
 
 TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
   std::istringstream near_edge("1\n1\n10 10\n0.5 5 1 0\n");
-  EXPECT_NO_THROW(read_classic(near_edge, "test.txt", Boundary::periodic));
+  EXPECT_NO_THROW(read_classic<2>(near_edge, "test.txt", Boundary::periodic));
   std::istringstream across("2\n1\n10 10\n0.5 5 0 0\n9 5 0 0\n");
   try {
-    read_classic(across, "test.txt", Boundary::periodic);
+    read_classic<2>(across, "test.txt", Boundary::periodic);
     ADD_FAILURE() << "overlap through the boundary not found";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
@@ -77,11 +77,11 @@ TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
               "centres are 1.5 apart, less than 2R = 2");
   }
   std::istringstream small("1\n1\n3.9 10\n2 5 0 0\n");
-  EXPECT_THROW(read_classic(small, "test.txt", Boundary::periodic), InputError);
+  EXPECT_THROW(read_classic<2>(small, "test.txt", Boundary::periodic), InputError);
 }
 
 TEST(ClassicInput, AcceptsAByteOrderMarkAndAPlusSignedCount) {
-  const ClassicInput input = read("\xEF\xBB\xBF+1\n1\n10 10\n5 5 1 0\n");
+  const ClassicInput<2> input = read("\xEF\xBB\xBF+1\n1\n10 10\n5 5 1 0\n");
   EXPECT_EQ(input.system.particles.size(), 1u);
 }
 
@@ -162,6 +162,67 @@ TEST(ParseFiniteDouble, AcceptsWhatStrtodAcceptsButOnlyFiniteWholeTokens) {
   EXPECT_THROW(parse_finite_double("NaN"), std::invalid_argument);
   EXPECT_THROW(parse_finite_double("-infinity"), std::invalid_argument);
   EXPECT_THROW(parse_finite_double("2x"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace carom
+
+namespace carom {
+namespace {
+
+TEST(ClassicInput, ThreeBoxSidesMakeSpheres) {
+  std::istringstream in("2\n0.5\n5 6 7\n1 1 1 0.3 0.2 0.1\n3 3 3 -0.2 0.1 0.4 0.25 2\n");
+  const AnyClassicInput any = read_any_classic(in, "spheres.txt");
+  ASSERT_TRUE(std::holds_alternative<ClassicInput<3>>(any));
+  const auto& input = std::get<ClassicInput<3>>(any);
+  EXPECT_EQ(input.system.box.size, (Vec<3>{{5, 6, 7}}));
+  EXPECT_EQ(input.system.particles[1].position, (Vec<3>{{3, 3, 3}}));
+  EXPECT_EQ(input.system.particles[1].velocity, (Vec<3>{{-0.2, 0.1, 0.4}}));
+  EXPECT_EQ(input.system.particles[1].radius, 0.25);
+  EXPECT_EQ(input.system.records[1].mass, 2.0);
+  EXPECT_EQ(input.line_of, (std::vector<std::size_t>{4, 5}));
+  // Two sides still make disks.
+  std::istringstream disks("1\n0.5\n5 6\n1 1 0.3 0.2\n");
+  EXPECT_TRUE(std::holds_alternative<ClassicInput<2>>(read_any_classic(disks, "disks.txt")));
+}
+
+TEST(ClassicInput, SpheresAreCheckedAsDisksAre) {
+  const auto error = [](const std::string& text) -> std::string {
+    std::istringstream in(text);
+    try {
+      read_any_classic(in, "s.txt");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 1 0.3 0.2\n"),
+            "s.txt:4: expected 6 to 8 numbers (x y z vx vy vz [r [m]] of particle 0), found 5");
+  EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 0.2 0 0 0\n"),
+            "s.txt:4: particle 0 at (1, 1, 0.2) with radius 0.5 overlaps the back wall (its "
+            "centre must be at least R from every wall)");
+  EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 6.8 0 0 0\n"),
+            "s.txt:4: particle 0 at (1, 1, 6.8) with radius 0.5 overlaps the front wall (its "
+            "centre must be at least R from every wall)");
+  EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 8 0 0 0\n"),
+            "s.txt:4: particle 0 at (1, 1, 8) is outside the box [0, 5] x [0, 6] x [0, 7]");
+  EXPECT_EQ(error("2\n0.5\n5 6 7\n1 1 1 0 0 0\n1 1 1.5 0 0 0\n"),
+            "s.txt:5: particle 1 at (1, 1, 1.5) overlaps particle 0 at (1, 1, 1) on line 4: "
+            "their centres are 0.5 apart, less than 2R = 1");
+  EXPECT_EQ(error("1\n0.5\n5 6 0\n1 1 1 0 0 0\n"),
+            "s.txt:3: the box size must be positive, found 5 x 6 x 0");
+  EXPECT_EQ(error("1\n0.5\n5 6 7 8\n"),
+            "s.txt:3: expected 2 or 3 numbers (the box size: Lx Ly for disks, Lx Ly Lz for "
+            "spheres), found 4");
+  // A program that reads disks only says what it found.
+  std::istringstream spheres("1\n0.5\n5 6 7\n1 1 1 0 0 0\n");
+  try {
+    read_classic<2>(spheres, "s.txt");
+    ADD_FAILURE() << "read spheres as disks";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "s.txt: holds spheres (its line 3 has 3 box sides); disks were expected");
+  }
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ using carom::testing::square_lattice;
 using carom::testing::uniform;
 
 System<2> case_system(const std::string& name) {
-  return read_classic_file(std::string(CAROM_TEST_DATA) + "/cases/" + name).system;
+  return read_classic_file<2>(std::string(CAROM_TEST_DATA) + "/cases/" + name).system;
 }
 
 TEST(Engine, WallsOnlyEventsComeAtTheSeedsTimes) {
@@ -143,7 +143,8 @@ TEST(Engine, ATouchingApproachingPairCollidesAtOnce) {
 
 // Runs both engines side by side and demands the same events and the same final state, bit for
 // bit: both predict from stored states with the same functions and order ties the same way.
-void expect_same_runs(const System<2>& system, const CollisionRule& rule, double end_time,
+template <std::size_t D>
+void expect_same_runs(const System<D>& system, const CollisionRule& rule, double end_time,
                       int max_events, const std::string& label) {
   auto fast = make_engine(EngineKind::fast, system, rule);
   auto reference = make_engine(EngineKind::reference, system, rule);
@@ -175,12 +176,12 @@ void expect_same_runs(const System<2>& system, const CollisionRule& rule, double
   }
   // The run kept every disk in the box and apart.
   EXPECT_FALSE(find_pair_overlap(fast->system(), stop).has_value()) << label;
-  const Box<2>& box = fast->system().box;
+  const Box<D>& box = fast->system().box;
   for (const auto& p : pf) {
-    for (int wall = -1; wall >= -4 && !box.periodic(); --wall) {
+    for (int wall = -1; wall >= -2 * static_cast<int>(D) && !box.periodic(); --wall) {
       EXPECT_FALSE(overlaps_wall(p, box, wall)) << label;
     }
-    for (std::size_t k = 0; k < 2 && box.periodic(); ++k) {
+    for (std::size_t k = 0; k < D && box.periodic(); ++k) {
       EXPECT_TRUE(p.position[k] >= 0.0 && p.position[k] <= box.size[k]) << label;
     }
   }
@@ -198,6 +199,25 @@ TEST(CrossCheck, FastEqualsReferenceOnRandomGases) {
     expect_same_runs(
         system, rule, uniform(rng, 1, 60), 300,
         "trial " + std::to_string(trial) + " (" + std::string(name_of(rule.rule)) + ")");
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceOnRandomSpheres) {
+  pcg32 rng(20261122);
+  for (int trial = 0; trial < 240; ++trial) {
+    const std::size_t n = 1 + rng() % 40;
+    const double r_max = uniform(rng, 0.1, 0.8);
+    const bool periodic = trial % 2 == 1;
+    const double least = periodic ? 4.05 * r_max : 2.05 * r_max;
+    const Vec<3> size{{uniform(rng, least, 9), uniform(rng, least, 9), uniform(rng, least, 9)}};
+    System<3> system =
+        carom::testing::random_spheres(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max, size);
+    if (periodic) system.box.boundary = Boundary::periodic;
+    const CollisionRule rule = trial % 4 < 2 ? CollisionRule{trial % 4 ? Rule::elastic : Rule::swap}
+                                             : CollisionRule{Rule::elastic, 0.7, 0.05};
+    expect_same_runs(system, rule, uniform(rng, 1, 40), 300,
+                     "3D trial " + std::to_string(trial) + " (" + std::string(name_of(rule.rule)) +
+                         (periodic ? ", periodic)" : ", walls)"));
   }
 }
 

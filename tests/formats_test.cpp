@@ -74,7 +74,7 @@ TEST(Formats, ClassicFilesReadBackBitForBit) {
   const System<2> system = make_initial(o);
   std::stringstream file;
   write_classic(file, system, 0.5);
-  const ClassicInput back = read_classic(file, "round-trip");
+  const ClassicInput<2> back = read_classic<2>(file, "round-trip");
   ASSERT_EQ(back.system.particles.size(), 100u);
   EXPECT_EQ(back.system.box.size, system.box.size);
   for (std::size_t i = 0; i < 100; ++i) {

@@ -362,7 +362,7 @@ TEST(Simulation, CarromOneCheckpointsAreStillRead) {
   EXPECT_EQ(resumed.measurement().start_time, 2.0);
   resumed.run_until(9.0);
   // The same run made afresh by this carom (periodic, elastic, measuring from t = 2).
-  System<2> start = read_classic_file(folder + "gas.txt", Boundary::periodic).system;
+  System<2> start = read_classic_file<2>(folder + "gas.txt", Boundary::periodic).system;
   Simulation<2> whole(start, {{Rule::elastic}});
   whole.measure_from(2.0);
   whole.run_until(9.0);

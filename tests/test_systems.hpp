@@ -66,6 +66,31 @@ inline System<2> random_gas(pcg32& rng, std::size_t n, double r_min, double r_ma
   return system;
 }
 
+// Up to `n` spheres placed at random without overlap in a box of the given size (walls), radii
+// in [r_min, r_max], velocity components uniform in [-1, 1], masses in [0.5, 2].
+inline System<3> random_spheres(pcg32& rng, std::size_t n, double r_min, double r_max,
+                                const Vec<3>& size) {
+  System<3> system;
+  system.box.size = size;
+  for (std::size_t attempt = 0; attempt < 200 * n && system.size() < n; ++attempt) {
+    Particle<3> p;
+    p.radius = uniform(rng, r_min, r_max);
+    bool fits = true;
+    for (std::size_t k = 0; k < 3; ++k) {
+      fits = fits && 2 * p.radius < size[k];
+      p.position[k] = uniform(rng, p.radius, size[k] - p.radius);
+      p.velocity[k] = uniform(rng, -1, 1);
+    }
+    const double mass = uniform(rng, 0.5, 2.0);
+    for (const Particle<3>& q : system.particles) {
+      const double sigma = p.radius + q.radius;
+      if (norm2(p.position - q.position) < sigma * sigma) fits = false;
+    }
+    if (fits) system.add(p, mass);
+  }
+  return system;
+}
+
 // A square lattice of disks of radius r, `gap` apart at the closest, filling a box of side
 // `cells` * (2r + gap); velocities random, or zero in one component so events tie.
 inline System<2> square_lattice(pcg32& rng, std::size_t cells, double r, double gap,

@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   try {
     // The file is read and checked (counts, numbers, disks inside the box and not overlapping);
     // anything wrong throws carom::InputError naming the file and the line.
-    const carom::ClassicInput input = carom::read_classic_file(argv[1]);
+    const carom::ClassicInput<2> input = carom::read_classic_file<2>(argv[1]);
 
     // END_TIME as the CLI reads it: a finite number (`20`, `1e2`, `+.5`) and not negative.
     double end_time = 0.0;

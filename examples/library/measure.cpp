@@ -12,7 +12,7 @@
 
 int main(int argc, char** argv) try {
   const char* path = argc > 1 ? argv[1] : "gas.txt";
-  carom::System<2> gas = carom::read_classic_file(path, carom::Boundary::periodic).system;
+  carom::System<2> gas = carom::read_classic_file<2>(path, carom::Boundary::periodic).system;
   carom::Settings settings;  // defaults: swap rule, restitution 1, TC 1e-5, fast engine
   settings.rule.rule = carom::Rule::elastic;
   carom::Simulation<2> sim(std::move(gas), settings);

@@ -1,6 +1,7 @@
 // The classic input format the seed and its users' files use: whitespace-separated numbers,
 // line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`. A particle line
-// may carry a radius and a mass of its own: `x y vx vy [r [m]]` (default R and 1).
+// may carry a radius and a mass of its own: `x y vx vy [r [m]]` (default R and 1). Three numbers
+// on line 3, `Lx Ly Lz`, make a system of spheres, with lines `x y z vx vy vz [r [m]]`.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <istream>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "carom/system.hpp"
@@ -26,28 +28,40 @@ class InputError : public std::runtime_error {
   std::size_t line_;
 };
 
+template <std::size_t D>
 struct ClassicInput {
-  System<2> system;
-  double radius = 0.0;               // the file's R, shared by every disk
+  System<D> system;
+  double radius = 0.0;               // the file's R, shared by every particle
   std::vector<std::size_t> line_of;  // the line each particle was read from
 };
 
+// A file of disks or of spheres: which, its line 3 says.
+using AnyClassicInput = std::variant<ClassicInput<2>, ClassicInput<3>>;
+
 // Reads and validates a classic file: CRLF or LF line endings, tabs and repeated spaces, numbers
 // such as `-.02`, `+1` or `1e-3`, blank lines and `#` comment lines, and no final newline are all
-// accepted. Anything else (wrong counts, non-numbers, NaN or infinity, N < 1, R <= 0, a box that
-// is not positive, a disk outside the box or overlapping a wall or another disk beyond round-off)
-// throws InputError naming `name` and the line. Touching is allowed. Every disk starts at t = 0.
-// In a periodic box walls do not count, overlaps are measured through the nearest image, and each
-// side must exceed two diameters.
-ClassicInput read_classic(std::istream& in, const std::string& name,
-                          Boundary boundary = Boundary::walls);
+// accepted. Two box sides on line 3 make disks (particle lines `x y vx vy [r [m]]`), three make
+// spheres (`x y z vx vy vz [r [m]]`). Anything else (wrong counts, non-numbers, NaN or infinity,
+// N < 1, R <= 0, a box that is not positive, a particle outside the box or overlapping a wall or
+// another particle beyond round-off) throws InputError naming `name` and the line. Touching is
+// allowed. Every particle starts at t = 0. In a periodic box walls do not count, overlaps are
+// measured through the nearest image, and each side must exceed two diameters.
+AnyClassicInput read_any_classic(std::istream& in, const std::string& name,
+                                 Boundary boundary = Boundary::walls);
+
+// As above for a program that takes one dimension only: a file of the other is an InputError.
+template <std::size_t D>
+ClassicInput<D> read_classic(std::istream& in, const std::string& name,
+                             Boundary boundary = Boundary::walls);
 
 // Opens an input file (classic, checkpoint, trajectory) for reading; throws InputError naming it
 // when it is a directory or cannot be opened.
 std::ifstream open_input(const std::string& path);
 
 // As above from a file; "-" reads standard input.
-ClassicInput read_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
+AnyClassicInput read_any_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
+template <std::size_t D>
+ClassicInput<D> read_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
 
 // Parses a whole token as a finite double (`-.5`, `+1`, `1e-3`); throws std::invalid_argument
 // with a message saying what is wrong ("is not a number", "is not finite", "is out of range").

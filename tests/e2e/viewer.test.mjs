@@ -47,7 +47,10 @@ test("the page loads from disk with every frame and no errors", async () => {
 
 test("playing advances the frame counter, pausing stops it", async () => {
   await page.click("#play");
-  await page.waitForTimeout(700);
+  // Waits for the animation to move rather than for a fixed time: a loaded machine may deliver
+  // the first animation frames late.
+  await page.waitForFunction(() => Number(document.querySelector("#frame").textContent) > 0,
+                             null, { timeout: 20000 });
   await page.click("#play");
   const paused = Number(await text("#frame"));
   assert.ok(paused > 0, `frame ${paused} after playing`);

@@ -1,6 +1,7 @@
-// The fuzzed code path: any bytes as a classic input file; a valid file is then simulated for a
-// few events in both engines (which must agree). Shared by the libFuzzer target and the replay
-// test, so every corpus and regression input also runs under plain `make test`.
+// The fuzzed code path: any bytes as a classic input file (disks or spheres); a valid file is
+// then simulated for a few events in both engines (which must agree). Shared by the libFuzzer
+// target and the replay test, so every corpus and regression input also runs under plain `make
+// test`.
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <cstdlib>
 #include <sstream>
 #include <string>
+#include <variant>
 
 #include "carom/classic_input.hpp"
 #include "carom/engine.hpp"
@@ -23,44 +25,50 @@ struct Outcome {
   int mismatches = 0;  // the engines disagreed: a bug
 };
 
+// Runs both engines on a system read from fuzzed bytes, for a few events, and compares them.
+template <std::size_t D>
+void simulate_both(const System<D>& system, Outcome& outcome) {
+  if (system.size() > 200) return;  // keep the reference engine cheap
+  // Cell crossings are work inside one step: a particle crossing the box 10^10 times between two
+  // collisions is a long run, not a bug. The CLI refuses beyond Simulation::kMostCrossings; the
+  // fuzzer keeps each input quick.
+  constexpr double kEnd = 1e3;
+  if (most_crossings(system, kEnd) > 1e5) return;
+  ++outcome.simulated;
+  for (const Rule rule : {Rule::swap, Rule::elastic}) {
+    try {
+      auto fast = make_engine(EngineKind::fast, system, {rule});
+      auto reference = make_engine(EngineKind::reference, system, {rule});
+      for (int e = 0; e < 50; ++e) {
+        const auto a = fast->step(kEnd), b = reference->step(kEnd);
+        if (a.has_value() != b.has_value() || (a && !(*a == *b && a->impulse == b->impulse))) {
+          ++outcome.mismatches;
+          break;
+        }
+        if (!a) break;
+        ++outcome.events;
+      }
+    } catch (const JamError&) {
+      ++outcome.jammed;
+    } catch (const std::invalid_argument&) {
+      ++outcome.refused;  // a periodic box too small for the particles
+    }
+  }
+}
+
 inline Outcome classic_input(const std::uint8_t* data, std::size_t size) {
   Outcome outcome;
   const std::string text(reinterpret_cast<const char*>(data), size);
   for (const Boundary boundary : {Boundary::walls, Boundary::periodic}) {
     std::istringstream in(text);
-    ClassicInput input;
+    AnyClassicInput input;
     try {
-      input = read_classic(in, "fuzz", boundary);
+      input = read_any_classic(in, "fuzz", boundary);
     } catch (const InputError&) {
       ++outcome.refused;
       continue;
     }
-    if (input.system.particles.size() > 200) continue;  // keep the reference engine cheap
-    // Cell crossings are work inside one step: a disk crossing the box 10^10 times between two
-    // collisions is a long run, not a bug. The CLI refuses beyond kMostCrossings; the fuzzer
-    // keeps each input quick.
-    constexpr double kEnd = 1e3;
-    if (most_crossings(input.system, kEnd) > 1e5) continue;
-    ++outcome.simulated;
-    for (const Rule rule : {Rule::swap, Rule::elastic}) {
-      try {
-        auto fast = make_engine(EngineKind::fast, input.system, {rule});
-        auto reference = make_engine(EngineKind::reference, input.system, {rule});
-        for (int e = 0; e < 50; ++e) {
-          const auto a = fast->step(kEnd), b = reference->step(kEnd);
-          if (a.has_value() != b.has_value() || (a && !(*a == *b && a->impulse == b->impulse))) {
-            ++outcome.mismatches;
-            break;
-          }
-          if (!a) break;
-          ++outcome.events;
-        }
-      } catch (const JamError&) {
-        ++outcome.jammed;
-      } catch (const std::invalid_argument&) {
-        ++outcome.refused;  // a periodic box too small for the disks
-      }
-    }
+    std::visit([&](const auto& read) { simulate_both(read.system, outcome); }, input);
   }
   return outcome;
 }
