@@ -60,5 +60,32 @@ with tempfile.TemporaryDirectory() as folder:
         check(np.allclose(dumped[-1].cell.lengths()[:2], box), "lammpstrj cell")
         check(np.allclose(dumped[-1].positions, final, atol=1e-9), "lammpstrj last frame positions")
 
+    # Spheres: real z, a 3D box and three periodic axes.
+    spheres = os.path.join(folder, "spheres.txt")
+    with open(spheres, "w") as f:
+        f.write("8\n0.5\n5 6 7\n")
+        for i in range(8):
+            x, y, z = 1 + 3 * (i % 2), 1.5 + 3 * (i // 2 % 2), 1.5 + 4 * (i // 4)
+            f.write(f"{x} {y} {z} {0.3 - 0.1 * i} {0.05 * i - 0.2} {0.4 - 0.1 * (i % 3)}\n")
+    for boundary in ("periodic", "walls"):
+        paths = {ext: os.path.join(folder, f"spheres.{ext}") for ext in ("xyz", "lammpstrj")}
+        out = os.path.join(folder, "spheres.json")
+        for path in paths.values():
+            carom_run("run", spheres, "3", "--rule", "elastic", "--boundary", boundary,
+                      "--format", "json", "-o", out, "--dump", path, "--every", "1")
+        with open(out) as f:
+            result = json.load(f)
+        final = np.array([[p["x"], p["y"], p["z"]] for p in result["particles"]])
+        frames = ase.io.read(paths["xyz"], index=":")
+        check(len(frames) == 4, f"3D {boundary}: xyz has {len(frames)} frames, expected 4")
+        check(np.allclose(frames[-1].cell.lengths(), [5, 6, 7]), "3D xyz cell")
+        check(list(frames[-1].pbc) == [boundary == "periodic"] * 3, "3D xyz pbc")
+        check(np.allclose(frames[-1].positions, final, atol=1e-12), "3D xyz last frame positions")
+        check(np.ptp(frames[-1].positions[:, 2]) > 1.0, "3D xyz has real z")
+        dumped = ase.io.read(paths["lammpstrj"], index=":", format="lammps-dump-text")
+        check(len(dumped) == 4, f"3D {boundary}: lammpstrj has {len(dumped)} frames")
+        check(np.allclose(dumped[-1].cell.lengths(), [5, 6, 7]), "3D lammpstrj cell")
+        check(np.allclose(dumped[-1].positions, final, atol=1e-9), "3D lammpstrj positions")
+
 print(f"{checks - failures} passed, {failures} failed")
 sys.exit(1 if failures else 0)
