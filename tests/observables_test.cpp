@@ -165,6 +165,29 @@ TEST(Physics, SmallSystemPressureIsTheExactNValue) {
   EXPECT_NEAR(beta_p, 6.901074, 0.03) << simulation.counts().pair_collisions << " collisions";
 }
 
+// Hard spheres: Z against the Carnahan-Starling equation of state, the collision-rate identity in
+// 3D, Z - 1 = omega sigma sqrt(pi m / kT) / 6, and the D (N - 1) temperature.
+TEST(Physics, SpheresFollowCarnahanStarling) {
+  pcg32 rng(11);
+  const double eta = 0.2, n = 400;
+  const double side = std::cbrt(n * std::numbers::pi / 6.0 / eta);  // diameter 1
+  System<3> system = testing::random_spheres(rng, 400, 0.5, 0.5, Vec<3>{{side, side, side}});
+  ASSERT_EQ(system.size(), 400u);
+  system.box.boundary = Boundary::periodic;
+  for (ParticleRecord& r : system.records) r.mass = 1.0;  // the identity is for equal masses
+  Simulation<3> simulation(system, {{Rule::elastic}});
+  simulation.measure_from(10.0);
+  simulation.run_until(110.0);
+  const Observables<3> o = simulation.observables();
+  EXPECT_NEAR(o.packing_fraction, eta, 1e-12);
+  EXPECT_EQ(o.degrees_of_freedom, 3.0 * 399);
+  const double carnahan_starling = (1 + eta + eta * eta - eta * eta * eta) / std::pow(1 - eta, 3);
+  EXPECT_NEAR(o.compressibility_factor / carnahan_starling, 1.0, 0.015)
+      << simulation.counts().pair_collisions << " collisions";
+  const double predicted = o.collision_rate * std::sqrt(std::numbers::pi / o.temperature) / 6.0;
+  EXPECT_NEAR((o.compressibility_factor - 1.0) / predicted, 1.0, 0.015);
+}
+
 TEST(Physics, InelasticGasCoolsWithoutCollapse) {
   Simulation<2> simulation(gas(1000, 0.3, 3), {{Rule::elastic, 0.8, 1e-5}});
   const double e0 = kinetic_energy(simulation.state());
