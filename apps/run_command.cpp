@@ -79,6 +79,11 @@ Trigger checkpoint_trigger(const std::string& every) {
   return Trigger::every_events(static_cast<std::uint64_t>(value));
 }
 
+// The Simulation for what was read (a ClassicInput or a Checkpoint of either dimension).
+template <class Read>
+using SimulationFor =
+    Simulation<std::remove_cvref_t<decltype(std::declval<Read>().system)>::dimension>;
+
 // Where a run begins: a classic file, or a checkpoint to resume. The dimension is chosen here,
 // once.
 struct Start {
@@ -92,7 +97,7 @@ Start load(const RunArguments& args) {
     std::ifstream file = open_input(args.input);
     return std::visit(
         [&](const auto& checkpoint) {
-          using Sim = Simulation<std::tuple_size_v<decltype(checkpoint.system.box.size.c)>>;
+          using Sim = SimulationFor<decltype(checkpoint)>;
           return Start{AnySimulation(std::in_place_type<Sim>, checkpoint), checkpoint.source, true};
         },
         read_checkpoint(file, args.input));
@@ -100,7 +105,7 @@ Start load(const RunArguments& args) {
   const Settings settings{{args.rule, args.restitution, args.tc}, args.engine};
   return std::visit(
       [&](auto&& input) {
-        using Sim = Simulation<std::tuple_size_v<decltype(input.system.box.size.c)>>;
+        using Sim = SimulationFor<decltype(input)>;
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
                      args.input, false};
       },

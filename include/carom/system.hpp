@@ -72,6 +72,8 @@ double shortest_side(const Box<D>& box) {
 // The state of a run: the box, every particle's hot data and, index for index, its record.
 template <std::size_t D>
 struct System {
+  static constexpr std::size_t dimension = D;
+
   Box<D> box;
   std::vector<Particle<D>> particles;
   std::vector<ParticleRecord> records;
