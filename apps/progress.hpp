@@ -17,8 +17,9 @@ template <std::size_t D>
 class Progress final : public Observer<D> {
  public:
   // Looks at the clock every few thousand events.
+  static constexpr std::uint64_t kEvery = 4096;
   Progress(double start, double end)
-      : Observer<D>(Trigger::every_events(4096)), start_(start), end_(end) {}
+      : Observer<D>(Trigger::every_events(kEvery)), start_(start), end_(end) {}
   ~Progress() override {
     if (shown_) std::fprintf(stderr, "\r%*s\r", 79, "");
   }
@@ -29,7 +30,7 @@ class Progress final : public Observer<D> {
   static bool wanted(bool quiet) { return !quiet && ::isatty(STDERR_FILENO) == 1; }
 
   void observe(const Simulation<D>& simulation) override {
-    events_ += 4096;
+    events_ += kEvery;
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - began_).count();
     if (elapsed < 1.0 || now - last_ < std::chrono::milliseconds(250)) return;

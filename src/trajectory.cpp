@@ -78,9 +78,10 @@ class ExtendedXyz final : public TrajectoryFormat<D> {
         "Time={}\n",
         system.size(), L[0], L[1], lz, pbc, t);
   }
-  void line(std::ostream& out, std::size_t, const Vec<D>& at, const Particle<D>& p,
+  void line(std::ostream& out, std::size_t, const Particle<D>& p,
             const ParticleRecord& record) override {
-    out << fmt::format("H {} {} {} {}\n", xyz(at), xyz(p.velocity), p.radius, record.version());
+    out << fmt::format("H {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
+                       record.version());
   }
 };
 
@@ -119,9 +120,9 @@ class LammpsDump final : public TrajectoryFormat<D> {
         index, system.size(), bounds, L[0], L[1],
         D == 3 ? fmt::format("0 {}", L[D - 1]) : std::string("-0.5 0.5"));
   }
-  void line(std::ostream& out, std::size_t index, const Vec<D>& at, const Particle<D>& p,
+  void line(std::ostream& out, std::size_t index, const Particle<D>& p,
             const ParticleRecord&) override {
-    out << fmt::format("{} 1 {} {} {}\n", index + 1, xyz(at), xyz(p.velocity), p.radius);
+    out << fmt::format("{} 1 {} {} {}\n", index + 1, xyz(p.position), xyz(p.velocity), p.radius);
   }
 };
 
@@ -131,12 +132,8 @@ template <std::size_t D>
 void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
                                 const System<D>& system) {
   header(out, index, t, system);
-  for (std::size_t i = 0; i < system.size(); ++i) {
-    const Particle<D>& p = system.particles[i];
-    Vec<D> at = position_at(p, t);
-    wrap(at, system.box);
-    line(out, i, at, p, system.records[i]);
-  }
+  const std::vector<Particle<D>> now = synchronised(system, t);
+  for (std::size_t i = 0; i < now.size(); ++i) line(out, i, now[i], system.records[i]);
 }
 
 template <std::size_t D>

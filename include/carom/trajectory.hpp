@@ -29,7 +29,8 @@ class TrajectoryFormat {
  private:
   virtual void header(std::ostream& out, std::uint64_t index, double t,
                       const System<D>& system) = 0;
-  virtual void line(std::ostream& out, std::size_t index, const Vec<D>& at, const Particle<D>& p,
+  // `p` is the particle at the frame's time (see synchronised).
+  virtual void line(std::ostream& out, std::size_t index, const Particle<D>& p,
                     const ParticleRecord& record) = 0;
 };
 
