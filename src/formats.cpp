@@ -11,6 +11,7 @@
 
 #include "carom/observables.hpp"
 #include "carom/version.hpp"
+#include "whole_lines.hpp"
 
 namespace carom {
 
@@ -209,15 +210,14 @@ void EventLogWriter<D>::observe(const Simulation<D>& simulation) {
 
 template <std::size_t D>
 std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool inclusive) {
-  std::string line;
-  std::uint64_t kept = 0;
-  if (!std::getline(in, line) || in.eof() || line + "\n" != kHeader) return 0;
-  kept = line.size() + 1;
-  while (std::getline(in, line) && !in.eof()) {
+  LineReader reader{in, 0, {}};
+  if (!reader.next() || reader.line + "\n" != kHeader) return 0;
+  std::uint64_t kept = reader.offset;
+  while (reader.next()) {
     char* end = nullptr;
-    const double time = std::strtod(line.c_str(), &end);
-    if (end == line.c_str() || *end != ',' || !(time < t || (inclusive && time == t))) break;
-    kept += line.size() + 1;
+    const double time = std::strtod(reader.line.c_str(), &end);
+    if (end == reader.line.c_str() || *end != ',' || !written_before(time, t, inclusive)) break;
+    kept = reader.offset;
   }
   return kept;
 }

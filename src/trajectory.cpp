@@ -7,6 +7,7 @@
 #include <string>
 
 #include "carom/physics.hpp"
+#include "whole_lines.hpp"
 
 namespace carom {
 
@@ -17,29 +18,6 @@ template <std::size_t D>
 std::string xyz(const Vec<D>& v) {
   return D == 3 ? fmt::format("{} {} {}", v[0], v[1], v[D - 1])
                 : fmt::format("{} {} 0", v[0], v[1]);
-}
-
-// Reads whole lines, tracking the offset after the last one read; false at the end or at a
-// final line without its newline (a frame cut off by a crash).
-struct LineReader {
-  std::istream& in;
-  std::uint64_t offset = 0;
-  std::string line;
-  bool next() {
-    if (!std::getline(in, line) || in.eof()) return false;
-    offset += line.size() + 1;
-    return true;
-  }
-  bool skip(std::uint64_t lines) {
-    for (std::uint64_t i = 0; i < lines; ++i) {
-      if (!next()) return false;
-    }
-    return true;
-  }
-};
-
-bool taken_before(double frame_time, double t, bool inclusive) {
-  return frame_time < t || (inclusive && frame_time == t);
 }
 
 // Extended XYZ: the box as a lattice (z of thickness 1 for disks), per-particle species,
@@ -58,7 +36,7 @@ class ExtendedXyz final : public TrajectoryFormat<D> {
         const auto at = reader.line.find("Time=");
         if (at == std::string::npos) break;
         const double frame_time = std::stod(reader.line.substr(at + 5));
-        if (!reader.skip(count) || !taken_before(frame_time, t, inclusive)) break;
+        if (!reader.skip(count) || !written_before(frame_time, t, inclusive)) break;
         kept = reader.offset;
       }
     } catch (const std::exception&) {
@@ -101,7 +79,7 @@ class LammpsDump final : public TrajectoryFormat<D> {
         const double frame_time = static_cast<double>(std::stoull(reader.line)) * every;
         if (!reader.skip(1) || !reader.next()) break;
         const std::uint64_t count = std::stoull(reader.line);
-        if (!reader.skip(5 + count) || !taken_before(frame_time, t, inclusive)) break;
+        if (!reader.skip(5 + count) || !written_before(frame_time, t, inclusive)) break;
         kept = reader.offset;
       }
     } catch (const std::exception&) {

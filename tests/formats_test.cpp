@@ -9,6 +9,8 @@
 
 #include "carom/classic_input.hpp"
 #include "carom/initial.hpp"
+#include "carom/trajectory.hpp"
+#include "test_systems.hpp"
 
 namespace carom {
 namespace {
@@ -125,6 +127,42 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
     EXPECT_EQ(q["last_update"].get<double>(), 12.5);
     EXPECT_EQ(q["wall_collisions"], r.wall_collisions);
   }
+}
+
+}  // namespace
+}  // namespace carom
+
+namespace carom {
+namespace {
+
+// What a resumed run keeps of the files an earlier piece wrote: the whole lines and frames from
+// before its checkpoint, nothing from after it or cut short.
+TEST(Formats, AResumedRunKeepsWhatCameBeforeItsCheckpoint) {
+  const std::string log = "time,kind,first,partner\n1,wall,0,-1\n2,pair,0,1\n2.5,wall,1,-3\n3,pa";
+  const auto kept = [&](double t, bool inclusive) {
+    std::istringstream in(log);
+    return log.substr(0, EventLogWriter<2>::events_before(in, t, inclusive));
+  };
+  EXPECT_EQ(kept(2.0, true), "time,kind,first,partner\n1,wall,0,-1\n2,pair,0,1\n");
+  EXPECT_EQ(kept(2.0, false), "time,kind,first,partner\n1,wall,0,-1\n");
+  EXPECT_EQ(kept(9.0, true), "time,kind,first,partner\n1,wall,0,-1\n2,pair,0,1\n2.5,wall,1,-3\n");
+
+  System<2> system = testing::boxed({10, 10}, {testing::disk({5, 5}, {1, 0}, 1)});
+  std::ostringstream written;
+  auto xyz = trajectory_format_for<2>("m.xyz");
+  std::vector<std::size_t> ends;  // where each frame ends
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    xyz->frame(written, k, 0.5 * k, system);
+    ends.push_back(written.str().size());
+  }
+  const std::string frames = written.str();
+  const auto frames_kept = [&](const std::string& file, double t, bool inclusive) {
+    std::istringstream in(file);
+    return xyz->whole_frames_before(in, t, inclusive, 0.5);
+  };
+  EXPECT_EQ(frames_kept(frames, 1.0, true), ends[2]);  // t = 0, 0.5, 1
+  EXPECT_EQ(frames_kept(frames, 1.0, false), ends[1]);
+  EXPECT_EQ(frames_kept(frames.substr(0, frames.size() - 3), 9.0, true), ends[2]);  // cut
 }
 
 }  // namespace
