@@ -9,6 +9,7 @@ namespace carom::cli {
 
 struct InitArguments {
   InitialOptions options;
+  int dimension = 2;
   bool lattice = false;
   bool random = false;
   std::string output;

@@ -89,13 +89,14 @@ int main(int argc, char** argv) {
   constexpr int kUsageError = 2;
   constexpr int kRuntimeError = 1;
 
-  CLI::App app{"carom: event-driven molecular dynamics of hard disks.\n", "carom"};
+  CLI::App app{"carom: event-driven molecular dynamics of hard disks and spheres.\n", "carom"};
   app.set_version_flag("--version", std::string("carom ") + carom::kVersion);
   app.require_subcommand(1);
   app.footer(R"(Examples:
   carom run examples/walls_only.txt 20                   the seed's first case
   carom run examples/normal.txt 20 --trace               every collision, step by step
   carom init --n 4096 --phi 0.5 --seed 1 -o gas.txt      a start file
+  carom init --dim 3 --n 4000 --phi 0.45 -o spheres.txt  hard spheres (FCC, melts when run)
   carom run gas.txt 100 --rule elastic --boundary periodic --format json
   carom run gas.txt 20 --dump movie.xyz --every 0.1 && carom view movie.xyz -o movie.html
 

@@ -28,7 +28,9 @@ constexpr const char* kFormatHelp = R"(The classic input FILE holds whitespace-s
   line 3       Lx Ly              the box, [0, Lx] x [0, Ly]
   N lines      x y vx vy [r [m]]  each disk's centre and velocity at t = 0, optionally its own
                                   radius and mass (default R and 1)
-Walls are labelled -1 left, -2 right, -3 bottom, -4 top; disks 0..N-1.)";
+Walls are labelled -1 left, -2 right, -3 bottom, -4 top; disks 0..N-1.
+Three numbers on line 3 (Lx Ly Lz) make it spheres, with lines x y z vx vy vz [r [m]] and two more
+walls, -5 back (z = 0) and -6 front (z = Lz); every output then carries z.)";
 
 constexpr const char* kExamples = R"(Examples:
   carom run examples/walls_only.txt 20            final state, the seed's table
@@ -37,7 +39,8 @@ constexpr const char* kExamples = R"(Examples:
   carom run examples/normal.txt 100 --format json -o result.json
   carom run gas.txt 200 --rule elastic --boundary periodic --equilibrate 50 --format json
   carom run gas.txt 1e4 --rule elastic --boundary periodic --checkpoint run.ckpt --dump movie.xyz --every 10
-  carom run --resume run.ckpt 2e4 --equilibrate 1e4 --dump movie.xyz --every 10 --format json)";
+  carom run --resume run.ckpt 2e4 --equilibrate 1e4 --dump movie.xyz --every 10 --format json
+  carom run spheres.txt 100 --rule elastic --boundary periodic --format json   (carom init --dim 3))";
 
 // Options that only make sense together, and ranges the parser cannot check alone.
 void check(const RunArguments& args) {

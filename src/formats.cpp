@@ -1,6 +1,7 @@
 #include "carom/formats.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <cmath>
 #include <cstdio>
@@ -155,14 +156,14 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   out << "\n  ]\n}\n";
 }
 
-void write_classic(std::ostream& out, const System<2>& system, double radius) {
+template <std::size_t D>
+void write_classic(std::ostream& out, const System<D>& system, double radius) {
   // Shortest round-trip representation: reading the file back gives the same doubles.
-  out << fmt::format("{}\n{}\n{} {}\n", system.size(), radius, system.box.size[0],
-                     system.box.size[1]);
+  out << fmt::format("{}\n{}\n{}\n", system.size(), radius, fmt::join(system.box.size.c, " "));
   for (std::size_t i = 0; i < system.size(); ++i) {
-    const Particle<2>& p = system.particles[i];
+    const Particle<D>& p = system.particles[i];
     const double mass = system.records[i].mass;
-    out << fmt::format("{} {} {} {}", p.position[0], p.position[1], p.velocity[0], p.velocity[1]);
+    out << fmt::format("{} {}", fmt::join(p.position.c, " "), fmt::join(p.velocity.c, " "));
     if (p.radius != radius || mass != 1.0) out << fmt::format(" {}", p.radius);
     if (mass != 1.0) out << fmt::format(" {}", mass);
     out << '\n';
@@ -230,7 +231,8 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
                           std::span<const ParticleRecord>);                                   \
   template void write_json(std::ostream&, const Simulation<D>&, const RunReport&, bool);      \
   template class TraceWriter<D>;                                                              \
-  template class EventLogWriter<D>;
+  template class EventLogWriter<D>;                                                           \
+  template void write_classic(std::ostream&, const System<D>&, double);
 CAROM_FORMATS(2)
 CAROM_FORMATS(3)
 #undef CAROM_FORMATS

@@ -883,6 +883,36 @@ TEST_F(Cli, ThreeBoxSidesRunSpheresInEveryFormat) {
   }
 }
 
+TEST_F(Cli, InitMakesSpheresThatRunAndRefusesWhatCannotBe) {
+  const fs::path start = dir_ / "spheres.txt";
+  for (const std::string boundary : {"walls", "periodic"}) {
+    const Result made = carom({"init", "--dim", "3", "--n", "500", "--phi", "0.45", "--boundary",
+                               boundary, "--seed", "3", "-o", start});
+    ASSERT_EQ(made.exit_code, 0) << made.err;
+    const std::string file = read_file(start);
+    EXPECT_EQ(file, carom({"init", "--dim", "3", "--n", "500", "--phi", "0.45", "--boundary",
+                           boundary, "--seed", "3"})
+                        .out);
+    const Result run = carom({"run", start, "2", "--rule", "elastic", "--boundary", boundary,
+                              "--check", "--format", "json"});
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const auto j = nlohmann::json::parse(run.out);
+    EXPECT_EQ(j["dimension"], 3);
+    EXPECT_NEAR(j["packing_fraction"].get<double>(), 0.45, 1e-12);
+    EXPECT_NEAR(j["temperature"].get<double>(), 1.0, 1e-9);
+  }
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"init", "--dim", "3", "--n", "10", "--phi", "0.75"},
+        {"init", "--dim", "4", "--n", "10", "--phi", "0.3"},
+        {"init", "--dim", "3", "--n", "10", "--phi", "0.3", "--box", "10", "10"},
+        {"init", "--n", "10", "--phi", "0.3", "--box", "10", "10", "10"},
+        {"init", "--dim", "3", "--n", "1000", "--phi", "0.5", "--random"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_EQ(r.out, "");
+  }
+}
+
 TEST_F(Cli, BundledExamplesRun) {
   for (const char* example :
        {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {

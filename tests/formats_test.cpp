@@ -73,7 +73,7 @@ TEST(Formats, ClassicFilesReadBackBitForBit) {
   o.n = 100;
   o.packing_fraction = 0.3;
   o.polydispersity = 0.1;
-  const System<2> system = make_initial(o);
+  const System<2> system = make_initial<2>(o);
   std::stringstream file;
   write_classic(file, system, 0.5);
   const ClassicInput<2> back = read_classic<2>(file, "round-trip");

@@ -1,5 +1,5 @@
 // Physics checked against theory: conservation laws, the Maxwell-Boltzmann distribution, the
-// hard-disk equation of state and the collision-rate identity; and the start configurations.
+// hard-disk equation of state and the collision-rate identity.
 #include "carom/observables.hpp"
 
 #include <gtest/gtest.h>
@@ -21,71 +21,13 @@ System<2> gas(std::uint64_t n, double phi, std::uint64_t seed = 1) {
   o.packing_fraction = phi;
   o.seed = seed;
   o.boundary = Boundary::periodic;
-  return make_initial(o);
+  return make_initial<2>(o);
 }
 
 // Henderson's equation of state for hard disks.
 double henderson(double eta) {
   return (1 + eta * eta / 8) / ((1 - eta) * (1 - eta)) -
          0.043 * std::pow(eta, 4) / std::pow(1 - eta, 3);
-}
-
-TEST(Initial, HitsThePackingFractionWithZeroMomentumAndExactTemperature) {
-  for (double phi : {0.1, 0.45, 0.8}) {
-    for (Boundary b : {Boundary::walls, Boundary::periodic}) {
-      InitialOptions o;
-      o.n = 500;
-      o.packing_fraction = phi;
-      o.temperature = 2.5;
-      o.boundary = b;
-      const System<2> s = make_initial(o);
-      ASSERT_EQ(s.particles.size(), 500u);
-      EXPECT_NEAR(packing_fraction(s), phi, 1e-12);
-      EXPECT_NEAR(momentum(s)[0], 0.0, 1e-10);
-      EXPECT_NEAR(momentum(s)[1], 0.0, 1e-10);
-      // kT over the degrees of freedom the run has: 2 N with walls, 2 (N - 1) periodic.
-      const double dof = b == Boundary::walls ? 2.0 * 500 : 2.0 * 499;
-      EXPECT_NEAR(2.0 * kinetic_energy(s) / dof, 2.5, 1e-12);
-      EXPECT_NEAR(kinetic_temperature(s), 2.5, 1e-12);
-      EXPECT_FALSE(find_pair_overlap(s, 0.0).has_value()) << phi;
-      for (const Particle<2>& p : s.particles) {
-        for (int wall = -1; wall >= -4 && b == Boundary::walls; --wall) {
-          EXPECT_FALSE(overlaps_wall(p, s.box, wall));
-        }
-      }
-    }
-  }
-}
-
-TEST(Initial, IsReproducibleBitForBitAndPolydisperseOnRequest) {
-  InitialOptions o;
-  o.n = 200;
-  o.packing_fraction = 0.3;
-  o.polydispersity = 0.2;
-  o.seed = 9;
-  const System<2> a = make_initial(o), b = make_initial(o);
-  for (std::size_t i = 0; i < 200; ++i) {
-    EXPECT_EQ(a.particles[i].position, b.particles[i].position);
-    EXPECT_EQ(a.particles[i].velocity, b.particles[i].velocity);
-    EXPECT_EQ(a.particles[i].radius, b.particles[i].radius);
-  }
-  double mean = 0.0, square = 0.0;
-  for (const auto& p : a.particles) mean += p.radius / 200;
-  for (const auto& p : a.particles) square += (p.radius - mean) * (p.radius - mean) / 200;
-  EXPECT_NEAR(std::sqrt(square) / mean, 0.2, 0.03);
-  EXPECT_NEAR(mean, 0.5, 0.03);
-  EXPECT_NEAR(packing_fraction(a), 0.3, 1e-12);
-}
-
-TEST(Initial, RefusesTheImpossible) {
-  InitialOptions o;
-  o.n = 10;
-  o.packing_fraction = 0.95;
-  EXPECT_THROW(make_initial(o), InitialError);
-  o.packing_fraction = 0.7;
-  o.placement = Placement::random;
-  o.n = 400;
-  EXPECT_THROW(make_initial(o), InitialError);
 }
 
 TEST(Physics, ElasticRunsConserveEnergyAndMomentum) {

@@ -81,8 +81,9 @@ class EventLogWriter final : public Observer<D> {
 
 // A system in the classic input format, every number in its shortest form that reads back as the
 // same double. Particles whose radius differs from `radius`, or whose mass is not 1, carry the
-// optional columns `r [m]`.
-void write_classic(std::ostream& out, const System<2>& system, double radius);
+// optional columns `r [m]`. Spheres have three box sides and `x y z vx vy vz` lines.
+template <std::size_t D>
+void write_classic(std::ostream& out, const System<D>& system, double radius);
 
 // One line naming an event: `Collision: particle 1 with particle 2` or
 // `Collision: particle 3 with wall -2 (right)`.

@@ -1,26 +1,28 @@
-// Start configurations: non-overlapping disks at a chosen packing fraction with
-// Maxwell-Boltzmann velocities, reproducible bit for bit from a seed.
+// Start configurations: non-overlapping disks (D = 2) or spheres (D = 3) at a chosen packing
+// fraction with Maxwell-Boltzmann velocities, reproducible bit for bit from a seed.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
+#include <vector>
 
 #include "carom/system.hpp"
 
 namespace carom {
 
 enum class Placement {
-  automatic,  // random where that works (packing fraction <= 0.4), else the lattice
+  automatic,  // random up to random_placement_limit unless it jams, else the lattice
   random,     // random sequential placement
-  lattice,    // a triangular lattice, which reaches close packing
+  lattice,    // a triangular (2D) or face-centred cubic (3D) lattice: both reach close packing
 };
 
 struct InitialOptions {
   std::uint64_t n = 0;
   double packing_fraction = 0.0;
-  std::optional<Vec<2>> box;     // the box; else from the packing fraction and `aspect`
-  double aspect = 1.0;           // Lx / Ly when the box is derived
+  std::vector<double> box;       // the box's D sides; empty: from the packing fraction and aspect
+  double aspect = 1.0;           // Lx / Ly of a derived box (in 3D Lz = Ly)
   std::optional<double> radius;  // the mean radius; default 0.5 (diameter 1), or derived
                                  // from the packing fraction when the box is given
   double polydispersity = 0.0;   // standard deviation of the radius / its mean (uniform)
@@ -36,11 +38,25 @@ class InitialError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Close packing of equal disks: the triangular lattice, pi / (2 sqrt 3).
+// Close packing of equal disks, the triangular lattice: pi / (2 sqrt 3).
 inline constexpr double kClosePacking = 0.9068996821171089;
+// Close packing of equal spheres, face-centred cubic (Kepler, Hales): pi / (3 sqrt 2).
+inline constexpr double kClosePackingSpheres = 0.7404804896930610;
+
+constexpr double close_packing(std::size_t dimension) {
+  return dimension == 2 ? kClosePacking : kClosePackingSpheres;
+}
+// Automatic placement is random up to here, below where random sequential addition slows down
+// sharply (it saturates near 0.547 for disks and 0.384 for spheres).
+constexpr double random_placement_limit(std::size_t dimension) {
+  return dimension == 2 ? 0.4 : 0.25;
+}
 
 // Velocities are Maxwell-Boltzmann at `temperature`, shifted to zero total momentum and scaled so
-// that sum m v^2 / (2 N) = kT exactly. Radii (polydisperse) are uniform around the mean.
-System<2> make_initial(const InitialOptions& options);
+// that the kinetic temperature is kT exactly (over D N degrees of freedom with walls, D (N - 1) in
+// a periodic box). Radii (polydisperse) are uniform around the mean. Particles are numbered along
+// a space-filling curve, so that neighbours in space are neighbours in memory.
+template <std::size_t D>
+System<D> make_initial(const InitialOptions& options);
 
 }  // namespace carom
