@@ -286,6 +286,29 @@ TEST(CrossCheck, FastEqualsReferenceOnDenseLatticesWithTies) {
   }
 }
 
+TEST(CrossCheck, FastEqualsReferenceOnTouchingSphereLatticesWithTies) {
+  pcg32 rng(8);
+  for (int trial = 0; trial < 80; ++trial) {
+    // Gap 0: every neighbour starts touching, and aligned velocities tie many event times.
+    const double gap = trial % 3 == 0 ? 0.0 : uniform(rng, 0.01, 0.5);
+    System<3> system =
+        carom::testing::cubic_lattice<3>(rng, 2 + rng() % 3, 0.5, gap, trial % 2 == 0);
+    // A periodic box needs sides over two diameters: three cells or more.
+    if (trial % 4 >= 2 && system.box.size[0] > 2.0) system.box.boundary = Boundary::periodic;
+    const CollisionRule rule = trial % 5 == 0   ? CollisionRule{Rule::elastic, 0.8, 0.01}
+                               : trial % 2 == 0 ? CollisionRule{Rule::swap}
+                                                : CollisionRule{Rule::elastic};
+    expect_same_runs(system, rule, 20.0, 400, "sphere lattice " + std::to_string(trial));
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceAtFiveHundredSpheres) {
+  pcg32 rng(12);
+  System<3> system = carom::testing::cubic_lattice<3>(rng, 8, 0.5, 0.15, false);
+  system.box.boundary = Boundary::periodic;
+  expect_same_runs(system, {Rule::elastic}, 1e9, 1500, "N=512 periodic spheres");
+}
+
 TEST(CrossCheck, FastEqualsReferenceAtFiveHundredDisks) {
   pcg32 rng(11);
   const System<2> system = square_lattice(rng, 22, 0.5, 0.15, false);

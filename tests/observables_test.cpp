@@ -130,6 +130,20 @@ TEST(Physics, SpheresFollowCarnahanStarling) {
   EXPECT_NEAR((o.compressibility_factor - 1.0) / predicted, 1.0, 0.015);
 }
 
+// A dense fluid melted from carom init's FCC lattice: Z against the Kolafa-Labik-Malijevsky
+// equation of state (docs/validation.md holds N = 4000 to 0.1%).
+TEST(Physics, SpheresMeltedFromTheLatticeFollowKolafaLabikMalijevsky) {
+  const double eta = 0.4;
+  InitialOptions o{.n = 500, .packing_fraction = eta, .boundary = Boundary::periodic};
+  Simulation<3> simulation(make_initial<3>(o), {{Rule::elastic}});
+  simulation.measure_from(10.0);
+  simulation.run_until(50.0);
+  const double klm =
+      (1 + eta + eta * eta - 2.0 / 3.0 * std::pow(eta, 3) * (1 + eta)) / std::pow(1 - eta, 3);
+  EXPECT_NEAR(simulation.observables().compressibility_factor / klm, 1.0, 0.01)
+      << simulation.counts().pair_collisions << " collisions";
+}
+
 TEST(Physics, InelasticGasCoolsWithoutCollapse) {
   Simulation<2> simulation(gas(1000, 0.3, 3), {{Rule::elastic, 0.8, 1e-5}});
   const double e0 = kinetic_energy(simulation.state());
@@ -151,6 +165,20 @@ TEST(Physics, WallPressureCountsMomentumGivenToTheWalls) {
   EXPECT_EQ(o.kinetic_energy_initial, 2.0);
   EXPECT_DOUBLE_EQ(o.wall_pressure, 10 * 4.0 / (40.0 * 40.0));
   EXPECT_EQ(o.collision_rate, 0.0);
+}
+
+TEST(Physics, WallPressureCountsMomentumGivenToTheSixFacesOfABox) {
+  // One sphere crossing a 10 x 10 x 10 box at (2, 1, 0.5): by t = 39 it hits the x walls at
+  // 2, 6, ..., 38 (10 times, 2 m vx each), the y walls at 4, 12, ..., 36 (5) and z at 8, 24 (2).
+  System<3> s;
+  s.box.size = {{10, 10, 10}};
+  s.add({{{5, 5, 5}}, {{2, 1, 0.5}}, 0.0, 1.0});
+  Simulation<3> simulation(s);
+  simulation.run_until(39.0);
+  const Observables<3> o = simulation.observables();
+  EXPECT_EQ(simulation.counts().wall_collisions, 17u);
+  const double momentum = 10 * 4.0 + 5 * 2.0 + 2 * 1.0, faces = 6 * 100.0;
+  EXPECT_DOUBLE_EQ(o.wall_pressure, momentum / (39.0 * faces));
 }
 
 }  // namespace

@@ -91,28 +91,44 @@ inline System<3> random_spheres(pcg32& rng, std::size_t n, double r_min, double 
   return system;
 }
 
-// A square lattice of disks of radius r, `gap` apart at the closest, filling a box of side
-// `cells` * (2r + gap); velocities random, or zero in one component so events tie.
-inline System<2> square_lattice(pcg32& rng, std::size_t cells, double r, double gap,
-                                bool aligned_velocities) {
-  System<2> system;
+// A square (D = 2) or simple cubic (D = 3) lattice of particles of radius r, `gap` apart at the
+// closest, filling a box of side `cells` * (2r + gap); velocities random, or along one axis only
+// (alternating between axes, speeds -0.5, 0 or 0.5) so that events tie.
+template <std::size_t D>
+System<D> cubic_lattice(pcg32& rng, std::size_t cells, double r, double gap,
+                        bool aligned_velocities) {
+  System<D> system;
   const double spacing = 2 * r + gap;
-  system.box.size = {cells * spacing, cells * spacing};
-  for (std::size_t i = 0; i < cells; ++i) {
-    for (std::size_t j = 0; j < cells; ++j) {
-      Particle<2> p;
-      p.radius = r;
-      p.position = {(i + 0.5) * spacing, (j + 0.5) * spacing};
-      if (aligned_velocities) {
-        const double speed = (rng() % 3) * 0.5 - 0.5;
-        p.velocity = (i + j) % 2 ? Vec2{{speed, 0}} : Vec2{{0, speed}};
-      } else {
-        p.velocity = {uniform(rng, -1, 1), uniform(rng, -1, 1)};
-      }
-      system.add(p);
+  for (std::size_t k = 0; k < D; ++k) system.box.size[k] = cells * spacing;
+  std::size_t sites = 1;
+  for (std::size_t k = 0; k < D; ++k) sites *= cells;
+  for (std::size_t site = 0; site < sites; ++site) {
+    Particle<D> p;
+    p.radius = r;
+    std::size_t index_sum = 0;
+    for (std::size_t k = 0, rest = site; k < D; ++k) {
+      // The first axis varies slowest.
+      std::size_t stride = 1;
+      for (std::size_t later = k + 1; later < D; ++later) stride *= cells;
+      const std::size_t index = rest / stride;
+      rest %= stride;
+      index_sum += index;
+      p.position[k] = (index + 0.5) * spacing;
     }
+    if (aligned_velocities) {
+      const double speed = (rng() % 3) * 0.5 - 0.5;
+      p.velocity[(index_sum + 1) % D] = speed;
+    } else {
+      for (std::size_t k = 0; k < D; ++k) p.velocity[k] = uniform(rng, -1, 1);
+    }
+    system.add(p);
   }
   return system;
+}
+
+inline System<2> square_lattice(pcg32& rng, std::size_t cells, double r, double gap,
+                                bool aligned_velocities) {
+  return cubic_lattice<2>(rng, cells, r, gap, aligned_velocities);
 }
 
 // Every event up to `end_time` that `engine` processes.
