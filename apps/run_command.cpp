@@ -312,7 +312,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
 
 CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   CLI::App* run = app.add_subcommand(
-      "run", "Simulate FILE from t = 0 to END_TIME and print every disk's final state.");
+      "run", "Simulate FILE from t = 0 to END_TIME and print every particle's final state.");
   run->footer(std::string(kFormatHelp) + "\n\n" + kExamples);
   run->add_option("FILE", args.input, "Input in the classic format (see below); - reads stdin")
       ->required();
@@ -323,18 +323,20 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                      "full state");
   run->add_flag("--trace", args.trace,
                 "Print the initial state, then after every collision its time, what collided and "
-                "every disk's stored state, then the final state");
+                "every particle's stored state, then the final state");
   run->add_option("-o,--output", args.output,
                   "Write to this file (atomically: it appears complete or not at all) instead of "
                   "stdout");
-  run->add_option("--dump", args.dump,
-                  "Write frames of every disk at t = 0, DT, 2 DT, ... (--every DT) to this file "
-                  "as the run goes: .xyz (extended XYZ, for OVITO and ASE) or .lammpstrj (LAMMPS "
-                  "text dump). A resumed run continues the same file");
+  run->add_option(
+      "--dump", args.dump,
+      "Write frames of every particle at t = 0, DT, 2 DT, ... (--every DT) to this file "
+      "as the run goes: .xyz (extended XYZ, for OVITO and ASE) or .lammpstrj (LAMMPS "
+      "text dump). A resumed run continues the same file");
   run->add_option("--every", args.every, "Time between --dump frames");
-  run->add_option("--events", args.events,
-                  "Write every collision to this csv file as the run goes: "
-                  "time,kind,first,partner (kind wall or pair; partner a disk or a wall label)");
+  run->add_option(
+      "--events", args.events,
+      "Write every collision to this csv file as the run goes: "
+      "time,kind,first,partner (kind wall or pair; partner a particle or a wall label)");
   run->add_option("--summary", args.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
@@ -360,7 +362,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_flag(
       "--check", args.check,
       "Verify during the run that event times never decrease and, every --check-every "
-      "events, that no disks overlap or leave the box; a violation stops the run (exit 1)");
+      "events, that no particles overlap or leave the box; a violation stops the run (exit 1)");
   run->add_option("--check-every", args.check_every,
                   "Events between overlap checks (default: N, at least 1000)");
   run->add_flag("-q,--quiet", args.quiet,

@@ -13,11 +13,13 @@ namespace carom::cli {
 CLI::App* add_view_command(CLI::App& app, ViewArguments& args) {
   CLI::App* view = app.add_subcommand(
       "view",
-      "Turn a trajectory (.xyz from carom run --dump) into one HTML page that animates it.");
+      "Turn a trajectory (.xyz from carom run --dump, disks or spheres) into one HTML page that "
+      "animates it.");
   view->footer(
       R"(The page is self-contained (data embedded, no network) and opens from disk in any browser:
 play/pause, a time slider, speed, colour by speed or by collision count, and the speed histogram
-against the 2D Maxwell-Boltzmann distribution.
+against the Maxwell-Boltzmann distribution (2D or 3D). Spheres (a trajectory with any nonzero z)
+are drawn shaded and depth-sorted in their box, which dragging rotates (double-click resets).
 
 Example:
   carom run gas.txt 50 --rule elastic --dump movie.xyz --every 0.25

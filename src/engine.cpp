@@ -34,9 +34,10 @@ void Engine<D>::apply(Event& event) {
   events_at_now_ = event.time == now_ ? events_at_now_ + 1 : 0;
   if (events_at_now_ > 64 * system_.particles.size() + 1000) {
     throw JamError(fmt::format(
-        "the disks are jammed: {} collisions at t = {} without time advancing (particle {} "
-        "cannot move apart from {}; is a disk wedged exactly between two walls?)",
-        events_at_now_, event.time, event.first, event.partner));
+        "the {} are jammed: {} collisions at t = {} without time advancing (particle {} "
+        "cannot move apart from {}; is a {} wedged exactly between two walls?)",
+        kParticlesName<D>, events_at_now_, event.time, event.first, event.partner,
+        kParticleName<D>));
   }
   now_ = event.time;
   const double t = event.time;
@@ -86,9 +87,9 @@ double Engine<D>::image_horizon() const {
 template <std::size_t D>
 void Engine<D>::throw_too_fast(double t) const {
   throw JamError(fmt::format(
-      "the disks move too fast for the box: at t = {} a double cannot resolve the time it takes "
+      "the {} move too fast for the box: at t = {} a double cannot resolve the time it takes "
       "them to cross it ({} at most); rescale the velocities or the time unit",
-      t, image_horizon()));
+      kParticlesName<D>, t, image_horizon()));
 }
 
 template <std::size_t D>

@@ -39,11 +39,6 @@ double normal(pcg32& rng) {
 }
 
 template <std::size_t D>
-constexpr const char* plural_noun() {
-  return D == 2 ? "disks" : "spheres";
-}
-
-template <std::size_t D>
 void place_randomly(System<D>& system, pcg32& rng) {
   const Box<D>& box = system.box;
   CellGrid<D> grid(box, 2.0 * largest_radius(system), system.particles.size());
@@ -64,7 +59,7 @@ void place_randomly(System<D>& system, pcg32& rng) {
     }
     if (!placed) {
       throw InitialError(fmt::format("random placement jammed after {} of {} {}; use --lattice", i,
-                                     system.particles.size(), plural_noun<D>()));
+                                     system.particles.size(), kParticlesName<D>));
     }
     grid.insert(i, grid.locate(p.position));
   }
@@ -310,7 +305,7 @@ void check_options(const InitialOptions& o) {
   if (!(o.packing_fraction <= close_packing(D))) {
     throw InitialError(
         fmt::format("--phi {} is above close packing of {} ({:.4f}): no such configuration exists",
-                    o.packing_fraction, plural_noun<D>(), close_packing(D)));
+                    o.packing_fraction, kParticlesName<D>, close_packing(D)));
   }
   if (!(o.polydispersity >= 0.0 && o.polydispersity <= 0.5)) {
     throw InitialError("--polydispersity must be between 0 and 0.5");
@@ -327,7 +322,7 @@ void check_options(const InitialOptions& o) {
   }
   if (!o.box.empty() && o.box.size() != D) {
     throw InitialError(
-        fmt::format("--box needs {} sides for {}, not {}", D, plural_noun<D>(), o.box.size()));
+        fmt::format("--box needs {} sides for {}, not {}", D, kParticlesName<D>, o.box.size()));
   }
   for (double side : o.box) {
     if (!(side > 0.0) || !std::isfinite(side)) {
@@ -379,7 +374,7 @@ System<D> make_initial(const InitialOptions& o) {
     throw InitialError(fmt::format(
         "a periodic box of sides {} is too small for {} of radius {}: each side must exceed "
         "two diameters; ask for more {} or a lower --phi",
-        fmt::join(system.box.size.c, " x "), plural_noun<D>(), largest, plural_noun<D>()));
+        fmt::join(system.box.size.c, " x "), kParticlesName<D>, largest, kParticlesName<D>));
   }
 
   // Automatic placement tries random placement at low packing fractions and falls back on the

@@ -2,11 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <utility>
 
 #include "carom/classic_input.hpp"
 #include "carom/viewer_html.hpp"
@@ -72,6 +74,7 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
   std::vector<Frame> frames;
   std::string line;
   std::size_t number = 0;
+  bool spheres = false;  // a nonzero z seen anywhere
   const auto next = [&](const char* what) {
     if (!std::getline(in, line)) {
       throw InputError(name, number, fmt::format("the file ends where {} was expected", what));
@@ -109,12 +112,12 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
       throw InputError(name, number, "no Lattice=\"Lx 0 0 0 Ly 0 0 0 Lz\" box on the comment line");
     }
     const auto box = words(lattice->second);
-    f.box = {{value(box[0]), value(box[4])}};
+    f.box = {{value(box[0]), value(box[4]), value(box[8])}};
     if (const auto pbc = fields.find("pbc"); pbc != fields.end())
       f.periodic = pbc->second[0] == 'T';
     if (const auto time = fields.find("Time"); time != fields.end()) f.time = value(time->second);
-    // Columns of each property, from Properties=name:type:count:...
-    std::map<std::string, std::size_t> column;
+    // First column and column count of each property, from Properties=name:type:count:...
+    std::map<std::string, std::pair<std::size_t, std::size_t>> column;
     std::size_t columns = 0;
     {
       const auto properties = fields.find("Properties");
@@ -124,8 +127,9 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
       std::stringstream split(spec);
       for (std::string part; std::getline(split, part, ':');) parts.push_back(part);
       for (std::size_t i = 0; i + 2 < parts.size(); i += 3) {
-        column[parts[i]] = columns;
-        columns += static_cast<std::size_t>(std::max(0.0, value(parts[i + 2])));
+        const auto count = static_cast<std::size_t>(std::max(0.0, value(parts[i + 2])));
+        column[parts[i]] = {columns, count};
+        columns += count;
       }
     }
     if (!column.count("pos")) throw InputError(name, number, "no pos property");
@@ -138,39 +142,47 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
       }
       const auto at = [&](const char* property, std::size_t k, double otherwise) {
         const auto c = column.find(property);
-        return c == column.end() ? otherwise : value(w[c->second + k]);
+        return c == column.end() || k >= c->second.second ? otherwise
+                                                          : value(w[c->second.first + k]);
       };
-      f.position.push_back({{at("pos", 0, 0), at("pos", 1, 0)}});
-      f.velocity.push_back({{at("velo", 0, 0), at("velo", 1, 0)}});
+      f.position.push_back({{at("pos", 0, 0), at("pos", 1, 0), at("pos", 2, 0)}});
+      f.velocity.push_back({{at("velo", 0, 0), at("velo", 1, 0), at("velo", 2, 0)}});
+      if (f.position.back()[2] != 0.0 || f.velocity.back()[2] != 0.0) spheres = true;
       f.radius.push_back(at("radius", 0, 0.5));
       f.collisions.push_back(static_cast<std::uint32_t>(std::max(0.0, at("collisions", 0, 0))));
     }
     frames.push_back(std::move(f));
   }
   if (frames.empty()) throw InputError(name, number, "no frames");
+  for (Frame& f : frames) f.dimension = spheres ? 3 : 2;
   return frames;
 }
 
 void write_viewer_html(std::ostream& out, const std::vector<Frame>& frames) {
-  const std::size_t n = frames.front().radius.size();
-  std::vector<float> radius(frames.front().radius.begin(), frames.front().radius.end());
-  std::vector<float> state;
+  const Frame& first = frames.front();
+  const std::size_t n = first.radius.size();
+  const auto d = static_cast<std::size_t>(first.dimension == 3 ? 3 : 2);
+  std::vector<float> radius(first.radius.begin(), first.radius.end());
+  std::vector<float> state;  // per frame and particle: d position components, d velocity ones
   std::vector<std::uint32_t> collisions;
   std::vector<double> times;
-  state.reserve(frames.size() * n * 4);
+  state.reserve(frames.size() * n * 2 * d);
   for (const Frame& f : frames) {
     times.push_back(f.time);
     for (std::size_t i = 0; i < n; ++i) {
-      for (double x : {f.position[i][0], f.position[i][1], f.velocity[i][0], f.velocity[i][1]}) {
-        state.push_back(static_cast<float>(x));
+      for (const Vec<3>* v : {&f.position[i], &f.velocity[i]}) {
+        for (std::size_t k = 0; k < d; ++k) state.push_back(static_cast<float>((*v)[k]));
       }
       collisions.push_back(f.collisions[i]);
     }
   }
+  nlohmann::json box = {first.box[0], first.box[1]};
+  if (d == 3) box.push_back(first.box[2]);
   const nlohmann::json data = {
       {"n", n},
-      {"box", {frames.front().box[0], frames.front().box[1]}},
-      {"periodic", frames.front().periodic},
+      {"dimension", d},
+      {"box", box},
+      {"periodic", first.periodic},
       {"times", times},
       {"radius", base64(radius.data(), radius.size() * sizeof(float))},
       {"state", base64(state.data(), state.size() * sizeof(float))},

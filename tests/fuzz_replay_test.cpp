@@ -31,13 +31,19 @@ TEST(FuzzReplay, CorpusAndRegressionsRunCleanAndDoWhatTheyWereKeptFor) {
       outcomes[entry.path().filename().string()] = o;
     }
   }
-  ASSERT_GE(outcomes.size(), 12u);
+  ASSERT_GE(outcomes.size(), 15u);
   // The seed's cases run, events and all, in both boxes.
   for (const char* valid : {"normal.txt", "particles1.txt", "walls_only.txt"}) {
     EXPECT_EQ(outcomes[valid].simulated, 2) << valid;
     EXPECT_GT(outcomes[valid].events, 0) << valid;
   }
+  // Spheres: random ones, and a touching cube of eight with ties, run in both boxes.
+  for (const char* spheres : {"spheres.txt", "spheres_touching.txt"}) {
+    EXPECT_EQ(outcomes[spheres].simulated, 2) << spheres;
+    EXPECT_GT(outcomes[spheres].events, 100) << spheres;
+  }
   EXPECT_EQ(outcomes["overlap.txt"].refused, 2);  // overlapping disks are refused in both boxes
+  EXPECT_EQ(outcomes["spheres_overlap.txt"].refused, 2);
   EXPECT_EQ(outcomes["extreme.txt"].refused, 2);
   // A disk as wide as the box: too wide for a periodic one; with walls, events at t = 0 (the
   // engines' jam guard, tested in engine_test, stops it later than the 50 events run here).

@@ -17,6 +17,15 @@
 namespace carom {
 namespace {
 
+// n particles at packing fraction phi, the other options at their defaults.
+InitialOptions request(std::uint64_t n, double phi, Boundary boundary = Boundary::walls) {
+  InitialOptions o;
+  o.n = n;
+  o.packing_fraction = phi;
+  o.boundary = boundary;
+  return o;
+}
+
 // The smallest gap between two surfaces over the contact distance (0 when the closest pair
 // touches), by brute force through the nearest images.
 template <std::size_t D>
@@ -172,12 +181,15 @@ TEST(Initial, ABoxGivenFixesTheRadius) {
   EXPECT_EQ(system.box.size, (Vec<3>{{20.0, 10.0, 15.0}}));
   o.box = {20.0, 10.0};
   EXPECT_THROW(make_initial<3>(o), InitialError);
-  EXPECT_THROW(make_initial<2>(InitialOptions{.n = 10, .packing_fraction = 0.3, .box = {1, 2, 3}}),
-               InitialError);
+  InitialOptions disks = request(10, 0.3);
+  disks.box = {1, 2, 3};
+  EXPECT_THROW(make_initial<2>(disks), InitialError);
 }
 
 TEST(Initial, TheSameSeedGivesTheSameSpheresBitForBit) {
-  InitialOptions o{.n = 500, .packing_fraction = 0.3, .polydispersity = 0.05, .seed = 5};
+  InitialOptions o = request(500, 0.3);
+  o.polydispersity = 0.05;
+  o.seed = 5;
   const System<3> a = make_initial<3>(o), b = make_initial<3>(o);
   EXPECT_EQ(a.particles, b.particles);
   o.seed = 6;
@@ -185,20 +197,22 @@ TEST(Initial, TheSameSeedGivesTheSameSpheresBitForBit) {
 }
 
 TEST(Initial, ImpossibleSpheresAreRefused) {
-  EXPECT_THROW(make_initial<3>({.n = 10, .packing_fraction = 0.75}), InitialError);
-  EXPECT_THROW(
-      make_initial<3>({.n = 1000, .packing_fraction = 0.5, .placement = Placement::random}),
-      InitialError);
+  EXPECT_THROW(make_initial<3>(request(10, 0.75)), InitialError);
+  InitialOptions random_placement = request(1000, 0.5);
+  random_placement.placement = Placement::random;
+  EXPECT_THROW(make_initial<3>(random_placement), InitialError);
   // With walls the outer layer keeps R from the walls: a cube at close packing has no room.
-  EXPECT_THROW(make_initial<3>({.n = 500, .packing_fraction = kClosePackingSpheres}), InitialError);
+  EXPECT_THROW(make_initial<3>(request(500, kClosePackingSpheres)), InitialError);
   // Two spheres in a small box jam random placement; automatic placement takes the lattice.
-  const System<3> pair = make_initial<3>({.n = 2, .packing_fraction = 0.2});
+  const System<3> pair = make_initial<3>(request(2, 0.2));
   EXPECT_EQ(find_violation(pair, 0.0), std::nullopt);
 }
 
 TEST(Initial, SpheresWrittenInTheClassicFormatReadBackExactly) {
-  const System<3> system =
-      make_initial<3>({.n = 200, .packing_fraction = 0.3, .polydispersity = 0.1, .seed = 3});
+  InitialOptions polydisperse = request(200, 0.3);
+  polydisperse.polydispersity = 0.1;
+  polydisperse.seed = 3;
+  const System<3> system = make_initial<3>(polydisperse);
   std::stringstream file;
   write_classic(file, system, 0.5);
   const ClassicInput<3> read = read_classic<3>(file, "spheres.txt");
@@ -212,7 +226,7 @@ TEST(Initial, SpheresWrittenInTheClassicFormatReadBackExactly) {
 }
 
 TEST(Initial, DenseDisksInAPeriodicBoxKeepApart) {
-  const InitialOptions o{.n = 400, .packing_fraction = 0.85, .boundary = Boundary::periodic};
+  const InitialOptions o = request(400, 0.85, Boundary::periodic);
   const System<2> system = make_initial<2>(o);
   expect_valid(system, o);
   EXPECT_GT(smallest_relative_gap(system), 0.0);

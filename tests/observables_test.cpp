@@ -134,7 +134,10 @@ TEST(Physics, SpheresFollowCarnahanStarling) {
 // equation of state (docs/validation.md holds N = 4000 to 0.1%).
 TEST(Physics, SpheresMeltedFromTheLatticeFollowKolafaLabikMalijevsky) {
   const double eta = 0.4;
-  InitialOptions o{.n = 500, .packing_fraction = eta, .boundary = Boundary::periodic};
+  InitialOptions o;
+  o.n = 500;
+  o.packing_fraction = eta;
+  o.boundary = Boundary::periodic;
   Simulation<3> simulation(make_initial<3>(o), {{Rule::elastic}});
   simulation.measure_from(10.0);
   simulation.run_until(50.0);

@@ -53,6 +53,12 @@ struct EnumNames<Boundary> {
       {{"walls", Boundary::walls}, {"periodic", Boundary::periodic}}};
 };
 
+// How messages name the particles of a dimension.
+template <std::size_t D>
+inline constexpr std::string_view kParticlesName = D == 2 ? "disks" : "spheres";
+template <std::size_t D>
+inline constexpr std::string_view kParticleName = D == 2 ? "disk" : "sphere";
+
 // A rectangular box [0, size[0]] x ... x [0, size[D-1]].
 template <std::size_t D>
 struct Box {

@@ -1,6 +1,6 @@
 // End-to-end tests of the `carom view` page in Debian's headless Chromium (playwright-core, no
-// browser download). CAROM_EXE names the carom binary.
-import { test, before, after } from "node:test";
+// browser download), for disks and for spheres. CAROM_EXE names the carom binary.
+import { test, describe, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
 import { mkdtempSync, rmSync, statSync } from "node:fs";
@@ -25,10 +25,44 @@ before(async () => {
     args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
            "--disable-component-update", "--no-first-run", "--disable-sync"],
   });
-  page = await browser.newPage({ viewport: { width: 1200, height: 800 } });
-  page.on("pageerror", (e) => errors.push(String(e)));
-  page.on("requestfailed", (r) => errors.push(`request ${r.url()}`));
-  await page.goto("file://" + join(folder, "movie.html"));
+  page = await open(join(folder, "movie.html"), errors);
+});
+
+// A page of the browser that records its errors (uncaught, console.error, failed requests).
+async function open(html, errors) {
+  const opened = await browser.newPage({ viewport: { width: 1200, height: 800 } });
+  opened.on("pageerror", (e) => errors.push(String(e)));
+  opened.on("console", (m) => { if (m.type() === "error") errors.push(`console ${m.text()}`); });
+  opened.on("requestfailed", (r) => errors.push(`request ${r.url()}`));
+  await opened.goto("file://" + html);
+  return opened;
+}
+
+// The fraction of a canvas's pixels painted (alpha > 0).
+const painted = (on, selector) => on.$eval(selector, (canvas) => {
+  const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+  let count = 0;
+  for (let i = 3; i < pixels.length; i += 4) if (pixels[i] > 0) ++count;
+  return count / (pixels.length / 4);
+});
+
+// Where the histogram's Maxwell-Boltzmann line peaks, as a fraction of the histogram's width:
+// the mean column of the highest row holding the line's yellow. The speed axis ends at
+// 4 sqrt(kT), so the 2D curve (peak at sqrt(kT)) peaks at 0.25, the 3D one (sqrt(2 kT)) at 0.354.
+const curvePeak = (on) => on.$eval("#histogram", (canvas) => {
+  const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+  for (let y = 0; y < canvas.height; ++y) {
+    let sum = 0, count = 0;
+    for (let x = 0; x < canvas.width; ++x) {
+      const k = 4 * (y * canvas.width + x);
+      if (pixels[k] > 180 && pixels[k + 1] > 140 && pixels[k + 2] < 130 && pixels[k + 3] > 200) {
+        sum += x;
+        ++count;
+      }
+    }
+    if (count > 0) return (sum / count + 0.5) / canvas.width;
+  }
+  return null;
 });
 
 after(async () => {
@@ -42,6 +76,7 @@ test("the page loads from disk with every frame and no errors", async () => {
   assert.equal(await text("#frames"), "30");  // frames t = 0, 0.1, ..., 3
   assert.equal(await text("#frame"), "0");
   assert.match(await text("#info"), /2000 disks/);
+  assert.equal(await page.getAttribute("body", "data-dimension"), "2");
   assert.deepEqual(errors, []);
 });
 
@@ -70,23 +105,99 @@ test("the slider moves to a frame", async () => {
 test("the disks and the histogram are drawn, in both colourings", async () => {
   for (const colour of ["speed", "collisions"]) {
     await page.selectOption("#colour", colour);
-    const painted = await page.$eval("#box", (canvas) => {
-      const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
-      let count = 0;
-      for (let i = 3; i < pixels.length; i += 4) if (pixels[i] > 0) ++count;
-      return count / (pixels.length / 4);
-    });
-    assert.ok(painted > 0.3, `${colour}: only ${painted} of the box is painted`);  // eta = 0.5
+    const box = await painted(page, "#box");
+    assert.ok(box > 0.3, `${colour}: only ${box} of the box is painted`);  // eta = 0.5
   }
-  const bars = await page.$eval("#histogram", (canvas) => {
-    const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
-    let count = 0;
-    for (let i = 3; i < pixels.length; i += 4) if (pixels[i] > 0) ++count;
-    return count;
-  });
-  assert.ok(bars > 1000, `histogram has ${bars} painted pixels`);
+  const bars = await painted(page, "#histogram");
+  assert.ok(bars > 0.02, `only ${bars} of the histogram is painted`);
   const shot = join(folder, "shot.png");
   await page.screenshot({ path: shot });
   assert.ok(statSync(shot).size > 20000, "the screenshot is blank");
   assert.deepEqual(errors, []);
+});
+
+test("the histogram's curve is the 2D Maxwell-Boltzmann distribution", async () => {
+  assert.match(await text("#curve"), /2D Maxwell-Boltzmann/);
+  const peak = await curvePeak(page);
+  assert.ok(Math.abs(peak - 0.25) < 0.03, `the curve peaks at ${peak} of the width, not 0.25`);
+});
+
+describe("spheres", () => {
+  let spheres;
+  const sphereErrors = [];
+  const at = (selector) => spheres.textContent(selector);
+  const rotation = async () => ({ yaw: Number(await spheres.getAttribute("body", "data-yaw")),
+                                  pitch: Number(await spheres.getAttribute("body", "data-pitch")) });
+  const checksum = () => spheres.$eval("#box", (canvas) => {
+    const pixels = canvas.getContext("2d").getImageData(0, 0, canvas.width, canvas.height).data;
+    let sum = 0;
+    for (let i = 0; i < pixels.length; ++i) sum = (sum * 31 + pixels[i]) % 1000000007;
+    return sum;
+  });
+
+  before(async () => {
+    const start = join(folder, "spheres.txt"), movie = join(folder, "spheres.xyz");
+    execFileSync(carom, ["init", "--dim", "3", "--n", "500", "--phi", "0.3", "-o", start]);
+    execFileSync(carom, ["run", start, "3", "--rule", "elastic", "--dump", movie, "--every", "0.1",
+                         "--format", "csv", "-o", join(folder, "spheres-end.csv")]);
+    execFileSync(carom, ["view", movie, "-o", join(folder, "spheres.html")]);
+    spheres = await open(join(folder, "spheres.html"), sphereErrors);
+  });
+
+  after(() => spheres?.close());
+
+  test("the page knows the trajectory holds spheres", async () => {
+    assert.equal(await spheres.getAttribute("body", "data-dimension"), "3");
+    assert.equal(await at("#frames"), "30");
+    assert.match(await at("#info"), /^500 spheres, box [\d.]+ x [\d.]+ x [\d.]+ \(walls\)/);
+    assert.deepEqual(sphereErrors, []);
+  });
+
+  test("the spheres, the box and the histogram are drawn, in both colourings", async () => {
+    for (const colour of ["speed", "collisions"]) {
+      await spheres.selectOption("#colour", colour);
+      const box = await painted(spheres, "#box");
+      assert.ok(box > 0.15, `${colour}: only ${box} of the canvas is painted`);
+    }
+    const bars = await painted(spheres, "#histogram");
+    assert.ok(bars > 0.02, `only ${bars} of the histogram is painted`);
+    await spheres.$eval("#slider", (slider) => {
+      slider.value = "20";
+      slider.dispatchEvent(new Event("input"));
+    });
+    assert.equal(await at("#frame"), "20");
+    assert.equal(await at("#time"), "2.00000");
+    assert.deepEqual(sphereErrors, []);
+  });
+
+  test("the histogram's curve is the 3D Maxwell-Boltzmann distribution", async () => {
+    assert.match(await at("#curve"), /3D Maxwell-Boltzmann/);
+    const peak = await curvePeak(spheres);
+    assert.ok(Math.abs(peak - Math.SQRT2 / 4) < 0.03,
+              `the curve peaks at ${peak} of the width, not sqrt(2) / 4`);
+  });
+
+  test("dragging rotates the view, a double click restores it", async () => {
+    const home = await rotation(), unturned = await checksum();
+    const box = await spheres.locator("#box").boundingBox();
+    const x = box.x + box.width / 2, y = box.y + box.height / 2;
+    await spheres.mouse.move(x, y);
+    await spheres.mouse.down();
+    await spheres.mouse.move(x + 120, y + 40, { steps: 6 });  // 0.01 radian a pixel
+    await spheres.mouse.up();
+    // The page redraws on its next animation frame: wait for it rather than for a fixed time.
+    const shown = (yaw, pitch) => spheres.waitForFunction(
+        ([yaw, pitch]) => Math.abs(Number(document.body.dataset.yaw) - yaw) < 1e-3 &&
+                          Math.abs(Number(document.body.dataset.pitch) - pitch) < 1e-3,
+        [yaw, pitch], { timeout: 20000 });
+    await shown(home.yaw + 1.2, home.pitch + 0.4);
+    assert.notEqual(await checksum(), unturned, "the canvas did not change");
+    await spheres.dblclick("#box");
+    await shown(home.yaw, home.pitch);
+    assert.equal(await checksum(), unturned);
+    const shot = join(folder, "spheres.png");
+    await spheres.screenshot({ path: shot });
+    assert.ok(statSync(shot).size > 20000, "the screenshot is blank");
+    assert.deepEqual(sphereErrors, []);
+  });
 });
