@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""carom's benchmark: collisions per second and bytes per disk, N = 10^3..10^6.
+"""carom's benchmark: collisions per second and bytes per disk or sphere, N = 10^3..10^6.
 
 Usage: python3 bench/run_bench.py [--carom build/carom] [--name NAME] [--quick]
 Runs the real command line on `carom init` systems (elastic rule, periodic box, monodisperse,
-kT = 1, seed 1): each configuration in its own process, whose peak resident memory is read from
+kT = 1, seed 1), disks at packing fractions 0.3, 0.5 and 0.7 and spheres (N = 10^4..10^6) at 0.3
+and 0.45: each configuration in its own process, whose peak resident memory is read from
 the kernel (wait4). Collisions per second come from the run's own clock (simulation only, not
 reading or writing files). The seed's algorithm (--engine reference: every pair predicted again
 after every event) is timed at N = 2000 in the same run, for the speedup. Prints a Markdown table
@@ -26,9 +27,14 @@ def henderson(eta):
     return (1 + eta**2 / 8) / (1 - eta) ** 2 - 0.043 * eta**4 / (1 - eta) ** 3
 
 
-def collision_rate(eta):
-    # Per disk per unit time at kT = 1, sigma = 1: omega = 4 (Z - 1) / sqrt(pi).
-    return 4 * (henderson(eta) - 1) / math.sqrt(math.pi)
+def kolafa_labik_malijevsky(eta):
+    return (1 + eta + eta**2 - 2 / 3 * eta**3 * (1 + eta)) / (1 - eta) ** 3
+
+
+def collision_rate(eta, dim):
+    # Per particle per unit time at kT = 1, sigma = 1: omega = 2 D (Z - 1) / sqrt(pi).
+    z = henderson(eta) if dim == 2 else kolafa_labik_malijevsky(eta)
+    return 2 * dim * (z - 1) / math.sqrt(math.pi)
 
 
 def run(command):
@@ -40,22 +46,22 @@ def run(command):
     return usage.ru_maxrss * 1024
 
 
-def measure(carom, folder, n, eta, collisions, engine="fast"):
-    start = os.path.join(folder, f"start-{n}-{eta}.txt")
+def measure(carom, folder, n, eta, collisions, engine="fast", dim=2):
+    start = os.path.join(folder, f"start-{dim}d-{n}-{eta}.txt")
     summary = os.path.join(folder, "summary.json")
     if not os.path.exists(start):
-        run([carom, "init", "--n", str(n), "--phi", str(eta), "--boundary", "periodic",
-             "--seed", "1", "-o", start])
-    end_time = collisions / (n * collision_rate(eta) / 2)
+        run([carom, "init", "--dim", str(dim), "--n", str(n), "--phi", str(eta), "--boundary",
+             "periodic", "--seed", "1", "-o", start])
+    end_time = collisions / (n * collision_rate(eta, dim) / 2)
     peak = run([carom, "run", start, f"{end_time:.6g}", "--rule", "elastic", "--boundary",
                 "periodic", "--engine", engine, "--format", "csv", "-o", os.devnull,
                 "--summary", summary])
     with open(summary) as f:
         s = json.load(f)
-    return {"n": n, "packing_fraction": eta, "engine": engine, "collisions": s["pair_collisions"],
-            "events": s["events"], "seconds": s["wall_seconds"],
+    return {"dimension": dim, "n": n, "packing_fraction": eta, "engine": engine,
+            "collisions": s["pair_collisions"], "events": s["events"], "seconds": s["wall_seconds"],
             "collisions_per_second": s["pair_collisions"] / s["wall_seconds"],
-            "peak_rss_bytes": peak, "bytes_per_disk": peak / n}
+            "peak_rss_bytes": peak, "bytes_per_particle": peak / n}
 
 
 def main():
@@ -73,20 +79,22 @@ def main():
         print(f"N = 2000, eta = 0.5: reference {reference['collisions_per_second']:.4g}/s, "
               f"fast {fast_2000['collisions_per_second']:.4g}/s: speedup {speedup:.0f}x",
               flush=True)
-        print("| N | eta | collisions/s | bytes/disk | collisions | seconds | rate / rate(N=10^4) |")
-        print("|---|---|---|---|---|---|---|")
+        print("| particles | N | eta | collisions/s | bytes/particle | collisions | seconds "
+              "| rate / rate(N=10^4) |")
+        print("|---|---|---|---|---|---|---|---|")
         base = {}
-        for eta in (0.3, 0.5, 0.7):
-            for n in sizes:
-                row = measure(args.carom, folder, n, eta, min(50 * n, 4_000_000))
-                if n == 10**4:
-                    base[eta] = row["collisions_per_second"]
-                ratio = row["collisions_per_second"] / base[eta] if eta in base else float("nan")
-                row["rate_over_n10000"] = ratio
-                rows.append(row)
-                print(f"| {n} | {eta} | {row['collisions_per_second']:.4g} "
-                      f"| {row['bytes_per_disk']:.0f} | {row['collisions']} "
-                      f"| {row['seconds']:.2f} | {ratio:.2f} |", flush=True)
+        cases = [(2, eta, n) for eta in (0.3, 0.5, 0.7) for n in sizes]
+        cases += [(3, eta, n) for eta in (0.3, 0.45) for n in sizes if n >= 10**4]
+        for dim, eta, n in cases:
+            row = measure(args.carom, folder, n, eta, min(50 * n, 4_000_000), dim=dim)
+            if n == 10**4:
+                base[dim, eta] = row["collisions_per_second"]
+            ratio = row["collisions_per_second"] / base.get((dim, eta), float("nan"))
+            row["rate_over_n10000"] = ratio
+            rows.append(row)
+            print(f"| {'disks' if dim == 2 else 'spheres'} | {n} | {eta} "
+                  f"| {row['collisions_per_second']:.4g} | {row['bytes_per_particle']:.0f} "
+                  f"| {row['collisions']} | {row['seconds']:.2f} | {ratio:.2f} |", flush=True)
     result = {"name": args.name, "date": datetime.datetime.now().isoformat(timespec="seconds"),
               "machine": platform.node(), "cpu_count": os.cpu_count(),
               "reference_n2000": reference, "fast_n2000": fast_2000,

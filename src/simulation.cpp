@@ -9,9 +9,36 @@
 
 namespace carom {
 
+void check_settings(const Settings& settings) {
+  const CollisionRule& rule = settings.rule;
+  if (!(rule.restitution > 0.0 && rule.restitution <= 1.0)) {
+    throw std::invalid_argument(
+        fmt::format("the restitution must be in (0, 1], got {}", rule.restitution));
+  }
+  if (rule.restitution < 1.0 && rule.rule != Rule::elastic) {
+    throw std::invalid_argument(
+        "a restitution below 1 needs the elastic rule (the swap rule has no restitution)");
+  }
+  if (!(rule.elastic_within >= 0.0) || !std::isfinite(rule.elastic_within)) {
+    throw std::invalid_argument(
+        fmt::format("the TC time must be a number >= 0, got {}", rule.elastic_within));
+  }
+}
+
+namespace {
+
+// The engine for a new run, its settings checked first.
+template <std::size_t D>
+std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& settings) {
+  check_settings(settings);
+  return make_engine(settings.engine, std::move(system), settings.rule);
+}
+
+}  // namespace
+
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
-    : engine_(make_engine(settings.engine, std::move(system), settings.rule)),
+    : engine_(checked_engine(std::move(system), settings)),
       settings_(settings),
       time_(engine_->time()) {
   measurement_ = {time_, kinetic_energy(state()), {}};

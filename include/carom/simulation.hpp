@@ -36,6 +36,10 @@ struct Settings {
   EngineKind engine = EngineKind::fast;
 };
 
+// Throws std::invalid_argument for settings no run can have: a restitution outside (0, 1], below
+// 1 under the swap rule, or a negative TC time.
+void check_settings(const Settings& settings);
+
 // When an observer looks at a run.
 struct Trigger {
   enum class Kind {
@@ -100,8 +104,8 @@ class Simulation {
   static constexpr std::uint64_t kNoLimit = std::numeric_limits<std::uint64_t>::max();
 
   // Starts a run from `system` (every particle's stored state; usually all at t = 0; no records
-  // means mass 1 each). Throws std::invalid_argument for a system the engines cannot run (a
-  // periodic side not above two diameters, say).
+  // means mass 1 each). Throws std::invalid_argument for settings check_settings refuses and for
+  // a system the engines cannot run (a periodic side not above two diameters, say).
   explicit Simulation(System<D> system, const Settings& settings = {});
   // Continues a checkpointed run exactly as if it had never stopped.
   explicit Simulation(const Checkpoint<D>& checkpoint);
