@@ -1,9 +1,16 @@
 # The two commands a new user needs: `make demo` and `make test`. Both install what is missing
-# (Debian packages), build a Release binary at build/carom, then run it or the tests.
+# (Debian packages), build a Release binary at build/carom and the Python module, then run them or
+# the tests. `make demo` also installs the Python module for $(PYTHON).
 BUILD ?= build
 JOBS ?= $(shell nproc)
+# Debian's interpreter: the one with python3-numpy, which the module is built for (the python3
+# first on PATH may be another).
+PYTHON ?= /usr/bin/python3
+# Where python-install puts the package: $(PYTHON)'s site-packages for root (on Debian
+# /usr/local/lib/python3.X/dist-packages), else the user's own.
+PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps build demo test test-sanitize fuzz bench clean format
+.PHONY: all deps build demo test test-sanitize fuzz bench clean format python-install python-uninstall
 
 all: build
 
@@ -14,8 +21,21 @@ build: deps
 	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
 	@cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+demo: build python-install
 	$(BUILD)/carom run examples/walls_only.txt 20
+	cd /tmp && $(PYTHON) $(CURDIR)/examples/python/quickstart.py
+
+# Makes `import carom` work for $(PYTHON) from any folder.
+python-install: build
+	@test -n "$(PYTHON_SITE)" || { echo "no site-packages folder for $(PYTHON)"; exit 1; }
+	@mkdir -p $(PYTHON_SITE)
+	@rm -rf $(PYTHON_SITE)/carom
+	@cp -r $(BUILD)/python/carom $(PYTHON_SITE)/carom
+	@echo "Installed the carom Python module for $(PYTHON) in $(PYTHON_SITE)/carom (make python-uninstall removes it)"
+
+python-uninstall:
+	@test -n "$(PYTHON_SITE)" || { echo "no site-packages folder for $(PYTHON)"; exit 1; }
+	rm -rf $(PYTHON_SITE)/carom
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
@@ -23,7 +43,7 @@ test: build
 # The whole suite under AddressSanitizer and UndefinedBehaviorSanitizer (any report fails it).
 SANITIZE = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 test-sanitize: deps
-	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAROM_BUILD_BENCH=OFF \
+	@cmake -S . -B $(BUILD)-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAROM_BUILD_BENCH=OFF -DCAROM_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="$(SANITIZE)" -DCMAKE_EXE_LINKER_FLAGS="$(SANITIZE)" > $(BUILD)-sanitize.configure.log 2>&1 \
 	  || { cat $(BUILD)-sanitize.configure.log; exit 1; }
 	@cmake --build $(BUILD)-sanitize -j $(JOBS)
@@ -35,7 +55,7 @@ test-sanitize: deps
 FUZZ_SECONDS ?= 300
 fuzz: deps
 	@cmake -S . -B $(BUILD)-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-	  -DCAROM_FUZZ=ON -DCAROM_BUILD_TESTS=OFF -DCAROM_BUILD_BENCH=OFF \
+	  -DCAROM_FUZZ=ON -DCAROM_BUILD_TESTS=OFF -DCAROM_BUILD_BENCH=OFF -DCAROM_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > $(BUILD)-fuzz.configure.log 2>&1 \
 	  || { cat $(BUILD)-fuzz.configure.log; exit 1; }
@@ -47,7 +67,7 @@ fuzz: deps
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build
 	$(BUILD)/carom_micro_bench --benchmark_min_time=0.2
-	python3 bench/run_bench.py --carom $(BUILD)/carom
+	$(PYTHON) bench/run_bench.py --carom $(BUILD)/carom
 
 format:
 	clang-format -i $$(git ls-files '*.cpp' '*.hpp')

@@ -211,6 +211,15 @@ void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer) {
 }
 
 template <std::size_t D>
+void Simulation<D>::remove_observer(const Observer<D>* observer) {
+  std::erase_if(observers_,
+                [&](const Scheduled& entry) { return entry.observer.get() == observer; });
+  watch_events_ = std::any_of(observers_.begin(), observers_.end(), [](const Scheduled& entry) {
+    return entry.observer->trigger().kind != Trigger::Kind::time;
+  });
+}
+
+template <std::size_t D>
 void Simulation<D>::reset_measurement() {
   measurement_ = {time_, kinetic_energy(state()), {}};
   measure_from_.reset();

@@ -311,6 +311,14 @@ TEST(Simulation, ObserversFireOnTheirOwnTimeline) {
   EXPECT_EQ(late->times, (std::vector<double>{15}));
   EXPECT_THROW(simulation.add_observer(std::make_shared<FrameRecorder<2>>(0.0)),
                std::invalid_argument);
+  // A removed observer is called no more; the others go on.
+  EXPECT_EQ(counter->seen, (std::vector<std::uint64_t>{2, 4}));  // the hit at 14
+  simulation.remove_observer(counter.get());
+  simulation.remove_observer(late.get());
+  simulation.run_until(30.0);  // hits at 18, 22, 26, 30
+  EXPECT_EQ(counter->seen, (std::vector<std::uint64_t>{2, 4}));
+  EXPECT_EQ(late->times, (std::vector<double>{15}));
+  EXPECT_EQ(frames->times.back(), 30.0);
 }
 
 TEST(Simulation, CheckpointsContinueExactly) {

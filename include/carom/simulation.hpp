@@ -152,6 +152,8 @@ class Simulation {
   // Observers are called in the order they were added; adding one at a time it is due (a frame
   // at t = 0) calls it at the next run_until.
   void add_observer(std::shared_ptr<Observer<D>> observer);
+  // Stops calling `observer` (a front end's per-call trajectory or collision log, say).
+  void remove_observer(const Observer<D>* observer);
   // A flag the caller owns (and may set from a signal handler): nonzero stops run_until after
   // the event being processed. nullptr: none.
   void set_stop_flag(const std::atomic<int>* flag) { stop_ = flag; }

@@ -1,0 +1,285 @@
+"""carom: event-driven molecular dynamics of hard disks and hard spheres.
+
+The engine of the ``carom`` command line, driven from Python with numpy arrays. A run gives the
+command line's results bit for bit::
+
+    import carom
+
+    sim = carom.read("examples/normal.txt")                 # a classic file, disks or spheres
+    sim.run(20.0)
+    print(sim.positions)                                   # (N, 2) float64, at sim.time
+
+    sim = carom.init(n=4096, phi=0.5, seed=1, boundary="periodic", rule="elastic")
+    sim.run(50.0)
+    sim.reset_measurement()                                # equilibrated: measure from now
+    sim.run(150.0, dump="movie.xyz", every=1.0)
+    print(sim.observables()["compressibility_factor"])
+    sim.save("run.ckpt")                                   # `carom run --resume run.ckpt` reads it
+
+Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the module is built for.
+Bad arguments raise ``ValueError`` with the command line's messages; a broken file raises
+``carom.InputError`` (a ``ValueError``) naming the file and line; a run that cannot go on (jammed
+particles) raises ``carom.JamError`` (a ``RuntimeError``). Ctrl-C during ``run`` raises
+``KeyboardInterrupt`` within a fraction of a second and leaves the simulation whole: it can be
+saved or run on.
+"""
+
+import json as _json
+import numbers as _numbers
+
+import numpy as _np
+
+from . import _carom
+from ._carom import InputError, JamError
+
+__version__ = _carom.__version__
+__all__ = ["Simulation", "read", "init", "resume", "InputError", "JamError", "__version__"]
+
+_RULE_DEFAULTS = {"rule": "swap", "restitution": 1.0, "tc": 1e-5, "engine": "fast"}
+
+
+def _float_array(name, value, shape):
+    """value as a C-contiguous float64 array of `shape` (None: any length), or ValueError."""
+    if isinstance(value, _np.ndarray) and value.dtype != _np.float64:
+        raise ValueError(f"{name} must be a float64 array, got dtype {value.dtype}")
+    try:
+        array = _np.ascontiguousarray(value, dtype=_np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{name} must be an array of numbers: {error}") from None
+    if array.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, array.shape)):
+        wanted = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise ValueError(f"{name} must have shape {wanted}, got {array.shape}")
+    return array
+
+
+def _per_particle(name, value, n, default):
+    """A scalar or an (N,) array as an (N,) float64 array."""
+    if value is None:
+        value = default
+    if isinstance(value, _numbers.Real) and not isinstance(value, bool):
+        return _np.full(n, float(value))
+    return _float_array(name, value, (n,))
+
+
+def _number(name, value):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Real):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
+def _whole(name, value, least=0):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
+        raise ValueError(f"{name} must be a whole number, got {value!r}")
+    if value < least:
+        raise ValueError(f"{name} must be at least {least}, got {value}")
+    return int(value)
+
+
+class Simulation:
+    """A run of hard disks (dim 2) or spheres (dim 3): its state, its engine and its measurement.
+
+    Simulation(positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
+               rule="swap", restitution=1.0, tc=1e-5, engine="fast")
+
+    positions, velocities: (N, D) float64 arrays at t = 0 (D = 2 or 3); box: the D sides (the box
+    is [0, Lx] x [0, Ly] [x [0, Lz]]); radii, masses: a number or an (N,) array. boundary:
+    "walls" (hard walls on every face) or "periodic". rule: "swap" (the seed's: touching
+    particles exchange velocities) or "elastic" (momentum exchanged along the line of centres,
+    with masses); restitution < 1 makes elastic collisions inelastic, and a particle that
+    collided less than `tc` ago collides elastically (the TC model against inelastic collapse).
+    engine: "fast" (O(1) per event) or "reference" (the seed's O(N^2) algorithm, for checking).
+
+    The start is checked as `carom run` checks a file: finite numbers, positive radii and
+    masses, particles inside the box, clear of the walls and of each other (touching is fine);
+    anything else is a ValueError saying what and which particle.
+
+    carom.read, carom.init and carom.resume make Simulations from a file, from `carom init`'s
+    options, and from a checkpoint.
+    """
+
+    def __init__(self, positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
+                 rule="swap", restitution=1.0, tc=1e-5, engine="fast"):
+        positions = _float_array("positions", positions, (None, None))
+        if positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
+            raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
+                             f"got {positions.shape}")
+        n, d = positions.shape
+        velocities = _float_array("velocities", velocities, (n, d))
+        box = _float_array("box", box, (d,))
+        radii = _per_particle("radii", radii, n, 0.5)
+        masses = _per_particle("masses", masses, n, 1.0)
+        self._core = _carom.Simulation.from_arrays(
+            positions, velocities, box, radii, masses, boundary, rule,
+            _number("restitution", restitution), _number("tc", tc), engine)
+
+    @classmethod
+    def _wrap(cls, core):
+        simulation = cls.__new__(cls)
+        simulation._core = core
+        return simulation
+
+    def run(self, t, dump=None, every=None, collisions=False):
+        """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
+
+        Every event up to t is processed in time order; any sequence of runs ends exactly as one
+        run to the last time would. The GIL is released while the engine works.
+
+        dump: a trajectory file written as the run goes, a frame every `every` time units (at
+        multiples of `every`): ".xyz" (extended XYZ, for ASE and OVITO) or ".lammpstrj". The
+        next run with the same dump and every continues the file; a different one starts anew.
+        collisions: when True, returns a numpy structured array of this run's collisions with
+        fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
+        bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
+        """
+        t = _number("t", t)
+        if dump is not None:
+            if every is None:
+                raise ValueError("dump needs every: the time between frames")
+            every = _number("every", every)
+        elif every is not None:
+            raise ValueError("every needs dump: the file to write frames to")
+        self._core.run(t, None if dump is None else str(dump), 0.0 if every is None else every,
+                       bool(collisions))
+        return self._core.collisions() if collisions else None
+
+    def collisions(self):
+        """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""
+        return self._core.collisions()
+
+    @property
+    def time(self):
+        """The time the run has reached."""
+        return self._core.time
+
+    @property
+    def events(self):
+        """Collisions processed since the run began (across checkpoints)."""
+        return self._core.events
+
+    @property
+    def n(self):
+        """The number of particles."""
+        return self._core.n
+
+    @property
+    def dim(self):
+        """2 for disks, 3 for spheres."""
+        return self._core.dim
+
+    @property
+    def box(self):
+        """The box's sides, a (D,) float64 array."""
+        return self._core.box
+
+    @property
+    def boundary(self):
+        return self._core.boundary
+
+    @property
+    def rule(self):
+        return self._core.rule
+
+    @property
+    def restitution(self):
+        return self._core.restitution
+
+    @property
+    def tc(self):
+        return self._core.tc
+
+    @property
+    def engine(self):
+        return self._core.engine
+
+    @property
+    def positions(self):
+        """Every particle's centre at sim.time, wrapped into a periodic box: (N, D) float64 (a copy)."""
+        return self._core.positions
+
+    @property
+    def velocities(self):
+        """Every particle's velocity at sim.time: (N, D) float64 (a copy)."""
+        return self._core.velocities
+
+    @property
+    def radii(self):
+        return self._core.radii
+
+    @property
+    def masses(self):
+        return self._core.masses
+
+    @property
+    def wall_collisions(self):
+        """Each particle's wall collisions so far: (N,) uint64."""
+        return self._core.wall_collisions
+
+    @property
+    def pair_collisions(self):
+        """Each particle's collisions with other particles so far: (N,) uint64."""
+        return self._core.pair_collisions
+
+    def observables(self):
+        """The json summary of `carom run --summary` as a dict: the same keys and values.
+
+        Pressure (collision virial), Z = PV/NkT, kT (over D(N - 1) degrees of freedom in a
+        periodic box), wall pressure, collision rate and mean free time, measured over the
+        window opened by reset_measurement or measure_from (from t = 0 by default).
+        """
+        return _json.loads(self._core.json(False))
+
+    def reset_measurement(self):
+        """Opens the measurement window now: counts from zero, the kinetic energy now."""
+        self._core.reset_measurement()
+
+    def measure_from(self, t):
+        """Opens the measurement window at time t (as `carom run --equilibrate t`)."""
+        self._core.measure_from(_number("t", t))
+
+    def format(self, kind="table"):
+        """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""
+        return self._core.text(kind)
+
+    def save(self, path):
+        """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""
+        self._core.save(str(path))
+
+    def __repr__(self):
+        kind = "disks" if self.dim == 2 else "spheres"
+        return (f"<carom.Simulation: {self.n} {kind}, t = {self.time}, {self.events} events, "
+                f"{self.boundary}, {self.rule}>")
+
+
+def read(path, rule="swap", boundary="walls", restitution=1.0, tc=1e-5, engine="fast"):
+    """A Simulation from a classic input file (two box sides: disks; three: spheres).
+
+    The options are `carom run`'s. A broken file raises carom.InputError naming the file and line.
+    """
+    return Simulation._wrap(_carom.Simulation.read(
+        str(path), boundary, rule, _number("restitution", restitution), _number("tc", tc), engine))
+
+
+def init(n, phi, seed=1, dim=2, boundary="walls", rule="swap", box=None, aspect=1.0,
+         radius=None, polydispersity=0.0, kT=1.0, placement="auto", restitution=1.0, tc=1e-5,
+         engine="fast"):
+    """A Simulation of `carom init`'s start: the same particles, bit for bit.
+
+    n particles at packing fraction phi with Maxwell-Boltzmann velocities at kT (zero momentum,
+    exact temperature), reproducible from seed. dim 2: disks (random placement up to phi = 0.4,
+    a triangular lattice above, up to 0.9069); dim 3: spheres (random up to 0.25, FCC above, up
+    to 0.7405 for n = 4 k^3 in a periodic cube). box: the sides (the radius follows); else a
+    square or cube (aspect = Lx / Ly) of spheres of `radius` (default 0.5). placement: "auto",
+    "random" or "lattice". The run's options (rule, restitution, tc, engine) are `carom run`'s.
+    """
+    box = [] if box is None else [float(side) for side in _float_array("box", box, (None,))]
+    return Simulation._wrap(_carom.Simulation.init(
+        _whole("dim", dim, 2), _whole("n", n, 1), _number("phi", phi), box,
+        _number("aspect", aspect), None if radius is None else _number("radius", radius),
+        _number("polydispersity", polydispersity), _number("kT", kT), _whole("seed", seed),
+        boundary, placement, rule, _number("restitution", restitution), _number("tc", tc),
+        engine))
+
+
+def resume(path):
+    """The Simulation a checkpoint holds (sim.save or `carom run --checkpoint`), to run on exactly."""
+    return Simulation._wrap(_carom.Simulation.resume(str(path)))

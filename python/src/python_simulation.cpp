@@ -1,0 +1,375 @@
+#include "python_simulation.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "carom/checkpoint.hpp"
+#include "carom/classic_input.hpp"
+#include "carom/formats.hpp"
+#include "carom/trajectory.hpp"
+
+namespace carom::python {
+
+namespace {
+
+// Events a run processes between two looks at Python's signals: about 10 to 100 ms of work, so
+// that Ctrl-C interrupts within a fraction of a second at negligible cost.
+constexpr std::uint64_t kEventsBetweenSignalChecks = 10000;
+
+// Logs every collision of the run it observes.
+template <std::size_t D>
+class CollisionLogger final : public Observer<D> {
+ public:
+  explicit CollisionLogger(std::vector<LoggedCollision>& log)
+      : Observer<D>(Trigger::each_event()), log_(log) {}
+  void observe(const Simulation<D>& simulation) override {
+    const Event& e = simulation.last_event();
+    log_.push_back({e.time, e.first, e.partner});
+  }
+
+ private:
+  std::vector<LoggedCollision>& log_;
+};
+
+// A system of dimension D from float64 arrays whose shapes the Python layer has checked.
+template <std::size_t D>
+System<D> system_from(const py::array_t<double>& positions, const py::array_t<double>& velocities,
+                      const py::array_t<double>& box, const py::array_t<double>& radii,
+                      const py::array_t<double>& masses, Boundary boundary) {
+  const auto n = static_cast<std::size_t>(positions.shape(0));
+  const auto p = positions.unchecked<2>();
+  const auto v = velocities.unchecked<2>();
+  const auto b = box.unchecked<1>();
+  const auto r = radii.unchecked<1>();
+  const auto m = masses.unchecked<1>();
+  System<D> system;
+  system.box.boundary = boundary;
+  for (std::size_t k = 0; k < D; ++k) system.box.size[k] = b(k);
+  system.particles.reserve(n);
+  system.records.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    Particle<D> particle;
+    for (std::size_t k = 0; k < D; ++k) {
+      particle.position[k] = p(i, k);
+      particle.velocity[k] = v(i, k);
+    }
+    particle.radius = r(i);
+    system.add(particle, m(i));
+  }
+  check_start(system);
+  return system;
+}
+
+void require(bool condition, const std::string& message) {
+  if (!condition) throw std::invalid_argument(message);
+}
+
+}  // namespace
+
+PythonSimulation::PythonSimulation(AnySimulation simulation, std::string source)
+    : simulation_(std::move(simulation)), source_(std::move(source)) {}
+
+PythonSimulation PythonSimulation::from_arrays(const py::array_t<double>& positions,
+                                               const py::array_t<double>& velocities,
+                                               const py::array_t<double>& box,
+                                               const py::array_t<double>& radii,
+                                               const py::array_t<double>& masses, Boundary boundary,
+                                               const Settings& settings) {
+  require(positions.ndim() == 2 && (positions.shape(1) == 2 || positions.shape(1) == 3),
+          "positions must be an (N, 2) or (N, 3) array");
+  const auto n = positions.shape(0), d = positions.shape(1);
+  require(velocities.ndim() == 2 && velocities.shape(0) == n && velocities.shape(1) == d,
+          fmt::format("velocities must have the shape of positions, ({}, {})", n, d));
+  require(box.ndim() == 1 && box.shape(0) == d, fmt::format("box must hold {} sides", d));
+  require(radii.ndim() == 1 && radii.shape(0) == n, fmt::format("radii must hold {} values", n));
+  require(masses.ndim() == 1 && masses.shape(0) == n, fmt::format("masses must hold {} values", n));
+  if (d == 2) {
+    return {AnySimulation(std::in_place_type<Simulation<2>>,
+                          system_from<2>(positions, velocities, box, radii, masses, boundary),
+                          settings),
+            "(arrays)"};
+  }
+  return {
+      AnySimulation(std::in_place_type<Simulation<3>>,
+                    system_from<3>(positions, velocities, box, radii, masses, boundary), settings),
+      "(arrays)"};
+}
+
+PythonSimulation PythonSimulation::read(const std::string& path, Boundary boundary,
+                                        const Settings& settings) {
+  check_settings(settings);
+  return std::visit(
+      [&](auto&& input) {
+        using System = std::remove_cvref_t<decltype(input.system)>;
+        return PythonSimulation(AnySimulation(std::in_place_type<Simulation<System::dimension>>,
+                                              std::move(input.system), settings),
+                                path);
+      },
+      read_any_classic_file(path, boundary));
+}
+
+PythonSimulation PythonSimulation::init(const InitRequest& request, const Settings& settings) {
+  check_settings(settings);
+  try {
+    if (request.dimension == 3) {
+      return {AnySimulation(std::in_place_type<Simulation<3>>, make_initial<3>(request.options),
+                            settings),
+              "(carom.init)"};
+    }
+    require(request.dimension == 2, "dim must be 2 (disks) or 3 (spheres)");
+    return {AnySimulation(std::in_place_type<Simulation<2>>, make_initial<2>(request.options),
+                          settings),
+            "(carom.init)"};
+  } catch (const InitialError& e) {
+    throw std::invalid_argument(e.what());
+  }
+}
+
+PythonSimulation PythonSimulation::resume(const std::string& path) {
+  std::ifstream file = open_input(path);
+  return std::visit(
+      [&](const auto& checkpoint) {
+        using System = std::remove_cvref_t<decltype(checkpoint.system)>;
+        return PythonSimulation(
+            AnySimulation(std::in_place_type<Simulation<System::dimension>>, checkpoint),
+            checkpoint.source);
+      },
+      read_checkpoint(file, path));
+}
+
+void PythonSimulation::open_dump(const std::string& path, double every) {
+  require(every > 0.0 && std::isfinite(every), "dump needs every > 0: the time between frames");
+  auto dump = std::make_unique<Dump>();
+  dump->path = path;
+  dump->every = every;
+  std::visit(
+      [&](auto& simulation) {
+        constexpr std::size_t D = std::remove_reference_t<decltype(simulation.state())>::dimension;
+        auto format = trajectory_format_for<D>(path);  // refuses an unknown ending first
+        dump->file.open(path, std::ios::binary | std::ios::trunc);
+        require(dump->file.is_open(), fmt::format("cannot write '{}'", path));
+        auto writer = std::make_shared<FrameWriter<D>>(dump->file, std::move(format), every);
+        dump->writer = writer.get();
+        simulation.add_observer(std::move(writer));
+      },
+      simulation_);
+  dump_ = std::move(dump);
+}
+
+void PythonSimulation::close_dump() {
+  if (!dump_) return;
+  std::visit(
+      [&](auto& simulation) {
+        constexpr std::size_t D = std::remove_reference_t<decltype(simulation.state())>::dimension;
+        simulation.remove_observer(static_cast<const Observer<D>*>(dump_->writer));
+      },
+      simulation_);
+  dump_.reset();
+}
+
+void PythonSimulation::run(double t, const std::optional<std::string>& dump, double every,
+                           bool collisions) {
+  std::visit([&](const auto& simulation) { simulation.check_target(t); }, simulation_);
+  if (!dump) {
+    close_dump();
+  } else if (!dump_ || dump_->path != *dump || dump_->every != every) {
+    close_dump();
+    open_dump(*dump, every);
+  }
+  std::visit(
+      [&](auto& simulation) {
+        constexpr std::size_t D = std::remove_reference_t<decltype(simulation.state())>::dimension;
+        if (collisions && !logger_) {
+          auto logger = std::make_shared<CollisionLogger<D>>(log_);
+          logger_ = logger.get();
+          simulation.add_observer(std::move(logger));
+        } else if (!collisions && logger_) {
+          simulation.remove_observer(static_cast<const Observer<D>*>(logger_));
+          logger_ = nullptr;
+        }
+      },
+      simulation_);
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  for (;;) {
+    RunStatus status = RunStatus::reached;
+    try {
+      py::gil_scoped_release release;
+      status = std::visit(
+          [&](auto& simulation) { return simulation.run_until(t, kEventsBetweenSignalChecks); },
+          simulation_);
+    } catch (...) {
+      wall_seconds_ += elapsed();
+      throw;
+    }
+    if (status == RunStatus::reached) break;
+    if (PyErr_CheckSignals() != 0) {
+      wall_seconds_ += elapsed();
+      throw py::error_already_set();
+    }
+  }
+  wall_seconds_ += elapsed();
+}
+
+py::array PythonSimulation::collisions() {
+  // A structured array: time (float64), i and j (int64; j < 0 is a wall label).
+  py::list fields;
+  fields.append(py::make_tuple("time", "<f8"));
+  fields.append(py::make_tuple("i", "<i8"));
+  fields.append(py::make_tuple("j", "<i8"));
+  const py::dtype dtype = py::dtype::from_args(fields);
+  py::array out(dtype, std::vector<py::ssize_t>{static_cast<py::ssize_t>(log_.size())});
+  static_assert(sizeof(LoggedCollision) == 24);
+  if (!log_.empty()) std::memcpy(out.mutable_data(), log_.data(), log_.size() * 24);
+  log_.clear();
+  return out;
+}
+
+double PythonSimulation::time() const {
+  return std::visit([](const auto& s) { return s.time(); }, simulation_);
+}
+std::uint64_t PythonSimulation::events() const {
+  return std::visit([](const auto& s) { return s.counts().events; }, simulation_);
+}
+std::size_t PythonSimulation::size() const {
+  return std::visit([](const auto& s) { return s.state().size(); }, simulation_);
+}
+int PythonSimulation::dimension() const {
+  return simulation_.index() == 0 ? 2 : 3;
+}
+
+py::array_t<double> PythonSimulation::box() const {
+  return std::visit(
+      [](const auto& s) {
+        const auto& size = s.state().box.size;
+        py::array_t<double> out(static_cast<py::ssize_t>(size.c.size()));
+        std::copy(size.c.begin(), size.c.end(), out.mutable_data());
+        return out;
+      },
+      simulation_);
+}
+
+std::string PythonSimulation::boundary() const {
+  return std::visit([](const auto& s) { return std::string(name_of(s.state().box.boundary)); },
+                    simulation_);
+}
+std::string PythonSimulation::rule() const {
+  return std::visit([](const auto& s) { return std::string(name_of(s.settings().rule.rule)); },
+                    simulation_);
+}
+double PythonSimulation::restitution() const {
+  return std::visit([](const auto& s) { return s.settings().rule.restitution; }, simulation_);
+}
+double PythonSimulation::tc() const {
+  return std::visit([](const auto& s) { return s.settings().rule.elastic_within; }, simulation_);
+}
+std::string PythonSimulation::engine() const {
+  return std::visit([](const auto& s) { return std::string(name_of(s.settings().engine)); },
+                    simulation_);
+}
+
+namespace {
+
+// An (N, D) array of one vector of every particle at the simulation's time.
+template <class Pick>
+py::array_t<double> per_particle_vectors(const AnySimulation& any, Pick pick) {
+  return std::visit(
+      [&](const auto& s) {
+        const auto now = s.snapshot();
+        constexpr std::size_t D = std::remove_cvref_t<decltype(s.state())>::dimension;
+        py::array_t<double> out(
+            {static_cast<py::ssize_t>(now.size()), static_cast<py::ssize_t>(D)});
+        double* data = out.mutable_data();
+        for (std::size_t i = 0; i < now.size(); ++i) {
+          const auto& v = pick(now[i]);
+          for (std::size_t k = 0; k < D; ++k) data[i * D + k] = v[k];
+        }
+        return out;
+      },
+      any);
+}
+
+// An (N,) array of one number per particle.
+template <class T, class Pick>
+py::array_t<T> per_particle(const AnySimulation& any, Pick pick) {
+  return std::visit(
+      [&](const auto& s) {
+        const auto& system = s.state();
+        py::array_t<T> out(static_cast<py::ssize_t>(system.size()));
+        T* data = out.mutable_data();
+        for (std::size_t i = 0; i < system.size(); ++i) {
+          data[i] = pick(system.particles[i], system.records[i]);
+        }
+        return out;
+      },
+      any);
+}
+
+}  // namespace
+
+py::array_t<double> PythonSimulation::positions() const {
+  return per_particle_vectors(
+      simulation_, [](const auto& p) -> const auto& { return p.position; });
+}
+py::array_t<double> PythonSimulation::velocities() const {
+  return per_particle_vectors(
+      simulation_, [](const auto& p) -> const auto& { return p.velocity; });
+}
+py::array_t<double> PythonSimulation::radii() const {
+  return per_particle<double>(simulation_, [](const auto& p, const auto&) { return p.radius; });
+}
+py::array_t<double> PythonSimulation::masses() const {
+  return per_particle<double>(simulation_, [](const auto&, const auto& r) { return r.mass; });
+}
+py::array_t<std::uint64_t> PythonSimulation::wall_collisions() const {
+  return per_particle<std::uint64_t>(simulation_,
+                                     [](const auto&, const auto& r) { return r.wall_collisions; });
+}
+py::array_t<std::uint64_t> PythonSimulation::pair_collisions() const {
+  return per_particle<std::uint64_t>(simulation_,
+                                     [](const auto&, const auto& r) { return r.pair_collisions; });
+}
+
+std::string PythonSimulation::json(bool particles) const {
+  std::ostringstream out;
+  std::visit(
+      [&](const auto& s) {
+        write_json(out, s, {source_, wall_seconds_}, particles);
+      },
+      simulation_);
+  return out.str();
+}
+
+std::string PythonSimulation::text(Format format) const {
+  std::ostringstream out;
+  std::visit(
+      [&](const auto& s) {
+        constexpr std::size_t D = std::remove_cvref_t<decltype(s.state())>::dimension;
+        if (format == Format::table) write_table<D>(out, s.snapshot(), s.state().records);
+        if (format == Format::csv) write_csv<D>(out, s.snapshot(), s.state().records);
+        if (format == Format::json) write_json(out, s, {source_, wall_seconds_});
+      },
+      simulation_);
+  return out.str();
+}
+
+void PythonSimulation::reset_measurement() {
+  std::visit([](auto& s) { s.reset_measurement(); }, simulation_);
+}
+
+void PythonSimulation::measure_from(double t) {
+  require(t >= 0.0 && std::isfinite(t), fmt::format("measure_from needs a time >= 0, got {}", t));
+  std::visit([&](auto& s) { s.measure_from(t); }, simulation_);
+}
+
+void PythonSimulation::save(const std::string& path) const {
+  std::visit([&](const auto& s) { save_checkpoint(path, s, source_); }, simulation_);
+}
+
+}  // namespace carom::python
