@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "carom/atomic_file.hpp"
+#include "carom/classic_input.hpp"
 #include "carom/names.hpp"
 #include "carom/stop_signal.hpp"
 
@@ -90,5 +91,25 @@ class Output {
 
 // A number from the command line, finite; `what` names it in the message.
 double parse_number(const std::string& text, const std::string& what);
+
+// Lets through only what parse_number reads (no hex floats, infinities or NaN, nothing out of
+// range): every numeric option checks its text with it, so all of them read numbers alike.
+inline const CLI::Validator& finite_number() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        try {
+          parse_finite_double(text);
+          return {};
+        } catch (const std::invalid_argument& e) {
+          return e.what();
+        }
+      },
+      "NUMBER");
+  return validator;
+}
+
+// Refuses, before anything is created, a path that cannot be written: its folder is missing or
+// not writable, or it is a folder itself.
+void check_writable(const std::string& path);
 
 }  // namespace carom::cli

@@ -1,5 +1,7 @@
 #include "init_command.hpp"
 
+#include <fmt/format.h>
+
 #include <numeric>
 
 #include "carom/formats.hpp"
@@ -32,23 +34,30 @@ Examples:
   init->add_option("--dim", args.dimension, "2: disks; 3: spheres")
       ->check(CLI::IsMember({2, 3}))
       ->default_str("2");
-  init->add_option("--n", o.n, "Number of particles")->required();
+  init->add_option("--n", args.n, "Number of particles")->required();
   init->add_option("--phi", o.packing_fraction,
                    "Packing fraction: particle area (volume) / box area (volume)")
+      ->check(finite_number())
       ->required();
   auto* box = init->add_option("--box", o.box, "The box's sides Lx Ly [Lz] (the radius follows)")
+                  ->check(finite_number())
                   ->expected(2, 3);
   init->add_option("--aspect", o.aspect, "Lx / Ly of a derived box (in 3D Lz = Ly)")
+      ->check(finite_number())
       ->default_str("1")
       ->excludes(box);
   init->add_option_function<double>(
           "--radius", [&o](double radius) { o.radius = radius; },
           "Mean radius (default 0.5: diameter 1)")
+      ->check(finite_number())
       ->excludes(box);
   init->add_option("--polydispersity", o.polydispersity,
                    "Standard deviation of the radius over its mean (uniform distribution, <= 0.5)")
+      ->check(finite_number())
       ->default_str("0");
-  init->add_option("--kT", o.temperature, "Temperature (masses are 1)")->default_str("1");
+  init->add_option("--kT", o.temperature, "Temperature (masses are 1)")
+      ->check(finite_number())
+      ->default_str("1");
   init->add_option("--seed", o.seed, "Random seed")->default_str("1");
   add_choice<Boundary>(init, "--boundary", o.boundary,
                        "The box the file is meant for: with walls, particles keep R from them");
@@ -62,8 +71,10 @@ Examples:
 
 namespace {
 
+// Makes the start, then writes it: the output file is created only once there is something to
+// put in it, so a stop during the work (init installs no signal handler) leaves nothing behind.
 template <std::size_t D>
-void write_initial(const InitialOptions& o, Output& out) {
+void write_initial(const InitialOptions& o, const std::string& path) {
   System<D> system;
   try {
     system = make_initial<D>(o);
@@ -75,22 +86,25 @@ void write_initial(const InitialOptions& o, Output& out) {
   for (const Particle<D>& p : system.particles) sum += p.radius;
   const double mean = o.polydispersity == 0.0 ? system.particles.front().radius
                                               : sum / static_cast<double>(system.size());
+  Output out(path);
   write_classic(out.stream(), system, mean);
+  out.commit();
 }
 
 }  // namespace
 
 void init_command(InitArguments args) {
   InitialOptions& o = args.options;
+  if (args.n < 1) throw UsageError(fmt::format("--n must be at least 1, got {}", args.n));
+  o.n = static_cast<std::uint64_t>(args.n);
   if (args.lattice) o.placement = Placement::lattice;
   if (args.random) o.placement = Placement::random;
-  Output out(args.output);
+  if (!args.output.empty() && args.output != "-") check_writable(args.output);
   if (args.dimension == 3) {
-    write_initial<3>(o, out);
+    write_initial<3>(o, args.output);
   } else {
-    write_initial<2>(o, out);
+    write_initial<2>(o, args.output);
   }
-  out.commit();
 }
 
 }  // namespace carom::cli

@@ -1,8 +1,14 @@
 // The carom command line: parses arguments, builds a Simulation, attaches outputs, formats.
 // Exit codes: 0 success, 2 usage or input error, 1 runtime failure, 128 + N stopped by signal N.
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
@@ -21,6 +27,22 @@ double parse_number(const std::string& text, const std::string& what) {
     return parse_finite_double(text);
   } catch (const std::invalid_argument& e) {
     throw UsageError(what + ": " + e.what());
+  }
+}
+
+void check_writable(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::is_directory(path, error)) {
+    throw UsageError(fmt::format("cannot write '{}': it is a directory", path));
+  }
+  fs::path folder = fs::path(path).parent_path();
+  if (folder.empty()) folder = ".";
+  if (!fs::is_directory(folder, error)) {
+    throw UsageError(fmt::format("cannot write '{}': no folder {}", path, folder.string()));
+  }
+  if (::access(folder.c_str(), W_OK) != 0) {
+    throw UsageError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
   }
 }
 
@@ -128,7 +150,8 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
     return kUsageError;
   }
 
-  carom::install_stop_handlers(stop_signal());
+  // Only a run has state worth saving on a signal; init and view stop at once, as any program.
+  if (run->parsed()) carom::install_stop_handlers(stop_signal());
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);

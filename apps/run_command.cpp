@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
@@ -42,6 +43,62 @@ constexpr const char* kExamples = R"(Examples:
   carom run --resume run.ckpt 2e4 --equilibrate 1e4 --dump movie.xyz --every 10 --format json
   carom run spheres.txt 100 --rule elastic --boundary periodic --format json   (carom init --dim 3))";
 
+// --checkpoint-every: a number of events (1000000) or of seconds (600s).
+Trigger checkpoint_trigger(const std::string& every) {
+  const bool seconds = !every.empty() && every.back() == 's';
+  const double value =
+      parse_number(seconds ? every.substr(0, every.size() - 1) : every, "--checkpoint-every");
+  if (!(value > 0.0)) throw UsageError("--checkpoint-every must be greater than 0");
+  if (seconds) return Trigger::every_seconds(value);
+  if (value < 1.0 || value != std::floor(value)) {
+    throw UsageError("--checkpoint-every counts events: a whole number, or seconds as 600s");
+  }
+  // Beyond this a double no longer holds every whole number, and no run has so many events.
+  constexpr double kMostEvents = 9007199254740992.0;  // 2^53
+  if (value > kMostEvents) {
+    throw UsageError(
+        fmt::format("--checkpoint-every {} is more events than a run can have (at most 2^53 = {})",
+                    every, kMostEvents));
+  }
+  return Trigger::every_events(static_cast<std::uint64_t>(value));
+}
+
+// Whether two paths name one file: the same file if both exist (hard links, symlinks and
+// other spellings included), else the same absolute path once symbolic links are resolved.
+bool same_file(const std::string& a, const std::string& b) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::exists(a, error) && fs::exists(b, error)) return fs::equivalent(a, b, error);
+  const fs::path pa = fs::weakly_canonical(fs::absolute(a, error), error);
+  const fs::path pb = fs::weakly_canonical(fs::absolute(b, error), error);
+  return pa == pb;
+}
+
+// Refuses two outputs (or an output and the input) that are one file: one would overwrite the
+// other. A resumed run may save its checkpoint where it read it.
+void check_distinct_outputs(const RunArguments& args) {
+  std::vector<std::pair<std::string, std::string>> files;  // what, path
+  if (args.input != "-") files.emplace_back("the input FILE", args.input);
+  for (const auto& [flag, path] : {std::pair<const char*, const std::string&>{"-o", args.output},
+                                   {"--summary", args.summary},
+                                   {"--checkpoint", args.checkpoint},
+                                   {"--dump", args.dump},
+                                   {"--events", args.events}}) {
+    if (!path.empty() && path != "-") files.emplace_back(flag, path);
+  }
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    for (std::size_t j = i + 1; j < files.size(); ++j) {
+      const bool continued = args.resume && i == 0 && files[j].first == "--checkpoint";
+      if (!continued && same_file(files[i].second, files[j].second)) {
+        throw UsageError(
+            fmt::format("{} and {} name the same file ({} and {}): one would "
+                        "overwrite the other",
+                        files[i].first, files[j].first, files[i].second, files[j].second));
+      }
+    }
+  }
+}
+
 // Options that only make sense together, and ranges the parser cannot check alone.
 void check(const RunArguments& args) {
   if (args.trace && args.format != Format::table) {
@@ -57,29 +114,18 @@ void check(const RunArguments& args) {
         "--restitution below 1 needs --rule elastic (the swap rule has no restitution)");
   }
   if (!(args.tc >= 0.0)) throw UsageError(fmt::format("--tc must be >= 0, got {}", args.tc));
-  if (!args.dump.empty() && !(args.every > 0.0)) {
+  if (!args.dump.empty() && !(args.every > 0.0 && std::isfinite(args.every))) {
     throw UsageError("--dump needs --every DT > 0: the time between frames");
   }
   if (args.dump.empty() && args.every != 0.0) throw UsageError("--every needs --dump FILE");
   if (!args.checkpoint_every.empty() && args.checkpoint.empty()) {
     throw UsageError("--checkpoint-every needs --checkpoint FILE: where to save");
   }
+  if (!args.checkpoint_every.empty()) checkpoint_trigger(args.checkpoint_every);
+  check_distinct_outputs(args);
   if (args.equilibrate && !(*args.equilibrate >= 0.0)) {
     throw UsageError(fmt::format("--equilibrate must be >= 0, got {}", *args.equilibrate));
   }
-}
-
-// --checkpoint-every: a number of events (1000000) or of seconds (600s).
-Trigger checkpoint_trigger(const std::string& every) {
-  const bool seconds = every.back() == 's';
-  const double value =
-      parse_number(seconds ? every.substr(0, every.size() - 1) : every, "--checkpoint-every");
-  if (!(value > 0.0)) throw UsageError("--checkpoint-every must be greater than 0");
-  if (seconds) return Trigger::every_seconds(value);
-  if (value < 1.0 || value != std::floor(value)) {
-    throw UsageError("--checkpoint-every counts events: a whole number, or seconds as 600s");
-  }
-  return Trigger::every_events(static_cast<std::uint64_t>(value));
 }
 
 // The Simulation for what was read (a ClassicInput or a Checkpoint of either dimension).
@@ -113,24 +159,6 @@ Start load(const RunArguments& args) {
                      args.input, false};
       },
       read_any_classic_file(args.input, args.boundary));
-}
-
-// Refuses, before anything is created, a path that cannot be written: its folder is missing or
-// not writable, or it is a folder itself.
-void check_writable(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  if (fs::is_directory(path, error)) {
-    throw UsageError(fmt::format("cannot write '{}': it is a directory", path));
-  }
-  fs::path folder = fs::path(path).parent_path();
-  if (folder.empty()) folder = ".";
-  if (!fs::is_directory(folder, error)) {
-    throw UsageError(fmt::format("cannot write '{}': no folder {}", path, folder.string()));
-  }
-  if (::access(folder.c_str(), W_OK) != 0) {
-    throw UsageError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
-  }
 }
 
 // A file written as the run goes (frames, the event log): kept when the run stops early. A
@@ -196,6 +224,42 @@ struct RunOutputs {
   std::shared_ptr<EventLogWriter<D>> event_log;
 };
 
+// Refuses a dump that would not fit on its disk: the frames still to come times the size of one
+// (measured on up to 1000 particles and scaled to all of them), against the free space.
+template <std::size_t D>
+void check_dump_fits(const Simulation<D>& simulation, const RunArguments& args, double end_time) {
+  namespace fs = std::filesystem;
+  const System<D>& state = simulation.state();
+  System<D> sample;
+  sample.box = state.box;
+  const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
+  sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
+  sample.records.assign(state.records.begin(), state.records.begin() + taken);
+  std::unique_ptr<TrajectoryFormat<D>> format;
+  try {
+    format = trajectory_format_for<D>(args.dump);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  std::ostringstream one;
+  format->frame(one, 0, simulation.time(), sample);
+  const double frame_bytes = static_cast<double>(one.tellp()) * static_cast<double>(state.size()) /
+                             static_cast<double>(taken);
+  const double frames =
+      std::floor(end_time / args.every) - std::floor(simulation.time() / args.every) + 1.0;
+  fs::path folder = fs::absolute(args.dump).parent_path();
+  std::error_code error;
+  const fs::space_info space = fs::space(folder, error);
+  if (error) return;  // nothing known of the disk: the write itself will tell
+  if (frames * frame_bytes > static_cast<double>(space.available)) {
+    throw UsageError(fmt::format(
+        "--dump {} would take about {:.3g} GB ({:.0f} frames of {:.3g} MB) but {} has {:.3g} GB "
+        "free: raise --every or lower END_TIME",
+        args.dump, frames * frame_bytes / 1e9, frames, frame_bytes / 1e6, folder.string(),
+        static_cast<double>(space.available) / 1e9));
+  }
+}
+
 // What an interrupted run says it kept.
 template <std::size_t D>
 std::string interruption(const Simulation<D>& simulation, const RunArguments& args) {
@@ -223,6 +287,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     throw UsageError(
         fmt::format("--every {} would write more than 10^7 frames up to {}", args.every, end_time));
   }
+  if (!args.dump.empty()) check_dump_fits(simulation, args, end_time);
   if (args.equilibrate) {
     const double from = *args.equilibrate;
     if (start.resumed && from < simulation.time()) {
@@ -278,12 +343,33 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   simulation.set_stop_flag(&stop_signal());
 
   const auto started = std::chrono::steady_clock::now();
-  const RunStatus status = simulation.run_until(end_time);
+  RunStatus status = RunStatus::reached;
+  try {
+    status = simulation.run_until(end_time);
+  } catch (const std::runtime_error& e) {
+    // A write that failed as the run went (a full disk): the state the run has reached is sound
+    // and worth keeping when there is somewhere to keep it. A jam or a broken invariant is not.
+    const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
+                        dynamic_cast<const InvariantError*>(&e) != nullptr;
+    if (args.checkpoint.empty() || broken) throw;
+    save_checkpoint(args.checkpoint, simulation, start.source);
+    throw std::runtime_error(fmt::format(
+        "{}; the run so far (t = {}) is saved in {}: continue it with 'carom run --resume {} "
+        "END_TIME'",
+        e.what(), simulation.time(), args.checkpoint, args.checkpoint));
+  }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  outputs.dump.flush();
-  outputs.events.flush();
+  // The streamed files are complete (or the failure is known) before any result is written.
+  const bool streamed_ok = static_cast<bool>(outputs.dump.flush()) && outputs.events.flush();
   if (!args.checkpoint.empty()) save_checkpoint(args.checkpoint, simulation, start.source);
+  if (!streamed_ok) {
+    throw std::runtime_error(
+        fmt::format("cannot write the trajectory or the event log (is the disk full?){}",
+                    args.checkpoint.empty()
+                        ? std::string()
+                        : fmt::format("; the run's end state is saved in {}", args.checkpoint)));
+  }
   if (status == RunStatus::stopped) {
     throw Interrupted(stop_signal().load(), describe_signal(stop_signal().load()) + ": " +
                                                 interruption(simulation, args));
@@ -301,9 +387,6 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     write_json(outputs.main.stream(), simulation, report);
   }
   if (outputs.summary) write_json(outputs.summary->stream(), simulation, report, false);
-  if (!outputs.dump.flush() || !outputs.events.flush()) {
-    throw std::runtime_error("cannot write the trajectory or the event log");
-  }
   outputs.main.commit();
   if (outputs.summary) outputs.summary->commit();
 }
@@ -332,7 +415,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "Write frames of every particle at t = 0, DT, 2 DT, ... (--every DT) to this file "
       "as the run goes: .xyz (extended XYZ, for OVITO and ASE) or .lammpstrj (LAMMPS "
       "text dump). A resumed run continues the same file");
-  run->add_option("--every", args.every, "Time between --dump frames");
+  run->add_option("--every", args.every, "Time between --dump frames")->check(finite_number());
   run->add_option(
       "--events", args.events,
       "Write every collision to this csv file as the run goes: "
@@ -347,10 +430,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--restitution", args.restitution,
                   "Coefficient of normal restitution E in (0, 1] for --rule elastic; E < 1 makes "
                   "collisions inelastic (granular gas)")
+      ->check(finite_number())
       ->default_str("1");
   run->add_option("--tc", args.tc,
                   "TC model against inelastic collapse: a collision of a disk that collided less "
                   "than this long ago is elastic")
+      ->check(finite_number())
       ->default_str(fmt::format("{}", kDefaultTc));
   add_choice<Boundary>(run, "--boundary", args.boundary,
                        "walls: hard walls on all four sides (the seed's box); periodic: the box "
@@ -358,6 +443,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--equilibrate", args.equilibrate,
                   "Measure observables only from this time on (the dynamics are unchanged); with "
                   "--resume, from this time on in the resumed run")
+      ->check(finite_number())
       ->default_str("0");
   run->add_flag(
       "--check", args.check,
@@ -388,7 +474,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
 }
 
 void run_command(const RunArguments& args) {
-  const double end_time = parse_number(args.end_time, "END_TIME");
+  // + 0.0 makes -0 a plain 0, which is what the results then print.
+  const double end_time = parse_number(args.end_time, "END_TIME") + 0.0;
   if (end_time < 0.0) {
     throw UsageError(fmt::format("END_TIME must not be negative, got {}", args.end_time));
   }

@@ -10,6 +10,7 @@
 #include <pcg_random.hpp>
 #include <vector>
 
+#include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "carom/overlap.hpp"
 #include "cell_grid.hpp"
@@ -368,8 +369,28 @@ System<D> make_initial(const InitialOptions& o) {
     }
   }
   for (Particle<D>& p : system.particles) p.radius *= scale;
-  // carom run refuses a periodic box that a particle could touch two images of another across.
+  // Sizes carom run could not read back (a packing fraction of 1e-200 makes a box of 1e100) or
+  // that degenerate (a radius that underflows to 0) are refused before any placement is tried.
   const double largest = largest_radius(system);
+  try {
+    for (std::size_t k = 0; k < D; ++k) check_number(system.box.size[k], "a box side");
+    for (const Particle<D>& p : system.particles) check_number(p.radius, "a radius");
+  } catch (const std::invalid_argument& e) {
+    throw InitialError(fmt::format(
+        "these options give a box of sides {} and radii up to {}: {}; change --phi, --box or "
+        "--radius",
+        fmt::join(system.box.size.c, " x "), largest, e.what()));
+  }
+  if (!(largest > 0.0)) throw InitialError("these options give particles of radius 0");
+  for (std::size_t k = 0; k < D && !system.box.periodic(); ++k) {
+    if (!(system.box.size[k] >= 2.0 * largest)) {
+      throw InitialError(fmt::format(
+          "a box of sides {} cannot hold {} of radius {} between its walls; change --aspect, "
+          "--box or --phi",
+          fmt::join(system.box.size.c, " x "), kParticlesName<D>, largest));
+    }
+  }
+  // carom run refuses a periodic box that a particle could touch two images of another across.
   if (system.box.periodic() && !(shortest_side(system.box) > 4.0 * largest)) {
     throw InitialError(fmt::format(
         "a periodic box of sides {} is too small for {} of radius {}: each side must exceed "
@@ -394,6 +415,12 @@ System<D> make_initial(const InitialOptions& o) {
   if (!placed) place_on_lattice(system);
   sort_along_space_filling_curve(system);
   draw_velocities(system, o.temperature, rng);
+  // What carom init writes, carom run accepts: the reader's own checks, as a last guard.
+  try {
+    check_start(system);
+  } catch (const std::invalid_argument& e) {
+    throw InitialError(fmt::format("carom init made a start carom run would refuse: {}", e.what()));
+  }
   return system;
 }
 

@@ -36,11 +36,37 @@ std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& sett
 
 }  // namespace
 
+namespace {
+
+// Cell crossings (engine work between events) allowed in one slice of a run: a few milliseconds.
+constexpr double kCrossingsPerSlice = 1e5;
+
+// The length of a slice of time in which the particles make at most about kCrossingsPerSlice
+// cell crossings in all. Cells are at least a largest diameter wide, and no particle is ever
+// faster than the larger of the fastest now (the swap rule only exchanges velocities) and the
+// speed the whole kinetic energy would give the lightest one (collisions only keep or lose it).
+template <std::size_t D>
+double slice_length(const System<D>& system) {
+  double fastest2 = 0.0, lightest = kNever, diameter = 0.0;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    fastest2 = std::max(fastest2, norm2(system.particles[i].velocity));
+    lightest = std::min(lightest, system.records[i].mass);
+    diameter = std::max(diameter, 2.0 * system.particles[i].radius);
+  }
+  const double fastest =
+      std::max(std::sqrt(fastest2), std::sqrt(2.0 * kinetic_energy(system) / lightest));
+  const double crossings_per_time = static_cast<double>(system.size() * D) * fastest / diameter;
+  return crossings_per_time > 0.0 ? kCrossingsPerSlice / crossings_per_time : kNever;
+}
+
+}  // namespace
+
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : engine_(checked_engine(std::move(system), settings)),
       settings_(settings),
-      time_(engine_->time()) {
+      time_(engine_->time()),
+      slice_(slice_length(state())) {
   measurement_ = {time_, kinetic_energy(state()), {}};
 }
 
@@ -52,7 +78,8 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
       settled_(checkpoint.settled),
       counts_(checkpoint.counts),
       measurement_(checkpoint.measurement),
-      measure_from_(checkpoint.measure_from) {
+      measure_from_(checkpoint.measure_from),
+      slice_(slice_length(state())) {
   if (!(time_ >= engine_->time())) {
     throw std::invalid_argument("a checkpoint's time precedes a particle's stored time");
   }
@@ -90,7 +117,11 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
   check_target(t);
   std::uint64_t processed = 0;
   while (true) {
-    const double stop_at = std::min(t, next_due_time());
+    // Long stretches without events (a few particles crossing cells for a long time) are cut
+    // into slices of bounded work, so that the stop flag is looked at even then. A slice end
+    // is an instant the run is whole at, like any target: the events are the same.
+    const double slice_end = time_ + slice_;
+    const double stop_at = std::min({t, next_due_time(), slice_end > time_ ? slice_end : t});
     while (const std::optional<Event> event = engine_->step(stop_at)) {
       record(*event);
       ++processed;

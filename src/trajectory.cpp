@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "carom/physics.hpp"
 #include "whole_lines.hpp"
@@ -116,9 +119,13 @@ void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t
 
 template <std::size_t D>
 std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path) {
-  const auto ends_with = [&](const std::string& suffix) {
-    return path.size() >= suffix.size() &&
-           path.compare(path.size() - suffix.size(), suffix.size(), suffix) == 0;
+  // Endings in any case: MOVIE.XYZ is as much extended XYZ as movie.xyz.
+  const auto ends_with = [&](std::string_view suffix) {
+    if (path.size() < suffix.size()) return false;
+    const std::string_view end = std::string_view(path).substr(path.size() - suffix.size());
+    return std::equal(end.begin(), end.end(), suffix.begin(), [](char a, char b) {
+      return std::tolower(static_cast<unsigned char>(a)) == b;
+    });
   };
   if (ends_with(".xyz")) return std::make_unique<ExtendedXyz<D>>();
   if (ends_with(".lammpstrj")) return std::make_unique<LammpsDump<D>>();

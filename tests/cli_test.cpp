@@ -470,7 +470,7 @@ TEST_F(Cli, AnInterruptedRunLeavesNoPartialResultAndKeepsItsFrames) {
   const fs::path start = dir_ / "gas.txt";
   ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
   const fs::path out = dir_ / "out.json", movie = dir_ / "movie.xyz";
-  const pid_t pid = start_run(start, {"1e6", "--rule", "elastic", "--format", "json", "-o",
+  const pid_t pid = start_run(start, {"500", "--rule", "elastic", "--format", "json", "-o",
                                       out.string(), "--dump", movie.string(), "--every", "0.5"});
   ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=0.5"); }));
   ::kill(pid, SIGTERM);
@@ -494,7 +494,7 @@ TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "ck", movie = dir_ / "m.xyz";
   ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
   const pid_t pid =
-      start_run(start, {"1e6", "--rule", "elastic", "--checkpoint", checkpoint.string(),
+      start_run(start, {"500", "--rule", "elastic", "--checkpoint", checkpoint.string(),
                         "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
   ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
   ::kill(pid, SIGINT);
@@ -509,6 +509,26 @@ TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
   EXPECT_NE(events % 250000, 0u);  // not a periodic save
   EXPECT_GE(saved["time"].get<double>(), 2.0);
   EXPECT_TRUE(saved["settled"].get<bool>());
+}
+
+// Regression (#16.2): the stop flag was looked at only after events, so two disks flying side by
+// side in a periodic box (cell crossings, never a collision) ignored Ctrl-C until SIGKILL.
+TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
+  const fs::path start = write("parallel.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
+  const fs::path checkpoint = dir_ / "ck";
+  const pid_t pid = start_run(
+      start, {"1e11", "--boundary", "periodic", "--checkpoint", checkpoint.string(), "-q"});
+  // The run checks its checkpoint path first, then simulates: give it a moment to get there.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_TRUE(wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }))
+      << "the run ignored SIGINT";
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const auto saved = nlohmann::json::parse(read_file(checkpoint));
+  EXPECT_EQ(saved["counts"]["events"], 0);
+  EXPECT_GT(saved["time"].get<double>(), 0.0);
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "2e6", "-q"}).exit_code, 0);
 }
 
 TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
@@ -911,6 +931,96 @@ TEST_F(Cli, InitMakesSpheresThatRunAndRefusesWhatCannotBe) {
     EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
     EXPECT_EQ(r.out, "");
   }
+}
+
+// Regressions (#16): hostile numbers are usage errors (exit 2) before anything runs, whatever
+// option carries them, and no file appears.
+TEST_F(Cli, HostileNumbersAreRefusedUpFront) {
+  const std::string input = kCases + "normal.txt";
+  const fs::path dump = dir_ / "m.xyz", checkpoint = dir_ / "c.ckpt";
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"run", input, "0", "--dump", dump, "--every", "inf"},
+        {"run", input, "0", "--dump", dump, "--every", "Infinity"},
+        {"run", input, "0", "--dump", dump, "--every", "1e400"},
+        {"run", input, "1", "--dump", dump, "--every", "0x1p-3"},
+        {"run", input, "1", "--rule", "elastic", "--restitution", "nan"},
+        {"run", input, "1", "--tc", "0x10"},
+        {"run", input, "1", "--equilibrate", "-inf"},
+        {"run", input, "10", "--checkpoint", checkpoint, "--checkpoint-every", "0.5"},
+        {"run", input, "10", "--checkpoint", checkpoint, "--checkpoint-every", "1e30"},
+        {"init", "--n", "10", "--phi", "1e-310"},
+        {"init", "--n", "10", "--phi", "1e-200"},
+        {"init", "--n", "10", "--phi", "0.3", "--box", "1e-300", "1e-300"},
+        {"init", "--n", "10", "--phi", "0.3", "--aspect", "1e-50"},
+        {"init", "--n", "10", "--phi", "0.3", "--kT", "1e300"},
+        {"init", "--n", "-5", "--phi", "0.3"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_EQ(r.out, "") << fmt::format("{}", fmt::join(args, " "));
+    EXPECT_FALSE(fs::exists(dump) || fs::exists(checkpoint))
+        << fmt::format("{}", fmt::join(args, " "));
+  }
+  EXPECT_NE(carom({"init", "--n", "-5", "--phi", "0.3"}).err.find("--n must be at least 1, got -5"),
+            std::string::npos);
+}
+
+// Regression (#16.8): two outputs naming one file overwrote each other with exit 0.
+TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
+  const std::string input = kCases + "normal.txt";
+  const fs::path out = dir_ / "out.txt";
+  write("existing.txt", "x");
+  fs::create_hard_link(dir_ / "existing.txt", dir_ / "hardlink.txt");
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"run", input, "1", "-o", out, "--summary", out},
+        {"run", input, "1", "-o", out, "--checkpoint", (dir_ / "." / "out.txt").string()},
+        {"run", input, "1", "--dump", (dir_ / "x.xyz").string(), "--every", "1", "--events",
+         (dir_ / "sub" / ".." / "x.xyz").string()},
+        {"run", input, "1", "-o", (dir_ / "existing.txt").string(), "--summary",
+         (dir_ / "hardlink.txt").string()},
+        {"run", input, "1", "-o", input}}) {
+    if (args.size() > 7) fs::create_directories(dir_ / "sub");
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_NE(r.err.find("name the same file"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(read_file(dir_ / "existing.txt"), "x");
+  // A resumed run may keep its checkpoint where it read it.
+  const fs::path checkpoint = dir_ / "c.ckpt";
+  ASSERT_EQ(carom({"run", input, "5", "--checkpoint", checkpoint}).exit_code, 0);
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "10", "--checkpoint", checkpoint}).exit_code, 0);
+}
+
+// Regressions (#16): small promises of the output.
+TEST_F(Cli, EdgesOfTheOutputKeepTheirPromises) {
+  const std::string input = kCases + "normal.txt";
+  const std::string zero = carom({"run", input, "-0", "--format", "json"}).out;
+  EXPECT_NE(zero.find("\"end_time\": 0.0,"), std::string::npos) << zero;  // not -0.0
+  const auto j = nlohmann::json::parse(zero);
+  EXPECT_TRUE(j["mean_free_time"].is_null());  // no time has passed: undefined, as documented
+  const fs::path upper = dir_ / "MOVIE.XYZ";
+  EXPECT_EQ(carom({"run", input, "1", "--dump", upper, "--every", "0.5"}).exit_code, 0);
+  EXPECT_TRUE(holds(upper, "Time=1"));
+}
+
+// Regression (#16.10): a dump far larger than the disk was accepted without a word, and a failed
+// write was noticed only at the end, keeping nothing.
+TEST_F(Cli, DumpsThatCannotFitAndWritesThatFailKeepTheState) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "c.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "10000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const Result huge = carom({"run", start, "10", "--dump", dir_ / "m.xyz", "--every", "1e-6"});
+  EXPECT_EQ(huge.exit_code, 2);
+  EXPECT_NE(huge.err.find("GB free"), std::string::npos) << huge.err;
+  EXPECT_FALSE(fs::exists(dir_ / "m.xyz"));
+  if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full to fill";
+  const Result full = carom({"run", start, "100", "--rule", "elastic", "--events", "/dev/full",
+                             "--checkpoint", checkpoint, "-q"});
+  EXPECT_EQ(full.exit_code, 1);
+  EXPECT_EQ(full.out, "");
+  EXPECT_NE(full.err.find("is saved in " + checkpoint.string()), std::string::npos) << full.err;
+  const auto saved = nlohmann::json::parse(read_file(checkpoint));
+  EXPECT_LT(saved["time"].get<double>(), 100.0);  // saved when the write failed, not at the end
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "1", "-q"}).exit_code, 0);  // and it goes on
 }
 
 TEST_F(Cli, BundledExamplesRun) {

@@ -6,6 +6,7 @@
 #include <cstddef>
 
 #include "carom/measurement.hpp"
+#include "carom/physics.hpp"
 #include "carom/system.hpp"
 
 namespace carom {
@@ -45,8 +46,8 @@ struct Observables {
   double compressibility_factor = 0.0;  // Z = P V / (N kT)
   // Box with walls: the momentum given to the walls per unit time and unit wall length (area).
   double wall_pressure = 0.0;
-  double collision_rate = 0.0;  // pair collisions per particle per unit time: 2 C / (N elapsed)
-  double mean_free_time = 0.0;  // 1 / collision_rate
+  double collision_rate = 0.0;     // pair collisions per particle per unit time: 2 C / (N elapsed)
+  double mean_free_time = kNever;  // 1 / collision_rate; never (json null) before a collision
   double packing_fraction = 0.0;
 };
 

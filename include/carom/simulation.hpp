@@ -190,6 +190,9 @@ class Simulation {
   std::optional<double> measure_from_;
   Event last_event_;
   const std::atomic<int>* stop_ = nullptr;
+  // A stretch of time over which the engine's work between events is bounded (see
+  // slice_length): run_until looks at the stop flag at least this often in simulated time.
+  double slice_ = kNever;
   std::vector<Scheduled> observers_;
   bool watch_events_ = false;  // an observer needs looking at after events
 };

@@ -25,6 +25,7 @@ saved or run on.
 """
 
 import json as _json
+import math as _math
 import numbers as _numbers
 
 import numpy as _np
@@ -35,44 +36,70 @@ from ._carom import InputError, JamError
 __version__ = _carom.__version__
 __all__ = ["Simulation", "read", "init", "resume", "InputError", "JamError", "__version__"]
 
-_RULE_DEFAULTS = {"rule": "swap", "restitution": 1.0, "tc": 1e-5, "engine": "fast"}
-
-
-def _float_array(name, value, shape):
-    """value as a C-contiguous float64 array of `shape` (None: any length), or ValueError."""
+def _float_array(name, value, shape=None):
+    """value as a C-contiguous float64 array of `shape` (None: any; an entry None: any length),
+    or ValueError."""
     if isinstance(value, _np.ndarray) and value.dtype != _np.float64:
         raise ValueError(f"{name} must be a float64 array, got dtype {value.dtype}")
     try:
         array = _np.ascontiguousarray(value, dtype=_np.float64)
     except (TypeError, ValueError) as error:
         raise ValueError(f"{name} must be an array of numbers: {error}") from None
+    if shape is None:
+        return array
     if array.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, array.shape)):
-        wanted = "(" + ", ".join("N" if s is None else str(s) for s in shape) + ("," if len(shape) == 1 else "") + ")"
+        wanted = ", ".join("N" if s is None else str(s) for s in shape)
+        wanted = f"({wanted},)" if len(shape) == 1 else f"({wanted})"
         raise ValueError(f"{name} must have shape {wanted}, got {array.shape}")
     return array
 
 
 def _per_particle(name, value, n, default):
-    """A scalar or an (N,) array as an (N,) float64 array."""
+    """A number or an (N,) array as an (N,) float64 array."""
     if value is None:
         value = default
-    if isinstance(value, _numbers.Real) and not isinstance(value, bool):
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number or an array of {n} numbers, got {value!r}")
+    if isinstance(value, _numbers.Real):
         return _np.full(n, float(value))
     return _float_array(name, value, (n,))
 
 
 def _number(name, value):
+    """A finite float, as the command line reads numbers."""
     if isinstance(value, bool) or not isinstance(value, _numbers.Real):
         raise ValueError(f"{name} must be a number, got {value!r}")
-    return float(value)
+    value = float(value)
+    if not _math.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value}")
+    return value
 
 
-def _whole(name, value, least=0):
+def _whole(name, value, least=0, most=2**63 - 1):
     if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
         raise ValueError(f"{name} must be a whole number, got {value!r}")
     if value < least:
         raise ValueError(f"{name} must be at least {least}, got {value}")
+    if value > most:
+        raise ValueError(f"{name} must be at most {most}, got {value}")
     return int(value)
+
+
+def _choice(name, value, names):
+    if not isinstance(value, str) or value not in names:
+        raise ValueError(f"{name} must be one of {', '.join(names)}, got {value!r}")
+    return value
+
+
+def _flag(name, value):
+    if not isinstance(value, (bool, _np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+_RULES = ("swap", "elastic")
+_BOUNDARIES = ("walls", "periodic")
+_ENGINES = ("fast", "reference")
 
 
 class Simulation:
@@ -99,8 +126,8 @@ class Simulation:
 
     def __init__(self, positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
                  rule="swap", restitution=1.0, tc=1e-5, engine="fast"):
-        positions = _float_array("positions", positions, (None, None))
-        if positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
+        positions = _float_array("positions", positions)
+        if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
             raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
                              f"got {positions.shape}")
         n, d = positions.shape
@@ -108,15 +135,25 @@ class Simulation:
         box = _float_array("box", box, (d,))
         radii = _per_particle("radii", radii, n, 0.5)
         masses = _per_particle("masses", masses, n, 1.0)
+        self._running = False
         self._core = _carom.Simulation.from_arrays(
-            positions, velocities, box, radii, masses, boundary, rule,
-            _number("restitution", restitution), _number("tc", tc), engine)
+            positions, velocities, box, radii, masses, _choice("boundary", boundary, _BOUNDARIES),
+            _choice("rule", rule, _RULES), _number("restitution", restitution), _number("tc", tc),
+            _choice("engine", engine, _ENGINES))
 
     @classmethod
     def _wrap(cls, core):
         simulation = cls.__new__(cls)
+        simulation._running = False
         simulation._core = core
         return simulation
+
+    @property
+    def _idle(self):
+        """The engine, when no run is under way (in another thread, with the GIL released)."""
+        if self._running:
+            raise RuntimeError("this simulation is running (in another thread): wait for run()")
+        return self._core
 
     def run(self, t, dump=None, every=None, collisions=False):
         """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
@@ -138,86 +175,92 @@ class Simulation:
             every = _number("every", every)
         elif every is not None:
             raise ValueError("every needs dump: the file to write frames to")
-        self._core.run(t, None if dump is None else str(dump), 0.0 if every is None else every,
-                       bool(collisions))
-        return self._core.collisions() if collisions else None
+        collisions = _flag("collisions", collisions)
+        core = self._idle
+        self._running = True
+        try:
+            core.run(t, None if dump is None else str(dump), 0.0 if every is None else every,
+                     collisions)
+        finally:
+            self._running = False
+        return core.collisions() if collisions else None
 
     def collisions(self):
         """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""
-        return self._core.collisions()
+        return self._idle.collisions()
 
     @property
     def time(self):
         """The time the run has reached."""
-        return self._core.time
+        return self._idle.time
 
     @property
     def events(self):
         """Collisions processed since the run began (across checkpoints)."""
-        return self._core.events
+        return self._idle.events
 
     @property
     def n(self):
         """The number of particles."""
-        return self._core.n
+        return self._idle.n
 
     @property
     def dim(self):
         """2 for disks, 3 for spheres."""
-        return self._core.dim
+        return self._idle.dim
 
     @property
     def box(self):
         """The box's sides, a (D,) float64 array."""
-        return self._core.box
+        return self._idle.box
 
     @property
     def boundary(self):
-        return self._core.boundary
+        return self._idle.boundary
 
     @property
     def rule(self):
-        return self._core.rule
+        return self._idle.rule
 
     @property
     def restitution(self):
-        return self._core.restitution
+        return self._idle.restitution
 
     @property
     def tc(self):
-        return self._core.tc
+        return self._idle.tc
 
     @property
     def engine(self):
-        return self._core.engine
+        return self._idle.engine
 
     @property
     def positions(self):
         """Every particle's centre at sim.time, wrapped into a periodic box: (N, D) float64 (a copy)."""
-        return self._core.positions
+        return self._idle.positions
 
     @property
     def velocities(self):
         """Every particle's velocity at sim.time: (N, D) float64 (a copy)."""
-        return self._core.velocities
+        return self._idle.velocities
 
     @property
     def radii(self):
-        return self._core.radii
+        return self._idle.radii
 
     @property
     def masses(self):
-        return self._core.masses
+        return self._idle.masses
 
     @property
     def wall_collisions(self):
         """Each particle's wall collisions so far: (N,) uint64."""
-        return self._core.wall_collisions
+        return self._idle.wall_collisions
 
     @property
     def pair_collisions(self):
         """Each particle's collisions with other particles so far: (N,) uint64."""
-        return self._core.pair_collisions
+        return self._idle.pair_collisions
 
     def observables(self):
         """The json summary of `carom run --summary` as a dict: the same keys and values.
@@ -226,23 +269,23 @@ class Simulation:
         periodic box), wall pressure, collision rate and mean free time, measured over the
         window opened by reset_measurement or measure_from (from t = 0 by default).
         """
-        return _json.loads(self._core.json(False))
+        return _json.loads(self._idle.json(False))
 
     def reset_measurement(self):
         """Opens the measurement window now: counts from zero, the kinetic energy now."""
-        self._core.reset_measurement()
+        self._idle.reset_measurement()
 
     def measure_from(self, t):
         """Opens the measurement window at time t (as `carom run --equilibrate t`)."""
-        self._core.measure_from(_number("t", t))
+        self._idle.measure_from(_number("measure_from", t))
 
     def format(self, kind="table"):
         """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""
-        return self._core.text(kind)
+        return self._idle.text(_choice("format", kind, ("table", "csv", "json")))
 
     def save(self, path):
         """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""
-        self._core.save(str(path))
+        self._idle.save(str(path))
 
     def __repr__(self):
         kind = "disks" if self.dim == 2 else "spheres"
@@ -256,7 +299,9 @@ def read(path, rule="swap", boundary="walls", restitution=1.0, tc=1e-5, engine="
     The options are `carom run`'s. A broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
-        str(path), boundary, rule, _number("restitution", restitution), _number("tc", tc), engine))
+        str(path), _choice("boundary", boundary, _BOUNDARIES), _choice("rule", rule, _RULES),
+        _number("restitution", restitution), _number("tc", tc),
+        _choice("engine", engine, _ENGINES)))
 
 
 def init(n, phi, seed=1, dim=2, boundary="walls", rule="swap", box=None, aspect=1.0,
@@ -273,11 +318,13 @@ def init(n, phi, seed=1, dim=2, boundary="walls", rule="swap", box=None, aspect=
     """
     box = [] if box is None else [float(side) for side in _float_array("box", box, (None,))]
     return Simulation._wrap(_carom.Simulation.init(
-        _whole("dim", dim, 2), _whole("n", n, 1), _number("phi", phi), box,
+        _whole("dim", dim, 2, 3), _whole("n", n, 1), _number("phi", phi), box,
         _number("aspect", aspect), None if radius is None else _number("radius", radius),
-        _number("polydispersity", polydispersity), _number("kT", kT), _whole("seed", seed),
-        boundary, placement, rule, _number("restitution", restitution), _number("tc", tc),
-        engine))
+        _number("polydispersity", polydispersity), _number("kT", kT),
+        _whole("seed", seed, 0, 2**64 - 1), _choice("boundary", boundary, _BOUNDARIES),
+        _choice("placement", placement, ("auto", "random", "lattice")), _choice("rule", rule, _RULES),
+        _number("restitution", restitution), _number("tc", tc),
+        _choice("engine", engine, _ENGINES)))
 
 
 def resume(path):

@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstring>
 #include <sstream>
 #include <stdexcept>
@@ -16,9 +18,37 @@ namespace carom::python {
 
 namespace {
 
-// Events a run processes between two looks at Python's signals: about 10 to 100 ms of work, so
-// that Ctrl-C interrupts within a fraction of a second at negligible cost.
-constexpr std::uint64_t kEventsBetweenSignalChecks = 10000;
+// Python runs its SIGINT handler only when the main thread runs Python code, which it does not
+// while the engine works. During a run a handler of our own records the signal in the
+// Simulation's stop flag (the library honours it within milliseconds, events or not); the
+// previous handler is put back after, and given the signal, so that Python does with it what it
+// would have done (raise KeyboardInterrupt, or call the user's handler).
+std::atomic<int> interrupt_signal{0};
+
+extern "C" void record_interrupt(int signal) {
+  interrupt_signal.store(signal);
+}
+
+class InterruptHandler {
+ public:
+  explicit InterruptHandler(bool install) : installed_(install) {
+    if (!installed_) return;
+    interrupt_signal.store(0);
+    struct sigaction action = {};
+    action.sa_handler = record_interrupt;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &previous_);
+  }
+  ~InterruptHandler() {
+    if (installed_) sigaction(SIGINT, &previous_, nullptr);
+  }
+  InterruptHandler(const InterruptHandler&) = delete;
+  InterruptHandler& operator=(const InterruptHandler&) = delete;
+
+ private:
+  bool installed_;
+  struct sigaction previous_ = {};
+};
 
 // Logs every collision of the run it observes.
 template <std::size_t D>
@@ -150,8 +180,12 @@ void PythonSimulation::open_dump(const std::string& path, double every) {
       [&](auto& simulation) {
         constexpr std::size_t D = std::remove_reference_t<decltype(simulation.state())>::dimension;
         auto format = trajectory_format_for<D>(path);  // refuses an unknown ending first
+        // The file the open trajectory writes to is closed first, so that naming it again (with
+        // another period) starts it anew; any other file is opened while that one stays intact.
+        if (dump_ && dump_->path == path) close_dump();
         dump->file.open(path, std::ios::binary | std::ios::trunc);
         require(dump->file.is_open(), fmt::format("cannot write '{}'", path));
+        close_dump();
         auto writer = std::make_shared<FrameWriter<D>>(dump->file, std::move(format), every);
         dump->writer = writer.get();
         simulation.add_observer(std::move(writer));
@@ -177,8 +211,7 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
   if (!dump) {
     close_dump();
   } else if (!dump_ || dump_->path != *dump || dump_->every != every) {
-    close_dump();
-    open_dump(*dump, every);
+    open_dump(*dump, every);  // checks and opens the new file, then lets the old one go
   }
   std::visit(
       [&](auto& simulation) {
@@ -197,18 +230,31 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
   const auto elapsed = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
+  // Only the main thread sees SIGINT in Python; a run in another thread is not interrupted.
+  const bool main_thread = py::module_::import("threading")
+                               .attr("current_thread")()
+                               .is(py::module_::import("threading").attr("main_thread")());
   for (;;) {
     RunStatus status = RunStatus::reached;
     try {
+      const InterruptHandler handler(main_thread);
       py::gil_scoped_release release;
       status = std::visit(
-          [&](auto& simulation) { return simulation.run_until(t, kEventsBetweenSignalChecks); },
+          [&](auto& simulation) {
+            simulation.set_stop_flag(main_thread ? &interrupt_signal : nullptr);
+            const RunStatus s = simulation.run_until(t);
+            simulation.set_stop_flag(nullptr);
+            return s;
+          },
           simulation_);
     } catch (...) {
+      std::visit([](auto& simulation) { simulation.set_stop_flag(nullptr); }, simulation_);
       wall_seconds_ += elapsed();
       throw;
     }
     if (status == RunStatus::reached) break;
+    // Stopped by SIGINT: Python's own handler (back in place) gets it now.
+    std::raise(SIGINT);
     if (PyErr_CheckSignals() != 0) {
       wall_seconds_ += elapsed();
       throw py::error_already_set();

@@ -49,8 +49,8 @@ class PythonSimulation {
   static PythonSimulation init(const InitRequest& request, const Settings& settings);
   static PythonSimulation resume(const std::string& path);
 
-  // Runs to time t in pieces, releasing the GIL during each, so that Ctrl-C raises
-  // KeyboardInterrupt between them; the simulation stays whole at every piece's end. With
+  // Runs to time t with the GIL released; Ctrl-C stops it within milliseconds at a whole
+  // instant and raises KeyboardInterrupt (or runs the user's SIGINT handler and goes on). With
   // `dump`, frames go to that file every `every` (kept open while the next run names the same
   // file and period, so pieces give one file); with `collisions`, every collision is logged.
   void run(double t, const std::optional<std::string>& dump, double every, bool collisions);
