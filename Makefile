@@ -10,7 +10,7 @@ PYTHON ?= /usr/bin/python3
 # /usr/local/lib/python3.X/dist-packages), else the user's own.
 PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps build demo test test-sanitize fuzz bench clean format python-install python-uninstall
+.PHONY: all deps build demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz bench clean format python-install python-uninstall
 
 all: build
 
@@ -49,20 +49,37 @@ test-sanitize: deps
 	@cmake --build $(BUILD)-sanitize -j $(JOBS)
 	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS)
 
-# libFuzzer on the input reader (and a few events of both engines on what it accepts), with
-# AddressSanitizer and UndefinedBehaviorSanitizer; FUZZ_SECONDS long. New crashes land in
-# build-fuzz/; copy them into tests/fuzz/regressions, which `make test` replays.
+# libFuzzer on a reader, with AddressSanitizer and UndefinedBehaviorSanitizer; FUZZ_SECONDS long.
+# `make fuzz` fuzzes the classic input reader (and a few events of both engines on what it
+# accepts), `make fuzz-checkpoint` the checkpoint reader (resuming what it accepts for a few
+# events under the invariant check), `make fuzz-xyz` carom view's extended-XYZ reader (and the
+# page made of what it reads). New crashes land in build-fuzz/; copy them into the reader's
+# regressions folder (tests/fuzz/regressions, tests/fuzz/checkpoint/regressions,
+# tests/fuzz/xyz/regressions), which `make test` replays.
 FUZZ_SECONDS ?= 300
-fuzz: deps
+FUZZ_FLAGS = -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048
+fuzz-build: deps
 	@cmake -S . -B $(BUILD)-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
 	  -DCAROM_FUZZ=ON -DCAROM_BUILD_TESTS=OFF -DCAROM_BUILD_BENCH=OFF -DCAROM_BUILD_PYTHON=OFF \
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > $(BUILD)-fuzz.configure.log 2>&1 \
 	  || { cat $(BUILD)-fuzz.configure.log; exit 1; }
-	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input
+	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input carom_fuzz_checkpoint carom_fuzz_xyz
+
+fuzz: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus
-	cd $(BUILD)-fuzz && ./carom_fuzz_classic_input -max_total_time=$(FUZZ_SECONDS) -max_len=4096 \
-	  -timeout=10 -rss_limit_mb=2048 corpus ../tests/fuzz/corpus
+	cd $(BUILD)-fuzz && ./carom_fuzz_classic_input $(FUZZ_FLAGS) -max_len=4096 \
+	  corpus ../tests/fuzz/corpus
+
+fuzz-checkpoint: fuzz-build
+	mkdir -p $(BUILD)-fuzz/corpus-checkpoint
+	cd $(BUILD)-fuzz && ./carom_fuzz_checkpoint $(FUZZ_FLAGS) -max_len=16384 \
+	  corpus-checkpoint ../tests/fuzz/checkpoint/corpus
+
+fuzz-xyz: fuzz-build
+	mkdir -p $(BUILD)-fuzz/corpus-xyz
+	cd $(BUILD)-fuzz && ./carom_fuzz_xyz $(FUZZ_FLAGS) -max_len=8192 \
+	  corpus-xyz ../tests/fuzz/xyz/corpus
 
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build

@@ -30,6 +30,9 @@ Example:
 }
 
 void view_command(const ViewArguments& args) {
+  // The page is created only once the frames are read (a stop meanwhile leaves nothing), but
+  // where it goes is checked first.
+  if (args.output != "-") check_writable(args.output);
   std::ifstream in = open_input(args.trajectory);
   const std::vector<Frame> frames = read_xyz_frames(in, args.trajectory);
   Output out(args.output);

@@ -2,11 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "carom/atomic_file.hpp"
 #include "carom/classic_input.hpp"
+#include "carom/engine.hpp"
+#include "carom/formats.hpp"
+#include "carom/overlap.hpp"
 #include "carom/version.hpp"
 
 namespace carom {
@@ -14,6 +21,40 @@ namespace carom {
 namespace {
 
 using Json = nlohmann::ordered_json;
+
+// Particle indices are stored in 32 bits (see Event), as the classic reader also refuses.
+constexpr std::size_t kMaxParticles = 0x7FFFFFF0;
+// Positions and speeds beyond this overflow when squared in predictions (the classic reader's
+// bound; tiny magnitudes, which an inelastic run may reach, are allowed here).
+constexpr double kLargest = 1e100;
+// The resumed engine is replayed from the latest stored time to the checkpoint's to find
+// collisions that should have happened before it; beyond this many box crossings in that span
+// (a run with no event for a very long time) the replay is skipped as too long.
+constexpr double kMostReplayedCrossings = 1e5;
+
+// FNV-1a, 64 bits: the checksum of what a checkpoint holds.
+class Fnv1a {
+ public:
+  void add(std::string_view bytes) {
+    for (const unsigned char byte : bytes) {
+      hash_ ^= byte;
+      hash_ *= 0x100000001b3ULL;
+    }
+  }
+  std::string text() const { return fmt::format("fnv1a64:{:016x}", hash_); }
+
+ private:
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+// The checksum covers the values, not their layout: the head (every field but the particles and
+// the checksum, keys sorted, compact) and each particle row, compact, each followed by a newline.
+// Numbers are written in shortest round-trip form, so reading and writing again gives the same
+// bytes; reindenting or reordering the file keeps it, changing any value does not.
+void add_head(Fnv1a& hash, const nlohmann::json& head) {
+  hash.add(head.dump());
+  hash.add("\n");
+}
 
 Json counts_json(const Counts& c) {
   return {{"events", c.events},
@@ -24,103 +65,309 @@ Json counts_json(const Counts& c) {
           {"wall_momentum", c.wall_momentum}};
 }
 
-Counts counts_from(const nlohmann::json& j) {
-  Counts c;
-  c.events = j.at("events").get<std::uint64_t>();
-  c.pair_collisions = j.at("pair_collisions").get<std::uint64_t>();
-  c.wall_collisions = j.at("wall_collisions").get<std::uint64_t>();
-  c.elastic_by_tc = j.at("elastic_by_tc").get<std::uint64_t>();
-  c.virial = j.at("virial").get<double>();
-  c.wall_momentum = j.at("wall_momentum").get<double>();
-  return c;
-}
-
 // A time that may be "never" (json null).
 Json time_or_null(double t) {
   return std::isfinite(t) ? Json(t) : Json(nullptr);
 }
 
-template <class E>
-E enum_from(const nlohmann::json& j, const char* key, const auto& fail) {
-  const std::string name = j.at(key).get<std::string>();
-  const std::optional<E> value = from_name<E>(name);
-  if (!value) fail(fmt::format("unknown {} '{}' (expected {})", key, name, names_list<E>()));
-  return *value;
+// A json value as a message may show it: short.
+std::string shown(const nlohmann::json& value) {
+  std::string text = value.dump();
+  if (text.size() > 40) text = text.substr(0, 40) + "...";
+  return text;
 }
 
-// The checkpoint of one dimension; `format` 1 is carom 1.0's (2D, counts only since the window
-// opened, the TC model reading stored times).
-template <std::size_t D>
-Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const auto& fail) {
+// Reads the fields of one checkpoint, with messages that name the field and what is wrong.
+template <class Fail>
+class Fields {
+ public:
+  explicit Fields(const Fail& fail) : fail_(fail) {}
+
+  const nlohmann::json& at(const nlohmann::json& object, const char* key,
+                           const std::string& where = "") const {
+    if (!object.is_object()) fail_(fmt::format("{} is not a json object", where));
+    const auto found = object.find(key);
+    if (found == object.end()) {
+      fail_(fmt::format("no \"{}\" field{}", key, where.empty() ? "" : " in " + where));
+    }
+    return *found;
+  }
+  double number(const nlohmann::json& value, const std::string& what) const {
+    if (!value.is_number()) fail_(fmt::format("{} must be a number, found {}", what, shown(value)));
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail_(fmt::format("{} is not a finite number: {}", what, shown(value)));
+    return x;
+  }
+  // A position, speed or time: finite, and not so large that its square overflows.
+  double coordinate(const nlohmann::json& value, const std::string& what) const {
+    const double x = number(value, what);
+    if (std::abs(x) > kLargest) {
+      fail_(fmt::format("{} is out of range: {} (carom takes magnitudes up to {})", what, x,
+                        kLargest));
+    }
+    return x;
+  }
+  // A box side, radius or mass, checked as the classic reader checks them.
+  double size(const nlohmann::json& value, const std::string& what) const {
+    const double x = number(value, what);
+    try {
+      check_number(x, what);
+    } catch (const std::invalid_argument& e) {
+      fail_(e.what());
+    }
+    if (!(x > 0.0)) fail_(fmt::format("{} must be greater than 0, found {}", what, x));
+    return x;
+  }
+  std::uint64_t count(const nlohmann::json& value, const std::string& what) const {
+    if (!value.is_number_unsigned()) {
+      fail_(fmt::format("{} must be a whole number from 0 to {}, found {}", what,
+                        std::numeric_limits<std::uint64_t>::max(), shown(value)));
+    }
+    return value.get<std::uint64_t>();
+  }
+  std::string text(const nlohmann::json& value, const std::string& what) const {
+    if (!value.is_string()) fail_(fmt::format("{} must be a string, found {}", what, shown(value)));
+    return value.get<std::string>();
+  }
+  bool flag(const nlohmann::json& value, const std::string& what) const {
+    if (!value.is_boolean())
+      fail_(fmt::format("{} must be true or false, found {}", what, shown(value)));
+    return value.get<bool>();
+  }
+  template <class E>
+  E choice(const nlohmann::json& object, const char* key) const {
+    const std::string name = text(at(object, key), fmt::format("\"{}\"", key));
+    const std::optional<E> value = from_name<E>(name);
+    if (!value) fail_(fmt::format("unknown {} '{}' (expected {})", key, name, names_list<E>()));
+    return *value;
+  }
+
+  Counts counts(const nlohmann::json& object, const std::string& where) const {
+    const auto get = [&](const char* key) {
+      return count(at(object, key, where),
+                   fmt::format("\"{}\"{}", key, where.empty() ? "" : " in " + where));
+    };
+    const auto real = [&](const char* key) {
+      return number(at(object, key, where),
+                    fmt::format("\"{}\"{}", key, where.empty() ? "" : " in " + where));
+    };
+    Counts c;
+    c.events = get("events");
+    c.pair_collisions = get("pair_collisions");
+    c.wall_collisions = get("wall_collisions");
+    c.elastic_by_tc = get("elastic_by_tc");
+    c.virial = real("virial");
+    c.wall_momentum = real("wall_momentum");
+    // Counts::add counts every event as a wall or a pair collision, and TC-made-elastic ones
+    // among the pair collisions.
+    const std::string in = where.empty() ? "" : " in " + where;
+    if (c.events != c.wall_collisions + c.pair_collisions || c.wall_collisions > c.events ||
+        c.pair_collisions > c.events) {
+      fail_(fmt::format("the counts{} do not add up: {} events, {} wall and {} pair collisions", in,
+                        c.events, c.wall_collisions, c.pair_collisions));
+    }
+    if (c.elastic_by_tc > c.pair_collisions) {
+      fail_(
+          fmt::format("the counts{} do not add up: {} collisions made elastic by TC out of {} "
+                      "pair collisions",
+                      in, c.elastic_by_tc, c.pair_collisions));
+    }
+    return c;
+  }
+
+ private:
+  const Fail& fail_;
+};
+
+// The checkpoint of one dimension as stored; `format` 1 is carom 1.0's (2D, counts only since the
+// window opened, the TC model reading stored times).
+template <std::size_t D, class Fail>
+Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& fail) {
+  const Fields<Fail> f(fail);
   Checkpoint<D> c;
-  c.source = j.at(format == 1 ? "input" : "source").get<std::string>();
-  for (std::size_t k = 0; k < D; ++k) c.system.box.size[k] = j.at("box").at(k).get<double>();
-  if (j.at("box").size() != D) fail(fmt::format("the box does not have {} sides", D));
-  c.system.box.boundary = enum_from<Boundary>(j, "boundary", fail);
-  c.settings.rule.rule = enum_from<Rule>(j, "rule", fail);
-  c.settings.rule.restitution = j.at("restitution").get<double>();
-  c.settings.rule.elastic_within = j.at("tc").get<double>();
-  c.settings.engine = enum_from<EngineKind>(j, "engine", fail);
-  c.time = j.at("time").get<double>();
+  c.source = f.text(f.at(j, format == 1 ? "input" : "source"), "the source");
+  const nlohmann::json& box = f.at(j, "box");
+  if (!box.is_array() || box.size() != D) {
+    fail(fmt::format("the box must be a list of {} sides, found {}", D, shown(box)));
+  }
+  for (std::size_t k = 0; k < D; ++k) c.system.box.size[k] = f.size(box[k], "a box side");
+  c.system.box.boundary = f.template choice<Boundary>(j, "boundary");
+  c.settings.rule.rule = f.template choice<Rule>(j, "rule");
+  c.settings.rule.restitution = f.number(f.at(j, "restitution"), "the restitution");
+  c.settings.rule.elastic_within = f.number(f.at(j, "tc"), "tc");
+  c.settings.engine = f.template choice<EngineKind>(j, "engine");
+  c.time = f.coordinate(f.at(j, "time"), "the time");
   if (format == 1) {
     // 1.0 saved at its last event and counted only the measurement window.
-    c.counts = counts_from(j);
-    c.measurement = {j.at("equilibrate").get<double>(),
-                     j.at("kinetic_energy_initial").get<double>(), c.counts};
+    c.counts = f.counts(j, "");
+    c.measurement = {f.coordinate(f.at(j, "equilibrate"), "\"equilibrate\""),
+                     f.number(f.at(j, "kinetic_energy_initial"), "\"kinetic_energy_initial\""),
+                     c.counts};
     if (c.measurement.start_time > c.time) {
       c.measure_from = c.measurement.start_time;
       c.measurement.start_time = 0.0;
     }
   } else {
-    c.settled = j.at("settled").get<bool>();
-    c.counts = counts_from(j.at("counts"));
-    const auto& m = j.at("measurement");
-    c.measurement = {m.at("start_time").get<double>(), m.at("kinetic_energy_initial").get<double>(),
-                     counts_from(m.at("counts"))};
-    if (!j.at("measure_from").is_null()) c.measure_from = j.at("measure_from").get<double>();
+    c.settled = f.flag(f.at(j, "settled"), "\"settled\"");
+    c.counts = f.counts(f.at(j, "counts"), "\"counts\"");
+    const auto& m = f.at(j, "measurement");
+    c.measurement = {
+        f.coordinate(f.at(m, "start_time", "\"measurement\""), "the measurement's start_time"),
+        f.number(f.at(m, "kinetic_energy_initial", "\"measurement\""),
+                 "the measurement's kinetic_energy_initial"),
+        f.counts(f.at(m, "counts", "\"measurement\""), "\"measurement\"")};
+    if (const auto& from = f.at(j, "measure_from"); !from.is_null()) {
+      c.measure_from = f.coordinate(from, "\"measure_from\"");
+    }
+  }
+  const nlohmann::json& particles = f.at(j, "particles");
+  if (!particles.is_array()) fail("\"particles\" must be a list of particle rows");
+  if (particles.empty()) fail("no particles");
+  if (particles.size() > kMaxParticles) {
+    fail(fmt::format("{} particles, more than carom supports ({})", particles.size(),
+                     kMaxParticles));
   }
   const std::size_t columns = format == 1 ? 2 * D + 5 : 2 * D + 6;
-  for (const auto& row : j.at("particles")) {
-    if (row.size() != columns) {
-      fail(fmt::format("a particle row does not hold {} numbers", columns));
+  c.system.particles.reserve(particles.size());
+  c.system.records.reserve(particles.size());
+  for (const auto& row : particles) {
+    const std::size_t i = c.system.size();
+    if (!row.is_array() || row.size() != columns) {
+      fail(fmt::format("the row of particle {} does not hold {} values, found {}", i, columns,
+                       shown(row)));
     }
     Particle<D> p;
     ParticleRecord r;
+    const auto of = [&](const char* what) { return fmt::format("the {} of particle {}", what, i); };
     for (std::size_t k = 0; k < D; ++k) {
-      p.position[k] = row[k].get<double>();
-      p.velocity[k] = row[D + k].get<double>();
+      p.position[k] = f.coordinate(row[k], of("position"));
+      p.velocity[k] = f.coordinate(row[D + k], of("velocity"));
     }
-    p.time = row[2 * D].get<double>();
-    p.radius = row[2 * D + 1].get<double>();
-    r.mass = row[2 * D + 2].get<double>();
-    r.wall_collisions = row[2 * D + 3].get<std::uint64_t>();
-    r.pair_collisions = row[2 * D + 4].get<std::uint64_t>();
+    p.time = f.coordinate(row[2 * D], of("stored time"));
+    p.radius = f.size(row[2 * D + 1], of("radius"));
+    r.mass = f.size(row[2 * D + 2], of("mass"));
+    r.wall_collisions = f.count(row[2 * D + 3], of("wall collision count"));
+    r.pair_collisions = f.count(row[2 * D + 4], of("pair collision count"));
     // 1.0's TC model read the stored time, which was the last collision's.
     if (format == 1) r.last_collision = p.time;
-    if (format != 1 && !row[2 * D + 5].is_null()) r.last_collision = row[2 * D + 5].get<double>();
-    bool finite = std::isfinite(p.time);
-    for (std::size_t k = 0; k < D; ++k) {
-      finite = finite && std::isfinite(p.position[k]) && std::isfinite(p.velocity[k]);
-    }
-    if (!(finite && p.radius > 0.0 && std::isfinite(p.radius) && r.mass > 0.0 &&
-          std::isfinite(r.mass) && p.time <= c.time && !(r.last_collision > c.time))) {
-      fail(fmt::format("particle {} is corrupt", c.system.size()));
+    if (format != 1 && !row[2 * D + 5].is_null()) {
+      r.last_collision = f.coordinate(row[2 * D + 5], of("last collision time"));
     }
     c.system.particles.push_back(p);
     c.system.records.push_back(r);
   }
-  if (c.system.particles.empty()) fail("no particles");
-  for (std::size_t k = 0; k < D; ++k) {
-    if (!(c.system.box.size[k] > 0.0 && std::isfinite(c.system.box.size[k]))) {
-      fail("the box is not positive");
+  return c;
+}
+
+// What a run can have reached, checked: the settings, the counts, the times, every particle as
+// the classic reader checks it (at its stored time, and moved to the checkpoint's time), and no
+// collision missed before the checkpoint's time.
+template <std::size_t D, class Fail>
+void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
+  try {
+    check_settings(c.settings);
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  }
+  if (std::abs(c.time) > Simulation<D>::kLatestTime) {
+    fail(fmt::format("the time {} is beyond {}, which no run reaches", c.time,
+                     Simulation<D>::kLatestTime));
+  }
+  const Measurement& m = c.measurement;
+  if (!(m.start_time <= c.time)) {
+    fail(fmt::format("the measurement starts at {}, after the checkpoint's time {}", m.start_time,
+                     c.time));
+  }
+  if (!(m.kinetic_energy_initial >= 0.0)) {
+    fail(fmt::format("the measurement's initial kinetic energy {} is negative",
+                     m.kinetic_energy_initial));
+  }
+  // The window counts a part of the run (format 1 stored nothing else).
+  if (format != 1 &&
+      (m.counts.events > c.counts.events || m.counts.wall_collisions > c.counts.wall_collisions ||
+       m.counts.pair_collisions > c.counts.pair_collisions ||
+       m.counts.elastic_by_tc > c.counts.elastic_by_tc)) {
+    fail(fmt::format("the measurement counts {} events, more than the {} of the whole run",
+                     m.counts.events, c.counts.events));
+  }
+
+  const System<D>& s = c.system;
+  const Box<D>& box = s.box;
+  constexpr std::uint64_t kMost = std::numeric_limits<std::uint64_t>::max();
+  const auto sum = [&](std::uint64_t a, std::uint64_t b) { return a > kMost - b ? kMost : a + b; };
+  std::uint64_t walls = 0, pairs = 0;  // saturating
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Particle<D>& p = s.particles[i];
+    const ParticleRecord& r = s.records[i];
+    if (!(p.time <= c.time)) {
+      fail(fmt::format("particle {} is stored at t = {}, after the checkpoint's time {}", i, p.time,
+                       c.time));
+    }
+    if (r.last_collision > c.time) {
+      fail(fmt::format("particle {} last collided at t = {}, after the checkpoint's time {}", i,
+                       r.last_collision, c.time));
+    }
+    walls = sum(walls, r.wall_collisions);
+    pairs = sum(pairs, r.pair_collisions);
+    // Its stored state, as the classic reader checks a start: a periodic run wraps positions by
+    // floor, which may leave one an ulp outside.
+    Particle<D> stored = p;
+    if (box.periodic()) {
+      for (std::size_t k = 0; k < D; ++k) {
+        const double slack = 1e-9 * box.size[k];
+        if (stored.position[k] >= -slack && stored.position[k] <= box.size[k] + slack) {
+          stored.position[k] = std::clamp(stored.position[k], 0.0, box.size[k]);
+        }
+      }
+    }
+    if (const auto problem = particle_problem(i, stored, r.mass, box)) {
+      fail(fmt::format("at its stored time t = {}, {}", p.time, *problem));
+    }
+    // Moved to the checkpoint's time: in a box with walls, still inside it.
+    if (!box.periodic()) {
+      Particle<D> now = p;
+      advance(now, c.time);
+      if (const auto problem = particle_problem(i, now, r.mass, box)) {
+        fail(fmt::format("at the checkpoint's time t = {}, {}", c.time, *problem));
+      }
     }
   }
-  const CollisionRule& rule = c.settings.rule;
-  if (!(rule.restitution > 0.0 && rule.restitution <= 1.0 && rule.elastic_within >= 0.0)) {
-    fail("the restitution or tc is out of range");
+  // Every collision counted once in the run's counts and once per particle involved (the
+  // particles' counters may hold more: a system built by a program may carry earlier history).
+  if (walls < c.counts.wall_collisions ||
+      pairs < sum(c.counts.pair_collisions, c.counts.pair_collisions)) {
+    fail(fmt::format(
+        "the particles' collision counts (wall {}, pair {}) are fewer than the run's ({} wall, {} "
+        "pair collisions, each counted by both its particles)",
+        walls, pairs, c.counts.wall_collisions, c.counts.pair_collisions));
   }
-  if (!(std::isfinite(c.time) && c.measurement.start_time <= c.time)) fail("the time is corrupt");
-  return c;
+  if (const auto overlap = find_pair_overlap(s, c.time)) {
+    System<D> now = s;
+    now.particles = synchronised(s, c.time);
+    fail(fmt::format("at the checkpoint's time t = {}, {}", c.time,
+                     describe_overlap(now, overlap->first, overlap->second,
+                                      s.particles[overlap->first].radius)));
+  }
+  // No collision due before the checkpoint's time may be left unprocessed (two particles whose
+  // stored states have them pass through each other, say): the resumed run would go back in
+  // time. The engine, started from the stored states as a resumed run starts, must find none.
+  double latest = s.particles.front().time;
+  for (const Particle<D>& p : s.particles) latest = std::max(latest, p.time);
+  if (most_crossings(s, c.time - latest) <= kMostReplayedCrossings) {
+    std::optional<Event> missed;
+    try {
+      auto engine = make_engine(EngineKind::fast, s, c.settings.rule);
+      missed = engine->step(std::nextafter(c.time, -kNever));
+    } catch (const std::exception& e) {
+      fail(fmt::format("its particles cannot be run: {}", e.what()));
+    }
+    if (missed) {
+      fail(
+          fmt::format("the stored states are not ones a run can reach: {} at t = {}, before the "
+                      "checkpoint's time {}, was never processed",
+                      describe(*missed), missed->time, c.time));
+    }
+  }
 }
 
 }  // namespace
@@ -150,7 +397,9 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"measure_from", c.measure_from ? Json(*c.measure_from) : Json(nullptr)},
   };
   std::string text = head.dump(1);
-  text.resize(text.size() - 2);  // reopen the object
+  Fnv1a hash;
+  add_head(hash, nlohmann::json::parse(text));  // keys sorted, as the reader sees them
+  text.resize(text.size() - 2);                 // reopen the object
   out << text << ",\n \"particles\": [";
   // One line a particle: position, velocity, time, radius, mass, wall and pair collisions, last
   // collision (null: none yet).
@@ -162,9 +411,12 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
     for (std::size_t k = 0; k < D; ++k) row.push_back(p.velocity[k]);
     row.insert(row.end(), {Json(p.time), Json(p.radius), Json(r.mass), Json(r.wall_collisions),
                            Json(r.pair_collisions), time_or_null(r.last_collision)});
-    out << (i == 0 ? "\n  " : ",\n  ") << row.dump();
+    const std::string line = row.dump();
+    hash.add(line);
+    hash.add("\n");
+    out << (i == 0 ? "\n  " : ",\n  ") << line;
   }
-  out << "\n ]\n}\n";
+  out << "\n ],\n \"checksum\": \"" << hash.text() << "\"\n}\n";
 }
 
 AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
@@ -179,15 +431,57 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
   };
   if (!j.is_object() || !j.contains("carom_checkpoint")) fail("no carom_checkpoint field");
   const auto& format = j["carom_checkpoint"];
-  if (format != 1 && format != kCheckpointFormat) {
-    fail(fmt::format("format {} (this carom {} reads formats 1 and {})", format.dump(), kVersion,
+  if (!format.is_number_integer() || (format != 1 && format != kCheckpointFormat)) {
+    fail(fmt::format("format {} (this carom {} reads formats 1 and {})", shown(format), kVersion,
                      kCheckpointFormat));
   }
+  const int version = format.get<int>();
+  // New checkpoints carry one; older ones without it are still read (and validated all the same).
+  if (const auto checksum = j.find("checksum"); checksum != j.end()) {
+    if (!checksum->is_string() || checksum->get<std::string>().rfind("fnv1a64:", 0) != 0) {
+      fail(fmt::format("the checksum {} is not one this carom knows (fnv1a64:...)",
+                       shown(*checksum)));
+    }
+    const auto particles = j.find("particles");
+    if (particles == j.end() || !particles->is_array()) fail("no list of particles");
+    nlohmann::json head = nlohmann::json::object();
+    for (const auto& [key, value] : j.items()) {
+      if (key != "particles" && key != "checksum") head[key] = value;
+    }
+    Fnv1a hash;
+    add_head(hash, head);
+    for (const auto& row : *particles) {
+      hash.add(row.dump());
+      hash.add("\n");
+    }
+    if (hash.text() != checksum->get<std::string>()) {
+      fail(fmt::format(
+          "its checksum does not match what it holds ({} recorded, {} computed): the file was "
+          "damaged or changed after carom wrote it (remove the \"checksum\" line to resume an "
+          "edited checkpoint: it is then checked like any other)",
+          checksum->get<std::string>(), hash.text()));
+    }
+  }
+  const auto dimension_of = [&]() -> int {
+    if (version == 1) return 2;
+    const auto found = j.find("dimension");
+    if (found == j.end() || !found->is_number_integer()) {
+      fail("no \"dimension\" field (2 or 3)");
+    }
+    return found->get<int>();
+  };
   try {
-    const int version = format.get<int>();
-    const int dimension = version == 1 ? 2 : j.at("dimension").get<int>();
-    if (dimension == 2) return checkpoint_from<2>(j, version, fail);
-    if (dimension == 3) return checkpoint_from<3>(j, version, fail);
+    const int dimension = dimension_of();
+    if (dimension == 2) {
+      Checkpoint<2> c = checkpoint_from<2>(j, version, fail);
+      validate(c, version, fail);
+      return c;
+    }
+    if (dimension == 3) {
+      Checkpoint<3> c = checkpoint_from<3>(j, version, fail);
+      validate(c, version, fail);
+      return c;
+    }
     fail(fmt::format("dimension {} (carom simulates 2 and 3)", dimension));
   } catch (const nlohmann::json::exception& e) {
     fail(e.what());

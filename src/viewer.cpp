@@ -3,11 +3,15 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "carom/classic_input.hpp"
@@ -70,54 +74,102 @@ std::string base64(const void* data, std::size_t size) {
 
 }  // namespace
 
+namespace {
+
+// Lines longer than this are not a trajectory's: reading stops there instead of buffering them.
+constexpr std::size_t kMaxLineLength = 1 << 16;
+// Property widths beyond this are not a trajectory carom can show (pos and velo have 2 or 3).
+constexpr long long kMaxWidth = 1000;
+
+// A whole number as a property width or a particle count: digits only, within [lo, hi].
+std::optional<long long> whole(const std::string& token, long long lo, long long hi) {
+  long long n = 0;
+  const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), n);
+  if (error != std::errc() || end != token.data() + token.size() || n < lo || n > hi) {
+    return std::nullopt;
+  }
+  return n;
+}
+
+// A property of the Properties= spec: its first column, type letter and width.
+struct Property {
+  std::size_t first = 0;
+  char type = 'R';
+  std::size_t width = 0;
+};
+
+}  // namespace
+
 std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
   std::vector<Frame> frames;
   std::string line;
+  std::vector<char> buffer(kMaxLineLength);
   std::size_t number = 0;
   bool spheres = false;  // a nonzero z seen anywhere
+  const auto fail = [&](const std::string& what) { throw InputError(name, number, what); };
+  // The next line (without its CR), or false at the end of the input.
+  const auto read_line = [&]() {
+    in.getline(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    if (in.bad()) throw InputError(name, number + 1, "read error");
+    const auto extracted = static_cast<std::size_t>(in.gcount());
+    if (extracted == 0 && in.eof()) return false;
+    ++number;
+    if (in.fail()) fail(fmt::format("line longer than {} characters", kMaxLineLength - 1));
+    const std::size_t length = in.eof() ? extracted : extracted - 1;
+    if (std::strlen(buffer.data()) != length) fail("contains a NUL byte: this is not a text file");
+    line.assign(buffer.data(), length);
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
   const auto next = [&](const char* what) {
-    if (!std::getline(in, line)) {
+    if (!read_line()) {
       throw InputError(name, number, fmt::format("the file ends where {} was expected", what));
     }
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
   };
-  const auto value = [&](const std::string& token) {
+  const auto value = [&](const std::string& token, const std::string& what) {
     try {
       return parse_finite_double(token);
     } catch (const std::invalid_argument& e) {
-      throw InputError(name, number, e.what());
+      throw InputError(name, number, fmt::format("{} (in {})", e.what(), what));
     }
   };
-  while (true) {
-    if (!std::getline(in, line)) break;
-    ++number;
-    if (words(line).empty()) continue;
+  while (read_line()) {
     const std::vector<std::string> count = words(line);
-    long long n = 0;
-    const auto [end, error] =
-        std::from_chars(count[0].data(), count[0].data() + count[0].size(), n);
-    if (count.size() != 1 || error != std::errc() || end != count[0].data() + count[0].size() ||
-        n < 1 || n > 100'000'000) {
-      throw InputError(name, number, "expected the number of disks of a frame (extended XYZ)");
-    }
-    if (!frames.empty() && static_cast<std::size_t>(n) != frames.front().radius.size()) {
-      throw InputError(name, number, "the number of disks changes between frames");
+    if (count.empty()) continue;
+    const std::optional<long long> n =
+        count.size() == 1 ? whole(count[0], 1, 100'000'000) : std::nullopt;
+    if (!n) fail("expected the number of particles of a frame (extended XYZ), from 1 to 10^8");
+    if (!frames.empty() && static_cast<std::size_t>(*n) != frames.front().radius.size()) {
+      fail(fmt::format("the number of particles changes between frames ({}, then {})",
+                       frames.front().radius.size(), *n));
     }
     next("the frame's comment line");
     const auto fields = comment_fields(line);
     Frame f;
     const auto lattice = fields.find("Lattice");
     if (lattice == fields.end() || words(lattice->second).size() != 9) {
-      throw InputError(name, number, "no Lattice=\"Lx 0 0 0 Ly 0 0 0 Lz\" box on the comment line");
+      fail("no Lattice=\"Lx 0 0 0 Ly 0 0 0 Lz\" box on the comment line");
     }
     const auto box = words(lattice->second);
-    f.box = {{value(box[0]), value(box[4]), value(box[8])}};
-    if (const auto pbc = fields.find("pbc"); pbc != fields.end())
-      f.periodic = pbc->second[0] == 'T';
-    if (const auto time = fields.find("Time"); time != fields.end()) f.time = value(time->second);
-    // First column and column count of each property, from Properties=name:type:count:...
-    std::map<std::string, std::pair<std::size_t, std::size_t>> column;
+    for (std::size_t k = 0; k < 9; ++k) {
+      const double x = value(box[k], "the Lattice");
+      if (k % 4 == 0) {
+        if (!(x > 0.0) && !(k == 8 && x == 0.0)) {
+          fail(fmt::format("the Lattice's box sides must be greater than 0, found {}", x));
+        }
+        f.box[k / 4] = x;
+      } else if (x != 0.0) {
+        fail("the Lattice must be a rectangular box (Lx 0 0 0 Ly 0 0 0 Lz)");
+      }
+    }
+    if (const auto pbc = fields.find("pbc"); pbc != fields.end()) {
+      f.periodic = !pbc->second.empty() && (pbc->second[0] == 'T' || pbc->second[0] == 't');
+    }
+    if (const auto time = fields.find("Time"); time != fields.end()) {
+      f.time = value(time->second, "Time");
+    }
+    // First column, type and width of each property, from Properties=name:type:width:...
+    std::map<std::string, Property> column;
     std::size_t columns = 0;
     {
       const auto properties = fields.find("Properties");
@@ -126,35 +178,85 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
       std::vector<std::string> parts;
       std::stringstream split(spec);
       for (std::string part; std::getline(split, part, ':');) parts.push_back(part);
-      for (std::size_t i = 0; i + 2 < parts.size(); i += 3) {
-        const auto count = static_cast<std::size_t>(std::max(0.0, value(parts[i + 2])));
-        column[parts[i]] = {columns, count};
-        columns += count;
+      if (!spec.empty() && spec.back() == ':') parts.emplace_back();
+      if (parts.empty() || parts.size() % 3 != 0) {
+        fail(fmt::format("Properties={} is not a list of name:type:width", spec));
+      }
+      for (std::size_t i = 0; i < parts.size(); i += 3) {
+        const std::string& key = parts[i];
+        const std::string& type = parts[i + 1];
+        if (key.empty() || column.count(key)) {
+          fail(fmt::format("Properties names '{}' {}", key, key.empty() ? "(empty)" : "twice"));
+        }
+        if (type.size() != 1 || std::string_view("SRILsril").find(type[0]) == std::string::npos) {
+          fail(fmt::format("property {} has type '{}' (expected S, R, I or L)", key, type));
+        }
+        const std::optional<long long> width = whole(parts[i + 2], 1, kMaxWidth);
+        if (!width) {
+          fail(fmt::format("property {} has width '{}' (expected a whole number from 1 to {})", key,
+                           parts[i + 2], kMaxWidth));
+        }
+        column[key] = {columns, static_cast<char>(std::toupper(type[0])),
+                       static_cast<std::size_t>(*width)};
+        columns += static_cast<std::size_t>(*width);
       }
     }
-    if (!column.count("pos")) throw InputError(name, number, "no pos property");
-    for (long long i = 0; i < n; ++i) {
-      next("a disk line");
+    // What carom reads, with the widths and types it can use.
+    const auto expect = [&](const char* key, bool required, std::size_t fewest, std::size_t most) {
+      const auto c = column.find(key);
+      if (c == column.end()) {
+        if (required) fail(fmt::format("no {} property", key));
+        return;
+      }
+      if (c->second.type != 'R' && c->second.type != 'I') {
+        fail(fmt::format("property {} must be numbers (type R or I)", key));
+      }
+      if (c->second.width < fewest || c->second.width > most) {
+        fail(fmt::format(
+            "property {} has width {} (expected {})", key, c->second.width,
+            fewest == most ? fmt::format("{}", fewest) : fmt::format("{} to {}", fewest, most)));
+      }
+    };
+    expect("pos", true, 2, 3);
+    expect("velo", false, 2, 3);
+    expect("radius", false, 1, 1);
+    expect("collisions", false, 1, 1);
+    for (long long i = 0; i < *n; ++i) {
+      next("a particle line");
       const std::vector<std::string> w = words(line);
       if (w.size() != columns) {
-        throw InputError(name, number,
-                         fmt::format("expected {} columns, found {}", columns, w.size()));
+        fail(fmt::format("expected {} columns, found {}", columns, w.size()));
       }
+      // Component k of a property, or `otherwise` if the property has no such component.
       const auto at = [&](const char* property, std::size_t k, double otherwise) {
         const auto c = column.find(property);
-        return c == column.end() || k >= c->second.second ? otherwise
-                                                          : value(w[c->second.first + k]);
+        if (c == column.end() || k >= c->second.width) return otherwise;
+        const std::size_t index = c->second.first + k;
+        if (index >= w.size()) fail("a property reaches past the end of the line");
+        return value(w[index], property);
       };
       f.position.push_back({{at("pos", 0, 0), at("pos", 1, 0), at("pos", 2, 0)}});
       f.velocity.push_back({{at("velo", 0, 0), at("velo", 1, 0), at("velo", 2, 0)}});
       if (f.position.back()[2] != 0.0 || f.velocity.back()[2] != 0.0) spheres = true;
-      f.radius.push_back(at("radius", 0, 0.5));
-      f.collisions.push_back(static_cast<std::uint32_t>(std::max(0.0, at("collisions", 0, 0))));
+      const double radius = at("radius", 0, 0.5);
+      if (!(radius > 0.0)) fail(fmt::format("the radius must be greater than 0, found {}", radius));
+      f.radius.push_back(radius);
+      const double collisions = at("collisions", 0, 0);
+      if (!(collisions >= 0.0) || collisions != std::floor(collisions)) {
+        fail(fmt::format("the collision count must be a whole number >= 0, found {}", collisions));
+      }
+      // More than 2^32 - 1 (a very long run) is shown as the most the page holds.
+      f.collisions.push_back(static_cast<std::uint32_t>(std::min(collisions, 4294967295.0)));
     }
     frames.push_back(std::move(f));
   }
   if (frames.empty()) throw InputError(name, number, "no frames");
-  for (Frame& f : frames) f.dimension = spheres ? 3 : 2;
+  for (Frame& f : frames) {
+    f.dimension = spheres ? 3 : 2;
+    if (spheres && !(f.box[2] > 0.0)) {
+      throw InputError(name, 0, "the file holds spheres, but a frame's Lattice has Lz = 0");
+    }
+  }
   return frames;
 }
 

@@ -8,17 +8,39 @@
 #include <iterator>
 #include <map>
 
+#include "fuzz/fuzz_checkpoint.hpp"
 #include "fuzz/fuzz_classic_input.hpp"
 
 namespace {
 
 using carom::fuzz::Outcome;
 
-Outcome replay(const std::filesystem::path& path) {
+std::string bytes_of(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  return std::string((std::istreambuf_iterator<char>(in)), {});
+}
+
+Outcome replay(const std::filesystem::path& path) {
+  const std::string bytes = bytes_of(path);
   return carom::fuzz::classic_input(reinterpret_cast<const std::uint8_t*>(bytes.data()),
                                     bytes.size());
+}
+
+// Every file of a fuzzer's corpus and regressions (under tests/fuzz/`reader`), by name.
+template <class Outcome, class Replay>
+std::map<std::string, Outcome> replay_all(const std::string& reader, const Replay& replay) {
+  std::map<std::string, Outcome> outcomes;
+  for (const char* folder : {"corpus", "regressions"}) {
+    const std::filesystem::path dir = std::filesystem::path(CAROM_FUZZ_DIR) / reader / folder;
+    if (!std::filesystem::is_directory(dir)) continue;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+      if (!entry.is_regular_file() || entry.path().filename().string().front() == '.') continue;
+      const std::string bytes = bytes_of(entry.path());
+      outcomes[entry.path().filename().string()] =
+          replay(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    }
+  }
+  return outcomes;
 }
 
 TEST(FuzzReplay, CorpusAndRegressionsRunCleanAndDoWhatTheyWereKeptFor) {
@@ -58,6 +80,41 @@ TEST(FuzzReplay, CorpusAndRegressionsRunCleanAndDoWhatTheyWereKeptFor) {
   }
   // The one that saw a pair through the wrong image now runs, identically in both engines.
   EXPECT_EQ(outcomes["periodic-image-at-half-box.txt"].events, 200);
+}
+
+// The checkpoint reader's corpus: what it accepts resumes without breaking an invariant or going
+// back in time; the tampered seeds and the fuzzer's finds are refused.
+TEST(FuzzReplay, CheckpointCorpusAndRegressions) {
+  const auto outcomes =
+      replay_all<carom::fuzz::CheckpointOutcome>("checkpoint", carom::fuzz::checkpoint);
+  ASSERT_GE(outcomes.size(), 6u);
+  for (const auto& [name, o] : outcomes) EXPECT_EQ(o.violations, 0) << name;
+  for (const char* valid : {"walls.ckpt", "periodic.ckpt", "spheres.ckpt", "v1.ckpt"}) {
+    ASSERT_TRUE(outcomes.count(valid)) << valid;
+    EXPECT_EQ(outcomes.at(valid).resumed, 1) << valid;
+    EXPECT_GT(outcomes.at(valid).events, 0) << valid;
+  }
+  for (const auto& [name, o] : outcomes) {
+    if (name.rfind("tampered-", 0) == 0 || name.rfind("crash-", 0) == 0) {
+      EXPECT_EQ(o.refused, 1) << name;
+    }
+  }
+}
+
+// carom view's reader: carom's own dumps are read; malformed headers and rows are refused with a
+// message (a crash or a sanitizer report fails the fuzzer and this replay under test-sanitize).
+TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
+  const auto outcomes = replay_all<carom::fuzz::XyzOutcome>("xyz", carom::fuzz::xyz);
+  ASSERT_GE(outcomes.size(), 6u);
+  for (const char* valid : {"disks.xyz", "spheres.xyz"}) {
+    ASSERT_TRUE(outcomes.count(valid)) << valid;
+    EXPECT_GT(outcomes.at(valid).frames, 1) << valid;
+  }
+  for (const auto& [name, o] : outcomes) {
+    if (name.rfind("bad-", 0) == 0 || name.rfind("crash-", 0) == 0) {
+      EXPECT_EQ(o.refused, 1) << name;
+    }
+  }
 }
 
 }  // namespace

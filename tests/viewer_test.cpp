@@ -112,6 +112,81 @@ TEST(Viewer, ABadLineNamesTheFileAndTheLine) {
   }
 }
 
+// Regression (issue 16, item 4): malformed headers crashed `carom view` or read past a row's end.
+// Every one is now an InputError naming the file and the line at fault.
+TEST(Viewer, MalformedFilesAreRefusedWithTheirLine) {
+  const auto frame = [](const std::string& comment, const std::string& rows, int n = 1) {
+    return fmt::format("{}\n{}\n{}", n, comment, rows);
+  };
+  const std::string box = "Lattice=\"3 0 0 0 3 0 0 0 3\" ";
+  const std::string ok = "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1 ";
+  const std::string row = "H 1 1 0 0.5 0 0 0.5 3\n";
+  // The well-formed one first: the cases below break one thing each.
+  std::istringstream good(frame(box + ok + "Time=0", row));
+  ASSERT_EQ(read_xyz_frames(good, "good.xyz").size(), 1u);
+  struct Bad {
+    std::string text;
+    std::size_t line;
+    std::string message;
+  };
+  const std::vector<Bad> cases = {
+      {frame(box + "Properties=species:S:1:pos:R:0", "H\n"), 2, "width '0'"},
+      {frame(box + "Properties=species:S:1:pos:R:-3", "H 1 1 0\n"), 2, "width '-3'"},
+      {frame(box + "Properties=species:S:1:pos:R:1e300", "H 1 1 0\n"), 2, "width '1e300'"},
+      {frame(box + "Properties=species:S:1:pos:R:1.5", "H 1 1 0\n"), 2, "width '1.5'"},
+      {frame(box + "Properties=species:S:1:junk:R:18446744073709551613:pos:R:3", "H 1 1 0\n"), 2,
+       "width '18446744073709551613'"},
+      {frame(box + "Properties=species:S:1:pos:R:3:velo:R:-2", "H 1 1 0\n"), 2, "width '-2'"},
+      {frame(box + "Properties=species:S:1:pos:R:3:pos:R:3", "H 1 1 0 1 1 0\n"), 2,
+       "names 'pos' twice"},
+      {frame(box + "Properties=species:S:1:pos:R", "H 1 1 0\n"), 2, "name:type:width"},
+      {frame(box + "Properties=species:S:1:pos:Q:3", "H 1 1 0\n"), 2, "type 'Q'"},
+      {frame(box + "Properties=species:S:1:pos:S:3", "H 1 1 0\n"), 2, "pos must be numbers"},
+      {frame(box + "Properties=species:S:1:pos:R:1", "H 1\n"), 2, "pos has width 1"},
+      {frame(box + "Properties=species:S:1:pos:R:4", "H 1 1 0 0\n"), 2, "pos has width 4"},
+      {frame(box + "Properties=species:S:1:velo:R:3", "H 1 1 0\n"), 2, "no pos property"},
+      {frame(box + "Properties=species:S:1:pos:R:3:radius:R:2", "H 1 1 0 1 1\n"), 2,
+       "radius has width 2"},
+      {frame(box + ok, "H 1 1 0\n"), 3, "expected 9 columns, found 4"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 0.5 3 7\n"), 3, "expected 9 columns, found 10"},
+      {frame(box + ok, "H 1 x 0 0.5 0 0 0.5 3\n"), 3, "'x' is not a number"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 -0.5 3\n"), 3, "radius must be greater than 0"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 0 3\n"), 3, "radius must be greater than 0"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 0.5 -1\n"), 3, "collision count must be a whole number"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 0.5 2.5\n"), 3, "collision count must be a whole number"},
+      {frame(box + ok, "H 1 1 0 0.5 0 0 0.5 1e20\n"), 0, ""},  // read: shown as 2^32 - 1
+      {frame("Lattice=\"3 0 0 0 -3 0 0 0 3\" " + ok, row), 2, "sides must be greater than 0"},
+      {frame("Lattice=\"3 1 0 0 3 0 0 0 3\" " + ok, row), 2, "rectangular box"},
+      {frame("Lattice=\"3 0 0 0 3 0 0 0\" " + ok, row), 2, "no Lattice"},
+      {frame(box + ok + "Time=soon", row), 2, "'soon' is not a number"},
+      {frame(box + ok, row, 2), 3, "the file ends where a particle line"},
+      {frame(box + ok, row, 0), 1, "the number of particles"},
+      {frame(box + ok, row, -1), 1, "the number of particles"},
+      {"100000000000000000000\n", 1, "the number of particles"},
+      {"99999999\n" + box + ok + "\n" + row, 3, "the file ends where a particle line"},
+      {frame(box + ok, row) + frame(box + ok, row + row, 2), 4, "changes between frames"},
+      {frame(box + ok, std::string("H 1 1 0 0.5 0 0 0.5 3") + '\0' + "\n"), 3, "NUL byte"},
+      {frame(box + ok, std::string(70000, ' ') + row), 3, "line longer than"},
+      {"", 0, "no frames"},
+  };
+  for (const Bad& bad : cases) {
+    std::istringstream in(bad.text);
+    if (bad.message.empty()) {
+      EXPECT_EQ(read_xyz_frames(in, "bad.xyz")[0].collisions[0], 4294967295u);
+      continue;
+    }
+    try {
+      read_xyz_frames(in, "bad.xyz");
+      ADD_FAILURE() << "accepted: " << bad.text.substr(0, 200);
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), "bad.xyz");
+      EXPECT_EQ(e.line(), bad.line) << e.what();
+      EXPECT_NE(std::string(e.what()).find(bad.message), std::string::npos)
+          << "expected \"" << bad.message << "\" in: " << e.what();
+    }
+  }
+}
+
 TEST(Viewer, ThePageIsToldTheDimensionAndTheWholeBox) {
   System<3> system;
   system.box = {{{4, 5, 6}}, Boundary::walls};

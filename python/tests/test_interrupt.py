@@ -131,7 +131,7 @@ def test_a_sigint_handler_of_ones_own_is_called_and_the_run_goes_on():
         sent.append(time.monotonic())
         os.kill(os.getpid(), signal.SIGINT)
 
-    end = 4.0
+    end = 20.0  # a few seconds of work, so that the signal at 0.3 s comes during the run
     previous = signal.signal(signal.SIGINT, handler)
     try:
         sim = carom.init(**START)

@@ -1,0 +1,280 @@
+// Checkpoints are validated when read: whatever a run can have reached is resumed, anything else
+// (an edit, a bit flip, a truncation) is refused with a message naming the file and the fault,
+// before a run could make a physically impossible result of it.
+#include "carom/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "carom/classic_input.hpp"
+#include "test_systems.hpp"
+
+namespace carom {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using carom::testing::random_gas;
+
+template <std::size_t D>
+std::string written(const Checkpoint<D>& checkpoint) {
+  std::ostringstream out;
+  write_checkpoint(out, checkpoint);
+  return out.str();
+}
+
+// A walls run of 20 disks, checkpointed at t = 5 (particles stored at many different times).
+std::string saved(Boundary boundary = Boundary::walls) {
+  pcg32 rng(16);
+  System<2> gas = random_gas(rng, 20, 0.3, 0.5, 10, 8);
+  gas.box.boundary = boundary;
+  Simulation<2> simulation(gas, {{Rule::elastic}});
+  simulation.measure_from(1.0);
+  simulation.run_until(5.0);
+  return written(simulation.checkpoint("gas.txt"));
+}
+
+AnyCheckpoint read(const std::string& text) {
+  std::istringstream in(text);
+  return read_checkpoint(in, "ck");
+}
+
+// The checkpoint edited by `edit` and written again without its checksum, as someone editing it
+// by hand (or a tool) would: what the validation alone must catch.
+std::string tampered(const std::string& text, const std::function<void(Json&)>& edit) {
+  Json j = Json::parse(text);
+  j.erase("checksum");
+  edit(j);
+  return j.dump(1);
+}
+
+void expect_refused(const std::string& text, const std::string& message) {
+  try {
+    read(text);
+    ADD_FAILURE() << "accepted; expected a refusal with \"" << message << "\"";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "ck");
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos)
+        << "expected \"" << message << "\" in: " << e.what();
+  }
+}
+
+TEST(Checkpoint, WhatRunsWriteIsReadBackWithAndWithoutItsChecksum) {
+  // Walls and periodic boxes, swap, elastic and inelastic rules, settled or stopped between the
+  // events of one instant, 2D and 3D: every checkpoint a run writes passes the validation.
+  pcg32 rng(1616);
+  int read_back = 0;
+  for (int trial = 0; trial < 16; ++trial) {
+    System<2> gas = random_gas(rng, 40, 0.2, 0.5, 10, 8);
+    if (trial % 2 == 1) gas.box.boundary = Boundary::periodic;
+    const Settings settings = trial % 4 == 0   ? Settings{}
+                              : trial % 4 == 1 ? Settings{{Rule::elastic}}
+                                               : Settings{{Rule::elastic, 0.5, 0.2}};
+    Simulation<2> simulation(gas, settings);
+    simulation.measure_from(3.0);
+    for (int piece = 0; piece < 6; ++piece) {
+      simulation.run_until(2.0 * piece + 1.0, 1 + rng() % 200);
+      const std::string text = written(simulation.checkpoint("gas.txt"));
+      ASSERT_NE(text.find("\"checksum\": \"fnv1a64:"), std::string::npos);
+      EXPECT_NO_THROW(read(text)) << "trial " << trial << " piece " << piece;
+      EXPECT_NO_THROW(read(tampered(text, [](Json&) {}))) << "trial " << trial;
+      ++read_back;
+    }
+  }
+  EXPECT_EQ(read_back, 96);
+  // Spheres.
+  System<3> spheres;
+  spheres.box = {{{5, 6, 7}}, Boundary::walls};
+  for (int k = 0; k < 8; ++k) {
+    Particle<3> p;
+    p.radius = 0.4;
+    p.position = {{1.0 + (k % 2) * 2.5, 1.0 + (k / 2 % 2) * 3.0, 1.0 + (k / 4) * 4.0}};
+    p.velocity = {{0.3 * k - 1.0, 0.5, -0.2 * k}};
+    spheres.add(p);
+  }
+  Simulation<3> simulation(spheres, {{Rule::elastic}});
+  simulation.run_until(20.0);
+  ASSERT_GT(simulation.counts().events, 10u);
+  EXPECT_TRUE(std::holds_alternative<Checkpoint<3>>(read(written(simulation.checkpoint("s")))));
+}
+
+TEST(Checkpoint, TheChecksumCoversTheValuesNotTheLayout) {
+  const std::string text = saved();
+  // Reindented by a tool, keys reordered: still the same checkpoint.
+  const nlohmann::json sorted = nlohmann::json::parse(text);
+  EXPECT_NO_THROW(read(sorted.dump(4)));
+  // One bit flipped in a digit of the first particle's position ('3' <-> '2', say): refused,
+  // though the result is a plausible state.
+  std::string flipped = text;
+  const std::size_t row = flipped.find("\"particles\": [\n  [");
+  ASSERT_NE(row, std::string::npos);
+  std::size_t digit = flipped.find_first_of("123456789", row + 22);
+  digit = flipped.find_first_of("123456789", digit + 3);  // a digit well inside the number
+  flipped[digit] = static_cast<char>(flipped[digit] ^ 1);
+  expect_refused(flipped, "checksum does not match");
+  // An unknown kind of checksum is not silently ignored.
+  expect_refused(tampered(text, [](Json& j) { j["checksum"] = "crc32:0"; }), "checksum");
+}
+
+TEST(Checkpoint, ParticlesAreCheckedAsTheInputReaderChecksThem) {
+  const std::string text = saved();
+  // Particle 1 moved onto particle 0 (state, velocity and time).
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            for (int k = 0; k < 5; ++k) j["particles"][1][k] = j["particles"][0][k];
+                          }),
+                 "overlaps particle 0");
+  // Far outside the box.
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["particles"][2][0] = 50.0;
+                            j["particles"][2][1] = 5.0;
+                          }),
+                 "particle 2 at (50, 5) is outside the box [0, 10] x [0, 8]");
+  // Inside when stored, but through the right wall by the checkpoint's time.
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["particles"][3][0] = 5.0;
+                            j["particles"][3][1] = 4.0;
+                            j["particles"][3][2] = 1e3;
+                            j["particles"][3][4] = 4.5;
+                          }),
+                 "at the checkpoint's time t = 5, particle 3");
+  // Reaching through a wall where it is stored.
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4][0] = 0.01; }),
+                 "overlaps the left wall");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4][5] = -0.5; }),
+                 "the radius of particle 4 must be greater than 0");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4][6] = 0.0; }),
+                 "the mass of particle 4 must be greater than 0");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4][2] = 1e200; }),
+                 "the velocity of particle 4 is out of range");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4][2] = "fast"; }),
+                 "the velocity of particle 4 must be a number");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][4].erase(9); }),
+                 "the row of particle 4 does not hold 10 values");
+  expect_refused(tampered(text, [](Json& j) { j["particles"] = Json::array(); }), "no particles");
+  expect_refused(tampered(text, [](Json& j) { j["box"][0] = -10.0; }),
+                 "a box side must be greater than 0");
+  // A disk too large for its periodic box.
+  expect_refused(tampered(saved(Boundary::periodic), [](Json& j) { j["particles"][0][5] = 2.5; }),
+                 "too large for the periodic box");
+}
+
+TEST(Checkpoint, TheSettingsAreCheckedAsANewRunsAre) {
+  const std::string text = saved();
+  expect_refused(tampered(text, [](Json& j) { j["restitution"] = -0.5; }),
+                 "the restitution must be in (0, 1], got -0.5");
+  expect_refused(tampered(text, [](Json& j) { j["restitution"] = 1.5; }),
+                 "the restitution must be in (0, 1], got 1.5");
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["rule"] = "swap";
+                            j["restitution"] = 0.5;
+                          }),
+                 "the swap rule has no restitution");
+  expect_refused(tampered(text, [](Json& j) { j["tc"] = -1.0; }),
+                 "the TC time must be a number >= 0, got -1");
+  expect_refused(tampered(text, [](Json& j) { j["rule"] = "sticky"; }), "unknown rule 'sticky'");
+  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 3; }), "format 3");
+  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 2.5; }), "format 2.5");
+  expect_refused(tampered(text, [](Json& j) { j["dimension"] = 4; }), "dimension 4");
+}
+
+TEST(Checkpoint, CountsAreWholeNumbersThatAddUp) {
+  const std::string text = saved();
+  for (const Json& bad : {Json(-5), Json(1.5), Json(1e30), Json("7"), Json(nullptr)}) {
+    expect_refused(tampered(text, [&](Json& j) { j["counts"]["events"] = bad; }),
+                   "\"events\" in \"counts\" must be a whole number from 0 to "
+                   "18446744073709551615");
+  }
+  // One more than 2^64 - 1 is a json integer no uint64 holds.
+  std::string huge = tampered(text, [](Json& j) { j["counts"]["wall_collisions"] = 12345; });
+  huge.replace(huge.find("12345"), 5, "18446744073709551616");
+  expect_refused(huge, "\"wall_collisions\" in \"counts\" must be a whole number");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][0][8] = -1; }),
+                 "the pair collision count of particle 0 must be a whole number");
+  // Every event is a wall or a pair collision.
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["counts"]["events"] = j["counts"]["events"].get<std::uint64_t>() + 1;
+                          }),
+                 "the counts in \"counts\" do not add up");
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["counts"]["elastic_by_tc"] =
+                                j["counts"]["pair_collisions"].get<std::uint64_t>() + 1;
+                          }),
+                 "collisions made elastic by TC");
+  // The window is part of the run.
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            j["counts"] = j["measurement"]["counts"];
+                            j["counts"]["events"] = 0;
+                            j["counts"]["wall_collisions"] = 0;
+                            j["counts"]["pair_collisions"] = 0;
+                            j["counts"]["elastic_by_tc"] = 0;
+                          }),
+                 "more than the 0 of the whole run");
+  // Each collision is counted by the particles in it.
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            for (auto& row : j["particles"]) row[8] = 0;
+                          }),
+                 "the particles' collision counts");
+  // Beyond the range of a double (json has no infinity).
+  std::string infinite = tampered(text, [](Json& j) { j["counts"]["virial"] = 12345.5; });
+  infinite.replace(infinite.find("12345.5"), 7, "1e400");
+  expect_refused(infinite, "number overflow parsing '1e400'");
+}
+
+TEST(Checkpoint, TimesAreConsistent) {
+  const std::string text = saved();
+  // Before a particle's stored time (here, the last event's).
+  expect_refused(tampered(text, [](Json& j) { j["time"] = 1.0; }), "after the checkpoint's time 1");
+  expect_refused(tampered(text, [](Json& j) { j["particles"][5][9] = 6.0; }),
+                 "particle 5 last collided at t = 6, after the checkpoint's time 5");
+  expect_refused(tampered(text, [](Json& j) { j["measurement"]["start_time"] = 7.0; }),
+                 "the measurement starts at 7, after the checkpoint's time 5");
+  expect_refused(tampered(text, [](Json& j) { j["time"] = 1e13; }), "which no run reaches");
+  expect_refused(tampered(text, [](Json& j) { j["time"] = "5"; }), "the time must be a number");
+  expect_refused(tampered(text, [](Json& j) { j.erase("time"); }), "no \"time\" field");
+  expect_refused(tampered(text, [](Json& j) { j["measure_from"] = true; }),
+                 "\"measure_from\" must be a number");
+}
+
+TEST(Checkpoint, StatesThatPassedThroughEachOtherAreRefused) {
+  // Both disks stored at t = 0; at t = 15 they are apart, but disk 0 went through disk 1 at
+  // t = 7: no run leaves that collision unprocessed.
+  Checkpoint<2> c;
+  c.source = "made";
+  c.system = carom::testing::boxed({{20, 10}}, {carom::testing::disk({{2, 5}}, {{1, 0}}, 0.5),
+                                                carom::testing::disk({{10, 5}}, {{0, 0}}, 0.5)});
+  c.settings = {{Rule::elastic}};
+  c.time = 15.0;
+  c.settled = true;
+  expect_refused(written(c), "before the checkpoint's time 15, was never processed");
+  // The same two at t = 6, before they meet, are a state a run reaches.
+  c.time = 6.0;
+  EXPECT_NO_THROW(read(written(c)));
+}
+
+TEST(Checkpoint, CarromOnesFormatIsStillReadAndValidated) {
+  std::ifstream file(std::string(CAROM_TEST_DATA) + "/checkpoint_v1/v1.ckpt");
+  const std::string text((std::istreambuf_iterator<char>(file)), {});
+  EXPECT_NO_THROW(read(text));
+  expect_refused(tampered(text,
+                          [](Json& j) {
+                            for (int k = 0; k < 5; ++k) j["particles"][1][k] = j["particles"][0][k];
+                          }),
+                 "overlaps particle 0");
+  expect_refused(tampered(text, [](Json& j) { j["events"] = -1; }),
+                 "\"events\" must be a whole number");
+}
+
+}  // namespace
+}  // namespace carom
