@@ -42,20 +42,12 @@ namespace {
 constexpr double kCrossingsPerSlice = 1e5;
 
 // The length of a slice of time in which the particles make at most about kCrossingsPerSlice
-// cell crossings in all. Cells are at least a largest diameter wide, and no particle is ever
-// faster than the larger of the fastest now (the swap rule only exchanges velocities) and the
-// speed the whole kinetic energy would give the lightest one (collisions only keep or lose it).
+// cell crossings in all: cells are at least a largest diameter wide, and no particle is ever
+// faster than speed_bound().
 template <std::size_t D>
 double slice_length(const System<D>& system) {
-  double fastest2 = 0.0, lightest = kNever, diameter = 0.0;
-  for (std::size_t i = 0; i < system.size(); ++i) {
-    fastest2 = std::max(fastest2, norm2(system.particles[i].velocity));
-    lightest = std::min(lightest, system.records[i].mass);
-    diameter = std::max(diameter, 2.0 * system.particles[i].radius);
-  }
-  const double fastest =
-      std::max(std::sqrt(fastest2), std::sqrt(2.0 * kinetic_energy(system) / lightest));
-  const double crossings_per_time = static_cast<double>(system.size() * D) * fastest / diameter;
+  const double crossings_per_time =
+      static_cast<double>(system.size() * D) * speed_bound(system) / (2.0 * largest_radius(system));
   return crossings_per_time > 0.0 ? kCrossingsPerSlice / crossings_per_time : kNever;
 }
 
