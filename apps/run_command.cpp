@@ -376,13 +376,12 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   }
 
   const RunReport report{start.source, seconds};
-  const System<D>& state = simulation.state();
   if (trace) {
     trace->finish(simulation);
   } else if (args.format == Format::table) {
-    write_table<D>(outputs.main.stream(), simulation.snapshot(), state.records);
+    write_table(outputs.main.stream(), simulation);
   } else if (args.format == Format::csv) {
-    write_csv<D>(outputs.main.stream(), simulation.snapshot(), state.records);
+    write_csv(outputs.main.stream(), simulation);
   } else {
     write_json(outputs.main.stream(), simulation, report);
   }

@@ -57,6 +57,16 @@ std::string particle_line(std::size_t index, const Particle<D>& p, const Particl
                   static_cast<unsigned long long>(record.pair_collisions));
 }
 
+namespace {
+
+std::string csv_line(const auto& position, const ParticleRecord& record) {
+  return components(position) + c_format(", %llu, %llu\n",
+                                         static_cast<unsigned long long>(record.wall_collisions),
+                                         static_cast<unsigned long long>(record.pair_collisions));
+}
+
+}  // namespace
+
 template <std::size_t D>
 void write_table(std::ostream& out, std::span<const Particle<D>> particles,
                  std::span<const ParticleRecord> records) {
@@ -67,12 +77,29 @@ void write_table(std::ostream& out, std::span<const Particle<D>> particles,
 }
 
 template <std::size_t D>
+void write_table(std::ostream& out, const Simulation<D>& simulation) {
+  const System<D>& system = simulation.state();
+  out << kTableHeader<D>;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    const Particle<D> now = synchronised(system.particles[i], system.box, simulation.time());
+    out << particle_line(i, now, system.records[i]) << '\n';
+  }
+}
+
+template <std::size_t D>
 void write_csv(std::ostream& out, std::span<const Particle<D>> particles,
                std::span<const ParticleRecord> records) {
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    out << components(particles[i].position)
-        << c_format(", %llu, %llu\n", static_cast<unsigned long long>(records[i].wall_collisions),
-                    static_cast<unsigned long long>(records[i].pair_collisions));
+    out << csv_line(particles[i].position, records[i]);
+  }
+}
+
+template <std::size_t D>
+void write_csv(std::ostream& out, const Simulation<D>& simulation) {
+  const System<D>& system = simulation.state();
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    const Particle<D> now = synchronised(system.particles[i], system.box, simulation.time());
+    out << csv_line(now.position, system.records[i]);
   }
 }
 
@@ -137,11 +164,11 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   std::string text = head.dump(2);
   text.resize(text.size() - 2);  // reopen the object: drop the closing "\n}"
   out << text << ",\n  \"particles\": [";
-  const std::vector<Particle<D>> now = simulation.snapshot();
   constexpr const char* kAxes[] = {"x", "y", "z"};
   constexpr const char* kVelocities[] = {"vx", "vy", "vz"};
-  for (std::size_t i = 0; i < now.size(); ++i) {
-    const Particle<D>& p = now[i];
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    // One particle at a time: a million-particle result needs no copy of the state.
+    const Particle<D> p = synchronised(system.particles[i], system.box, simulation.time());
     const ParticleRecord& r = system.records[i];
     nlohmann::ordered_json particle = {{"id", i}};
     for (std::size_t k = 0; k < D; ++k) particle[kAxes[k]] = p.position[k];
@@ -198,7 +225,7 @@ void TraceWriter<D>::observe(const Simulation<D>& simulation) {
 template <std::size_t D>
 void TraceWriter<D>::finish(const Simulation<D>& simulation) {
   out_ << "======== Final Particles =========\n";
-  write_table<D>(out_, simulation.snapshot(), simulation.state().records);
+  write_table(out_, simulation);
 }
 
 template <std::size_t D>
@@ -229,6 +256,8 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
                             std::span<const ParticleRecord>);                                 \
   template void write_csv(std::ostream&, std::span<const Particle<D>>,                        \
                           std::span<const ParticleRecord>);                                   \
+  template void write_table(std::ostream&, const Simulation<D>&);                             \
+  template void write_csv(std::ostream&, const Simulation<D>&);                               \
   template void write_json(std::ostream&, const Simulation<D>&, const RunReport&, bool);      \
   template class TraceWriter<D>;                                                              \
   template class EventLogWriter<D>;                                                           \

@@ -81,15 +81,20 @@ template <std::size_t D>
 std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
                                        const CollisionRule& rule);
 
-// Every particle brought to time t (not before any stored time), wrapped into a periodic box;
-// the stored states are not touched.
+// A particle brought to time t (not before its stored time), wrapped into a periodic box.
+template <std::size_t D>
+Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
+  advance(p, t);
+  wrap(p.position, box);
+  return p;
+}
+
+// Every particle brought to time t; the stored states are not touched.
 template <std::size_t D>
 std::vector<Particle<D>> synchronised(const System<D>& system, double t) {
-  std::vector<Particle<D>> at(system.particles);
-  for (Particle<D>& p : at) {
-    advance(p, t);
-    wrap(p.position, system.box);
-  }
+  std::vector<Particle<D>> at;
+  at.reserve(system.size());
+  for (const Particle<D>& p : system.particles) at.push_back(synchronised(p, system.box, t));
   return at;
 }
 

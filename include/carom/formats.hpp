@@ -36,6 +36,13 @@ template <std::size_t D>
 void write_csv(std::ostream& out, std::span<const Particle<D>> particles,
                std::span<const ParticleRecord> records);
 
+// The table and the csv of every particle at the simulation's time, brought there one at a
+// time: a result of 10^6 particles costs no copy of the state.
+template <std::size_t D>
+void write_table(std::ostream& out, const Simulation<D>& simulation);
+template <std::size_t D>
+void write_csv(std::ostream& out, const Simulation<D>& simulation);
+
 // What a json result says beyond the simulation itself.
 struct RunReport {
   std::string input;          // the file the run began from

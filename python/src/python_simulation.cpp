@@ -397,8 +397,8 @@ std::string PythonSimulation::text(Format format) const {
   std::visit(
       [&](const auto& s) {
         constexpr std::size_t D = std::remove_cvref_t<decltype(s.state())>::dimension;
-        if (format == Format::table) write_table<D>(out, s.snapshot(), s.state().records);
-        if (format == Format::csv) write_csv<D>(out, s.snapshot(), s.state().records);
+        if (format == Format::table) write_table(out, s);
+        if (format == Format::csv) write_csv(out, s);
         if (format == Format::json) write_json(out, s, {source_, wall_seconds_});
       },
       simulation_);
