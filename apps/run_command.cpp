@@ -184,6 +184,16 @@ std::ofstream open_streamed(const std::string& path, bool resumed,
   return out;
 }
 
+// The format --dump names by its ending; an unknown ending is a usage error.
+template <std::size_t D>
+std::unique_ptr<TrajectoryFormat<D>> dump_format(const std::string& path) {
+  try {
+    return trajectory_format_for<D>(path);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
 // Every file a run writes. The result (-o) and the summary appear whole at the end or not at all;
 // frames and the event log are written as the run goes.
 template <std::size_t D>
@@ -197,12 +207,7 @@ struct RunOutputs {
     const double t = simulation.time();
     const bool inclusive = simulation.settled();
     if (!args.dump.empty()) {
-      std::unique_ptr<TrajectoryFormat<D>> format;
-      try {
-        format = trajectory_format_for<D>(args.dump);
-      } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
-      }
+      std::unique_ptr<TrajectoryFormat<D>> format = dump_format<D>(args.dump);
       dump = open_streamed(args.dump, resumed, [&](std::istream& in) {
         return format->whole_frames_before(in, t, inclusive, args.every);
       });
@@ -235,14 +240,8 @@ void check_dump_fits(const Simulation<D>& simulation, const RunArguments& args, 
   const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
   sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
   sample.records.assign(state.records.begin(), state.records.begin() + taken);
-  std::unique_ptr<TrajectoryFormat<D>> format;
-  try {
-    format = trajectory_format_for<D>(args.dump);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
   std::ostringstream one;
-  format->frame(one, 0, simulation.time(), sample);
+  dump_format<D>(args.dump)->frame(one, 0, simulation.time(), sample);
   const double frame_bytes = static_cast<double>(one.tellp()) * static_cast<double>(state.size()) /
                              static_cast<double>(taken);
   const double frames =

@@ -271,8 +271,10 @@ py::array PythonSimulation::collisions() {
   fields.append(py::make_tuple("j", "<i8"));
   const py::dtype dtype = py::dtype::from_args(fields);
   py::array out(dtype, std::vector<py::ssize_t>{static_cast<py::ssize_t>(log_.size())});
-  static_assert(sizeof(LoggedCollision) == 24);
-  if (!log_.empty()) std::memcpy(out.mutable_data(), log_.data(), log_.size() * 24);
+  static_assert(sizeof(LoggedCollision) == 24, "the dtype's 8 + 8 + 8 bytes, unpadded");
+  if (!log_.empty()) {
+    std::memcpy(out.mutable_data(), log_.data(), log_.size() * sizeof(LoggedCollision));
+  }
   log_.clear();
   return out;
 }
@@ -327,13 +329,15 @@ template <class Pick>
 py::array_t<double> per_particle_vectors(const AnySimulation& any, Pick pick) {
   return std::visit(
       [&](const auto& s) {
-        const auto now = s.snapshot();
-        constexpr std::size_t D = std::remove_cvref_t<decltype(s.state())>::dimension;
+        const auto& system = s.state();
+        constexpr std::size_t D = std::remove_cvref_t<decltype(system)>::dimension;
         py::array_t<double> out(
-            {static_cast<py::ssize_t>(now.size()), static_cast<py::ssize_t>(D)});
+            {static_cast<py::ssize_t>(system.size()), static_cast<py::ssize_t>(D)});
         double* data = out.mutable_data();
-        for (std::size_t i = 0; i < now.size(); ++i) {
-          const auto& v = pick(now[i]);
+        for (std::size_t i = 0; i < system.size(); ++i) {
+          // Each particle brought to the simulation's time on its own: no copy of the state.
+          const auto now = synchronised(system.particles[i], system.box, s.time());
+          const auto& v = pick(now);
           for (std::size_t k = 0; k < D; ++k) data[i * D + k] = v[k];
         }
         return out;
@@ -396,7 +400,6 @@ std::string PythonSimulation::text(Format format) const {
   std::ostringstream out;
   std::visit(
       [&](const auto& s) {
-        constexpr std::size_t D = std::remove_cvref_t<decltype(s.state())>::dimension;
         if (format == Format::table) write_table(out, s);
         if (format == Format::csv) write_csv(out, s);
         if (format == Format::json) write_json(out, s, {source_, wall_seconds_});
