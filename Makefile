@@ -47,7 +47,7 @@ test-sanitize: deps
 	  -DCMAKE_CXX_FLAGS="$(SANITIZE)" -DCMAKE_EXE_LINKER_FLAGS="$(SANITIZE)" > $(BUILD)-sanitize.configure.log 2>&1 \
 	  || { cat $(BUILD)-sanitize.configure.log; exit 1; }
 	@cmake --build $(BUILD)-sanitize -j $(JOBS)
-	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS)
+	ctest --test-dir $(BUILD)-sanitize --output-on-failure -j $(JOBS) -LE long
 
 # libFuzzer on a reader, with AddressSanitizer and UndefinedBehaviorSanitizer; FUZZ_SECONDS long.
 # `make fuzz` fuzzes the classic input reader (and a few events of both engines on what it

@@ -237,6 +237,7 @@ void check_dump_fits(const Simulation<D>& simulation, const RunArguments& args, 
   const System<D>& state = simulation.state();
   System<D> sample;
   sample.box = state.box;
+  sample.epoch = state.epoch;
   const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
   sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
   sample.records.assign(state.records.begin(), state.records.begin() + taken);

@@ -256,6 +256,12 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     c.system.particles.push_back(p);
     c.system.records.push_back(r);
   }
+  if (format >= 3) {
+    c.system.epoch = f.coordinate(f.at(j, "epoch"), "the epoch");
+  } else {
+    // Absolute stored times, as older carom ran on: made small as a new run's would be.
+    c.system.shift_epoch(c.system.latest_stored());
+  }
   return c;
 }
 
@@ -269,9 +275,14 @@ void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
   } catch (const std::invalid_argument& e) {
     fail(e.what());
   }
-  if (std::abs(c.time) > Simulation<D>::kLatestTime) {
-    fail(fmt::format("the time {} is beyond {}, which no run reaches", c.time,
-                     Simulation<D>::kLatestTime));
+  for (const auto& [what, t] : {std::pair{"time", c.time}, std::pair{"epoch", c.system.epoch}}) {
+    if (std::abs(t) > Simulation<D>::kLatestTime) {
+      fail(fmt::format("the {} {} is beyond {}, which no run reaches", what, t,
+                       Simulation<D>::kLatestTime));
+    }
+  }
+  if (!(c.system.epoch <= c.time)) {
+    fail(fmt::format("the epoch {} is after the checkpoint's time {}", c.system.epoch, c.time));
   }
   const Measurement& m = c.measurement;
   if (!(m.start_time <= c.time)) {
@@ -299,13 +310,13 @@ void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
   for (std::size_t i = 0; i < s.size(); ++i) {
     const Particle<D>& p = s.particles[i];
     const ParticleRecord& r = s.records[i];
-    if (!(p.time <= c.time)) {
-      fail(fmt::format("particle {} is stored at t = {}, after the checkpoint's time {}", i, p.time,
-                       c.time));
+    if (!(s.absolute(p.time) <= c.time)) {
+      fail(fmt::format("particle {} is stored at t = {}, after the checkpoint's time {}", i,
+                       s.absolute(p.time), c.time));
     }
-    if (r.last_collision > c.time) {
+    if (s.absolute(r.last_collision) > c.time) {
       fail(fmt::format("particle {} last collided at t = {}, after the checkpoint's time {}", i,
-                       r.last_collision, c.time));
+                       s.absolute(r.last_collision), c.time));
     }
     walls = sum(walls, r.wall_collisions);
     pairs = sum(pairs, r.pair_collisions);
@@ -321,12 +332,12 @@ void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
       }
     }
     if (const auto problem = particle_problem(i, stored, r.mass, box)) {
-      fail(fmt::format("at its stored time t = {}, {}", p.time, *problem));
+      fail(fmt::format("at its stored time t = {}, {}", s.absolute(p.time), *problem));
     }
     // Moved to the checkpoint's time: in a box with walls, still inside it.
     if (!box.periodic()) {
       Particle<D> now = p;
-      advance(now, c.time);
+      advance(now, s.stored(c.time));
       if (const auto problem = particle_problem(i, now, r.mass, box)) {
         fail(fmt::format("at the checkpoint's time t = {}, {}", c.time, *problem));
       }
@@ -341,9 +352,9 @@ void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
         "pair collisions, each counted by both its particles)",
         walls, pairs, c.counts.wall_collisions, c.counts.pair_collisions));
   }
-  if (const auto overlap = find_pair_overlap(s, c.time)) {
+  if (const auto overlap = find_pair_overlap(s, s.stored(c.time))) {
     System<D> now = s;
-    now.particles = synchronised(s, c.time);
+    now.particles = synchronised(s, s.stored(c.time));
     fail(fmt::format("at the checkpoint's time t = {}, {}", c.time,
                      describe_overlap(now, overlap->first, overlap->second,
                                       s.particles[overlap->first].radius)));
@@ -351,9 +362,7 @@ void validate(const Checkpoint<D>& c, int format, const Fail& fail) {
   // No collision due before the checkpoint's time may be left unprocessed (two particles whose
   // stored states have them pass through each other, say): the resumed run would go back in
   // time. The engine, started from the stored states as a resumed run starts, must find none.
-  double latest = s.particles.front().time;
-  for (const Particle<D>& p : s.particles) latest = std::max(latest, p.time);
-  if (most_crossings(s, c.time - latest) <= kMostReplayedCrossings) {
+  if (most_crossings(s, c.time - s.absolute(s.latest_stored())) <= kMostReplayedCrossings) {
     std::optional<Event> missed;
     try {
       auto engine = make_engine(EngineKind::fast, s, c.settings.rule);
@@ -388,6 +397,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"tc", c.settings.rule.elastic_within},
       {"engine", name_of(c.settings.engine)},
       {"time", c.time},
+      {"epoch", c.system.epoch},
       {"settled", c.settled},
       {"counts", counts_json(c.counts)},
       {"measurement",
@@ -431,8 +441,8 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
   };
   if (!j.is_object() || !j.contains("carom_checkpoint")) fail("no carom_checkpoint field");
   const auto& format = j["carom_checkpoint"];
-  if (!format.is_number_integer() || (format != 1 && format != kCheckpointFormat)) {
-    fail(fmt::format("format {} (this carom {} reads formats 1 and {})", shown(format), kVersion,
+  if (!format.is_number_integer() || format < 1 || format > kCheckpointFormat) {
+    fail(fmt::format("format {} (this carom {} reads formats 1 to {})", shown(format), kVersion,
                      kCheckpointFormat));
   }
   const int version = format.get<int>();

@@ -29,14 +29,14 @@ Engine<D>::Engine(System<D> system, const CollisionRule& rule)
 }
 
 template <std::size_t D>
-void Engine<D>::apply(Event& event) {
+Event Engine<D>::apply(Event event) {
   // Simultaneous events are common (corners, symmetric starts) but bounded: a few per particle.
   events_at_now_ = event.time == now_ ? events_at_now_ + 1 : 0;
   if (events_at_now_ > 64 * system_.particles.size() + 1000) {
     throw JamError(fmt::format(
         "the {} are jammed: {} collisions at t = {} without time advancing (particle {} "
         "cannot move apart from {}; is a {} wedged exactly between two walls?)",
-        kParticlesName<D>, events_at_now_, event.time, event.first, event.partner,
+        kParticlesName<D>, events_at_now_, system_.absolute(event.time), event.first, event.partner,
         kParticleName<D>));
   }
   now_ = event.time;
@@ -66,6 +66,18 @@ void Engine<D>::apply(Event& event) {
     rb.last_collision = t;
   }
   ra.last_collision = t;
+  event.time = system_.absolute(t);
+  return event;
+}
+
+template <std::size_t D>
+void Engine<D>::rebase() {
+  const double shift = now_;
+  if (shift == 0.0) return;
+  // The new epoch is the absolute time step() reported for the last event, exactly.
+  system_.shift_epoch(shift);
+  now_ = 0.0;
+  rebased(shift);
 }
 
 template <std::size_t D>
@@ -89,7 +101,7 @@ void Engine<D>::throw_too_fast(double t) const {
   throw JamError(fmt::format(
       "the {} move too fast for the box: at t = {} a double cannot resolve the time it takes "
       "them to cross it ({} at most); rescale the velocities or the time unit",
-      kParticlesName<D>, t, image_horizon()));
+      kParticlesName<D>, system_.absolute(t), image_horizon()));
 }
 
 template <std::size_t D>

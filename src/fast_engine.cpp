@@ -26,6 +26,22 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
 }
 
 template <std::size_t D>
+void FastEngine<D>::rebased(double) {
+  // Back to the last event (crossings since then are found again), every particle in the cell it
+  // is in then, every prediction made afresh from the shifted states, as the reference engine
+  // makes them.
+  const auto& particles = this->system_.particles;
+  const auto n = static_cast<std::uint32_t>(particles.size());
+  clock_ = this->now_;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t cell = grid_.locate(position_at(particles[i], clock_));
+    if (cell != grid_.cell_of(i)) grid_.move(i, cell);
+  }
+  queue_ = EventCalendar(n + 1);
+  predict_all();
+}
+
+template <std::size_t D>
 void FastEngine<D>::predict_all() {
   const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
@@ -114,7 +130,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         fetch_ahead(static_cast<std::uint32_t>(pending_[s].partner));
     });
     const double t = queue_.top_key().time;
-    if (!(t <= end_time)) return std::nullopt;
+    if (!this->due_by(t, end_time)) return std::nullopt;
     const Pending pending = pending_[i];
     switch (pending.kind) {
       case Kind::none:
@@ -130,8 +146,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         break;
       case Kind::wall: {
         clock_ = t;
-        Event event{t, i, pending.partner};
-        this->apply(event);
+        const Event event = this->apply({t, i, pending.partner});
         predict(i);
         return event;
       }
@@ -142,8 +157,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
           break;
         }
         clock_ = t;
-        Event event = pair_event(t, i, j);
-        this->apply(event);
+        const Event event = this->apply(pair_event(t, i, j));
         predict(i);
         predict(j);
         return event;

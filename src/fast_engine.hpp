@@ -28,6 +28,7 @@ class FastEngine final : public Engine<D> {
   std::optional<Event> step(double end_time) override;
 
  private:
+  void rebased(double shift) override;
   enum class Kind : std::uint8_t { none, wall, pair, crossing, horizon };
   // What a particle's entry in the queue means; the time and order are in the queue itself.
   struct Pending {

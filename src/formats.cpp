@@ -68,20 +68,23 @@ std::string csv_line(const auto& position, const ParticleRecord& record) {
 }  // namespace
 
 template <std::size_t D>
-void write_table(std::ostream& out, std::span<const Particle<D>> particles,
-                 std::span<const ParticleRecord> records) {
+void write_table(std::ostream& out, const System<D>& system) {
   out << kTableHeader<D>;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    out << particle_line(i, particles[i], records[i]) << '\n';
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    Particle<D> stored = system.particles[i];
+    stored.time = system.absolute(stored.time);
+    out << particle_line(i, stored, system.records[i]) << '\n';
   }
 }
 
 template <std::size_t D>
 void write_table(std::ostream& out, const Simulation<D>& simulation) {
   const System<D>& system = simulation.state();
+  const double now_stored = simulation.stored_time();
   out << kTableHeader<D>;
   for (std::size_t i = 0; i < system.size(); ++i) {
-    const Particle<D> now = synchronised(system.particles[i], system.box, simulation.time());
+    Particle<D> now = synchronised(system.particles[i], system.box, now_stored);
+    now.time = simulation.time();
     out << particle_line(i, now, system.records[i]) << '\n';
   }
 }
@@ -97,8 +100,9 @@ void write_csv(std::ostream& out, std::span<const Particle<D>> particles,
 template <std::size_t D>
 void write_csv(std::ostream& out, const Simulation<D>& simulation) {
   const System<D>& system = simulation.state();
+  const double now_stored = simulation.stored_time();
   for (std::size_t i = 0; i < system.size(); ++i) {
-    const Particle<D> now = synchronised(system.particles[i], system.box, simulation.time());
+    const Particle<D> now = synchronised(system.particles[i], system.box, now_stored);
     out << csv_line(now.position, system.records[i]);
   }
 }
@@ -166,16 +170,17 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   out << text << ",\n  \"particles\": [";
   constexpr const char* kAxes[] = {"x", "y", "z"};
   constexpr const char* kVelocities[] = {"vx", "vy", "vz"};
+  const double now_stored = simulation.stored_time();
   for (std::size_t i = 0; i < system.size(); ++i) {
     // One particle at a time: a million-particle result needs no copy of the state.
-    const Particle<D> p = synchronised(system.particles[i], system.box, simulation.time());
+    const Particle<D> p = synchronised(system.particles[i], system.box, now_stored);
     const ParticleRecord& r = system.records[i];
     nlohmann::ordered_json particle = {{"id", i}};
     for (std::size_t k = 0; k < D; ++k) particle[kAxes[k]] = p.position[k];
     for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = p.velocity[k];
     particle["radius"] = p.radius;
     particle["mass"] = r.mass;
-    particle["last_update"] = p.time;
+    particle["last_update"] = simulation.time();
     particle["wall_collisions"] = r.wall_collisions;
     particle["pair_collisions"] = r.pair_collisions;
     out << (i == 0 ? "\n    " : ",\n    ") << particle.dump();
@@ -210,7 +215,7 @@ void TraceWriter<D>::start(const std::string& input, double end_time,
                            const Simulation<D>& simulation) {
   out_ << "Input File: " << input << '\n'
        << c_format("Target Time: %f\n", end_time) << "======== Initial Particles =========\n";
-  write_table<D>(out_, simulation.state().particles, simulation.state().records);
+  write_table(out_, simulation.state());
 }
 
 template <std::size_t D>
@@ -218,7 +223,7 @@ void TraceWriter<D>::observe(const Simulation<D>& simulation) {
   out_ << c_format("                 TIME = %f\n", simulation.last_event().time)
        << describe(simulation.last_event()) << '\n'
        << "======== Particles =========\n";
-  write_table<D>(out_, simulation.state().particles, simulation.state().records);
+  write_table(out_, simulation.state());
   if (!out_) throw std::runtime_error("cannot write the trace");
 }
 
@@ -252,8 +257,7 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
 
 #define CAROM_FORMATS(D)                                                                      \
   template std::string particle_line(std::size_t, const Particle<D>&, const ParticleRecord&); \
-  template void write_table(std::ostream&, std::span<const Particle<D>>,                      \
-                            std::span<const ParticleRecord>);                                 \
+  template void write_table(std::ostream&, const System<D>&);                                 \
   template void write_csv(std::ostream&, std::span<const Particle<D>>,                        \
                           std::span<const ParticleRecord>);                                   \
   template void write_table(std::ostream&, const Simulation<D>&);                             \

@@ -85,7 +85,7 @@ void InvariantCheck<D>::observe(const Simulation<D>& simulation) {
   if (event.time < last_) {
     violation = fmt::format("time ran backwards from {} to {}", last_, event.time);
   } else if (events_ % every_ == 0) {
-    violation = find_violation(simulation.state(), event.time);
+    violation = find_violation(simulation.state(), simulation.stored_time());
   }
   last_ = event.time;
   if (violation) {

@@ -23,11 +23,10 @@ class ReferenceEngine final : public Engine<D> {
     while (true) {
       Event best = earliest();
       const double window_end = window_start_ + horizon_;
-      if (best.time <= window_end || window_end > end_time) {
-        if (best.time == kNever || !(best.time <= end_time)) return std::nullopt;
-        this->apply(best);
+      if (best.time <= window_end || !this->due_by(window_end, end_time)) {
+        if (best.time == kNever || !this->due_by(best.time, end_time)) return std::nullopt;
         window_start_ = best.time;
-        return best;
+        return this->apply(best);
       }
       if (window_end == window_start_) this->throw_too_fast(window_start_);
       window_start_ = window_end;
@@ -35,6 +34,8 @@ class ReferenceEngine final : public Engine<D> {
   }
 
  private:
+  void rebased(double) override { window_start_ = this->now_; }
+
   Event earliest() const {
     const auto& particles = this->system_.particles;
     const auto n = static_cast<std::uint32_t>(particles.size());

@@ -58,7 +58,12 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : engine_(checked_engine(std::move(system), settings)),
       settings_(settings),
       time_(engine_->time()),
-      slice_(slice_length(state())) {
+      slice_(slice_length(state())),
+      rebase_period_(rebase_period(state().size())),
+      events_to_rebase_(rebase_period_ - counts_.events % rebase_period_) {
+  // Stored times far from zero (a system handed over mid-run) are made small before any event.
+  engine_->rebase();
+  stored_time_ = engine_->stored_time();
   measurement_ = {time_, kinetic_energy(state()), {}};
 }
 
@@ -71,10 +76,14 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
       counts_(checkpoint.counts),
       measurement_(checkpoint.measurement),
       measure_from_(checkpoint.measure_from),
-      slice_(slice_length(state())) {
+      slice_(slice_length(state())),
+      rebase_period_(rebase_period(state().size())),
+      events_to_rebase_(rebase_period_ - counts_.events % rebase_period_) {
   if (!(time_ >= engine_->time())) {
     throw std::invalid_argument("a checkpoint's time precedes a particle's stored time");
   }
+  // Saved just after an event, at that event's stored time; saved whole, at its own.
+  stored_time_ = settled_ ? state().stored(time_) : engine_->stored_time();
 }
 
 template <std::size_t D>
@@ -136,6 +145,11 @@ void Simulation<D>::record(const Event& event) {
   last_event_ = event;
   time_ = event.time;
   settled_ = false;
+  if (--events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
+    engine_->rebase();
+    events_to_rebase_ = rebase_period_;
+  }
+  stored_time_ = engine_->stored_time();
   if (!watch_events_) return;
   for (Scheduled& entry : observers_) {
     Observer<D>& observer = *entry.observer;
@@ -171,6 +185,7 @@ void Simulation<D>::complete_instant() {
 template <std::size_t D>
 void Simulation<D>::settle_at(double t) {
   time_ = t;
+  stored_time_ = state().stored(t);
   settled_ = true;
   if (measure_from_ && *measure_from_ <= t) reset_measurement();
   for (Scheduled& entry : observers_) {

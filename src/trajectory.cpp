@@ -113,7 +113,7 @@ template <std::size_t D>
 void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
                                 const System<D>& system) {
   header(out, index, t, system);
-  const std::vector<Particle<D>> now = synchronised(system, t);
+  const std::vector<Particle<D>> now = synchronised(system, system.stored(t));
   for (std::size_t i = 0; i < now.size(); ++i) line(out, i, now[i], system.records[i]);
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "carom/classic_input.hpp"
+#include "carom/overlap.hpp"
 #include "test_systems.hpp"
 
 namespace carom {
@@ -180,9 +181,61 @@ TEST(Checkpoint, TheSettingsAreCheckedAsANewRunsAre) {
   expect_refused(tampered(text, [](Json& j) { j["tc"] = -1.0; }),
                  "the TC time must be a number >= 0, got -1");
   expect_refused(tampered(text, [](Json& j) { j["rule"] = "sticky"; }), "unknown rule 'sticky'");
-  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 3; }), "format 3");
+  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 4; }), "format 4");
   expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 2.5; }), "format 2.5");
   expect_refused(tampered(text, [](Json& j) { j["dimension"] = 4; }), "dimension 4");
+}
+
+// Resumes `text` and runs 20000 more events checking for overlaps after every one.
+void expect_resumes_cleanly(const std::string& text, double time, const std::string& label) {
+  Simulation<2> resumed(std::get<Checkpoint<2>>(read(text)));
+  ASSERT_EQ(resumed.time(), time) << label;
+  resumed.add_observer(std::make_shared<InvariantCheck<2>>(1));
+  EXPECT_NO_THROW(resumed.run_until(time + 1e5, 20000)) << label;
+  EXPECT_EQ(resumed.counts().events,
+            20000u + Json::parse(text)["counts"]["events"].get<std::uint64_t>())
+      << label;
+}
+
+TEST(Checkpoint, ACheckpointFarInTimeResumesAsPreciselyAsOneNearZero) {
+  // Regression: stored times were absolute, and a valid checkpoint with every time shifted by
+  // 1e11 overlapped by 2.6e-6 at its second event. Format 3 shifts only its epoch; format 2 (carom
+  // 1.1) has absolute stored times, re-based when read.
+  const std::string text = saved(Boundary::periodic);
+  constexpr double kShift = 1e11;
+  const Json original = Json::parse(text);
+  const double time = original["time"].get<double>() + kShift;
+  expect_resumes_cleanly(tampered(text,
+                                  [&](Json& j) {
+                                    j["epoch"] = j["epoch"].get<double>() + kShift;
+                                    j["time"] = time;
+                                    j["measurement"]["start_time"] =
+                                        j["measurement"]["start_time"].get<double>() + kShift;
+                                  }),
+                         time, "format 3");
+  const std::string old = tampered(text, [&](Json& j) {
+    const double epoch = j["epoch"].get<double>() + kShift;
+    j.erase("epoch");
+    j["carom_checkpoint"] = 2;
+    j["time"] = time;
+    j["measurement"]["start_time"] = j["measurement"]["start_time"].get<double>() + kShift;
+    for (Json& row : j["particles"]) {
+      row[4] = epoch + row[4].get<double>();
+      if (!row[9].is_null()) row[9] = epoch + row[9].get<double>();
+    }
+  });
+  const Checkpoint<2> converted = std::get<Checkpoint<2>>(read(old));
+  EXPECT_EQ(converted.system.latest_stored(), 0.0);  // re-based to the latest stored time
+  expect_resumes_cleanly(old, time, "format 2");
+}
+
+TEST(Checkpoint, TheEpochIsATimeTheRunHasReached) {
+  const std::string text = saved();
+  expect_refused(tampered(text, [](Json& j) { j.erase("epoch"); }), "\"epoch\"");
+  expect_refused(tampered(text, [](Json& j) { j["epoch"] = "soon"; }), "the epoch");
+  expect_refused(tampered(text, [](Json& j) { j["epoch"] = j["time"].get<double>() + 1.0; }),
+                 "is after the checkpoint's time");
+  expect_refused(tampered(text, [](Json& j) { j["epoch"] = -2e12; }), "the epoch -2000000000000");
 }
 
 TEST(Checkpoint, CountsAreWholeNumbersThatAddUp) {

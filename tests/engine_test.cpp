@@ -142,10 +142,11 @@ TEST(Engine, ATouchingApproachingPairCollidesAtOnce) {
 }
 
 // Runs both engines side by side and demands the same events and the same final state, bit for
-// bit: both predict from stored states with the same functions and order ties the same way.
+// bit: both predict from stored states with the same functions and order ties the same way. Both
+// move to a new epoch after every `rebase_every`-th event, as a Simulation does every so often.
 template <std::size_t D>
 void expect_same_runs(const System<D>& system, const CollisionRule& rule, double end_time,
-                      int max_events, const std::string& label) {
+                      int max_events, const std::string& label, int rebase_every = 37) {
   auto fast = make_engine(EngineKind::fast, system, rule);
   auto reference = make_engine(EngineKind::reference, system, rule);
   double last = 0.0;
@@ -161,10 +162,16 @@ void expect_same_runs(const System<D>& system, const CollisionRule& rule, double
     ASSERT_EQ(a->elastic_by_tc, b->elastic_by_tc) << label << " event " << events;
     ASSERT_GE(a->time, last) << label << " time ran backwards at event " << events;
     last = a->time;
+    if ((events + 1) % rebase_every == 0) {
+      fast->rebase();
+      reference->rebase();
+      ASSERT_EQ(fast->system().epoch, a->time) << label << " event " << events;
+      ASSERT_EQ(reference->system().epoch, a->time) << label << " event " << events;
+    }
   }
   const double stop = events == max_events ? last : end_time;
-  const auto pf = synchronised(fast->system(), stop);
-  const auto pr = synchronised(reference->system(), stop);
+  const auto pf = synchronised(fast->system(), fast->system().stored(stop));
+  const auto pr = synchronised(reference->system(), reference->system().stored(stop));
   const auto& rf = fast->system().records;
   const auto& rr = reference->system().records;
   for (std::size_t i = 0; i < pf.size(); ++i) {
@@ -175,7 +182,7 @@ void expect_same_runs(const System<D>& system, const CollisionRule& rule, double
     ASSERT_EQ(rf[i].last_collision, rr[i].last_collision) << label << " particle " << i;
   }
   // The run kept every disk in the box and apart.
-  EXPECT_FALSE(find_pair_overlap(fast->system(), stop).has_value()) << label;
+  EXPECT_FALSE(find_pair_overlap(fast->system(), fast->system().stored(stop)).has_value()) << label;
   const Box<D>& box = fast->system().box;
   for (const auto& p : pf) {
     for (int wall = -1; wall >= -2 * static_cast<int>(D) && !box.periodic(); --wall) {
@@ -321,6 +328,31 @@ TEST(CrossCheck, FastEqualsReferenceOnAssignmentCases) {
   }
 }
 
+TEST(Engine, ANewEpochMovesNoParticle) {
+  pcg32 rng(8);
+  for (const EngineKind kind : {EngineKind::fast, EngineKind::reference}) {
+    auto engine = make_engine(kind, random_gas(rng, 20, 0.3, 0.5, 10, 8), {Rule::elastic});
+    for (int e = 0; e < 50; ++e) ASSERT_TRUE(engine->step(kNever));
+    const double now = engine->time();
+    const std::vector<Particle<2>> before = synchronised(engine->system(), engine->stored_time());
+    const std::vector<ParticleRecord> records = engine->system().records;
+    engine->rebase();
+    EXPECT_EQ(engine->system().epoch, now) << name_of(kind);
+    EXPECT_EQ(engine->time(), now) << name_of(kind);
+    EXPECT_EQ(engine->system().latest_stored(), 0.0) << name_of(kind);
+    // Brought to the epoch, every particle is where it was, bit for bit: p.time - now and
+    // now - p.time round alike.
+    EXPECT_EQ(engine->stored_time(), 0.0) << name_of(kind);
+    const std::vector<Particle<2>> after = synchronised(engine->system(), 0.0);
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      EXPECT_EQ(after[i].position, before[i].position) << name_of(kind) << " particle " << i;
+      EXPECT_EQ(records[i].version(), engine->system().records[i].version());
+    }
+    engine->rebase();  // nothing happened since: nothing to move
+    EXPECT_EQ(engine->system().epoch, now) << name_of(kind);
+  }
+}
+
 TEST(Engine, AWedgedDiskIsAJamNotAHang) {
   // Regression: a disk exactly as wide as the box, moving across it, hit the walls at t = 0
   // forever.
@@ -408,7 +440,7 @@ TEST(Engine, ThreeDimensionalSpheresRunInBothEngines) {
     pair_collisions += a->is_wall() ? 0 : 1;
   }
   EXPECT_GT(pair_collisions, 0u);
-  EXPECT_FALSE(find_pair_overlap(fast->system(), fast->time()).has_value());
+  EXPECT_FALSE(find_pair_overlap(fast->system(), fast->stored_time()).has_value());
 }
 
 }  // namespace

@@ -37,9 +37,13 @@ TEST(Formats, ParticleLineIsTheSeedsPrintf) {
 
 TEST(Formats, TableHasTheHeaderThenOneLineADisk) {
   std::ostringstream out;
-  const std::vector<Particle<2>> particles{sample(), sample()};
-  const std::vector<ParticleRecord> records{sample_record(), sample_record()};
-  write_table<2>(out, particles, records);
+  System<2> system;
+  system.epoch = 8.0;  // stored times count from it: 8 + 10 is printed
+  Particle<2> stored = sample();
+  stored.time -= system.epoch;
+  system.particles = {stored, stored};
+  system.records = {sample_record(), sample_record()};
+  write_table(out, system);
   EXPECT_EQ(out.str(),
             "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n"
             "particle 0: (8.300120, 11.460433) (0.300000, -0.310000): 18.000000 : (2, 7)\n"

@@ -38,7 +38,7 @@ TEST(Physics, ElasticRunsConserveEnergyAndMomentum) {
   EXPECT_NEAR(kinetic_energy(simulation.state()) / e0, 1.0, 1e-12);
   EXPECT_NEAR(momentum(simulation.state())[0], 0.0, 1e-11);
   EXPECT_NEAR(momentum(simulation.state())[1], 0.0, 1e-11);
-  EXPECT_FALSE(find_pair_overlap(simulation.state(), simulation.time()).has_value());
+  EXPECT_FALSE(find_pair_overlap(simulation.state(), simulation.stored_time()).has_value());
 }
 
 TEST(Physics, VelocitiesRelaxToMaxwellBoltzmann) {

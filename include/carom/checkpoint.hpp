@@ -15,10 +15,11 @@
 
 namespace carom {
 
-// Format 2 records the dimension, the TC model's last-collision times, the run's counts apart
-// from the measurement window's, and whether the run is whole at its time. Format 1 (carom 1.0)
-// is still read.
-inline constexpr int kCheckpointFormat = 2;
+// Format 3 records the epoch the stored times count from (System::epoch). Format 2 (carom 1.1:
+// the dimension, the TC model's last-collision times, the run's counts apart from the measurement
+// window's, whether the run is whole at its time; absolute stored times) and format 1 (carom
+// 1.0) are still read, their stored times re-based at once to the latest of them.
+inline constexpr int kCheckpointFormat = 3;
 
 template <std::size_t D>
 struct Checkpoint {

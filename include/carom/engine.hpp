@@ -37,6 +37,10 @@ struct EnumNames<EngineKind> {
 // particles involved are moved, and the particles' stored states follow the seed's lazy
 // convention (see Particle). Engines know nothing of end times, frames or measurements: the
 // Simulation (simulation.hpp) drives them.
+//
+// Inside, every time is a stored time (counted from System::epoch); step() takes and returns
+// absolute times. The physics never sees an absolute time, so rebase() now and then keeps its
+// resolution independent of how long the run has gone on.
 template <std::size_t D>
 class Engine {
  public:
@@ -44,23 +48,37 @@ class Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
-  // Processes the earliest pending collision if it happens no later than `end_time` and
-  // returns it; otherwise changes nothing and returns nullopt. Stopping and going on is
-  // invisible: any sequence of end times gives the same events, bit for bit.
+  // Processes the earliest pending collision if it happens no later than the absolute time
+  // `end_time` and returns it (at its absolute time); otherwise changes nothing and returns
+  // nullopt. Stopping and going on is invisible: any sequence of end times gives the same events,
+  // bit for bit.
   virtual std::optional<Event> step(double end_time) = 0;
+
+  // Moves the epoch to the last processed event: every stored time becomes relative to it (the
+  // particles do not move) and pending predictions are made again from the shifted states. Both
+  // engines do it identically, so they still agree bit for bit when rebased at the same events.
+  // The Simulation does it every so many events (Simulation::rebase_period).
+  void rebase();
 
   const System<D>& system() const { return system_; }
   const CollisionRule& rule() const { return rule_; }
-  // The time of the last processed event (the latest stored time before any).
-  double time() const { return now_; }
+  // The absolute time of the last processed event (the latest stored time before any).
+  double time() const { return system_.absolute(now_); }
+  // The same as a stored time: exact, where time() may be rounded.
+  double stored_time() const { return now_; }
 
  protected:
   // Throws std::invalid_argument for a periodic box with a side not above two diameters, or
   // records that do not match the particles (none at all means mass 1 and no history each).
   Engine(System<D> system, const CollisionRule& rule);
-  // Carries out a collision that is due: moves the particles involved to its time, applies the
-  // rule or the wall bounce, updates their records and fills in what it did.
-  void apply(Event& event);
+  // Carries out a collision that is due (at a stored time): moves the particles involved to its
+  // time, applies the rule or the wall bounce, updates their records and fills in what it did.
+  // Returns the event at its absolute time.
+  Event apply(Event event);
+  // Whether an event at stored time t happens no later than the absolute time end_time.
+  bool due_by(double t, double end_time) const { return system_.absolute(t) <= end_time; }
+  // After rebase() shifted every stored time by `shift`: predictions are made again.
+  virtual void rebased(double shift) = 0;
 
   // The image of particle j that particle i sees at time t (zero in a box with walls).
   Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;
@@ -73,7 +91,7 @@ class Engine {
 
   System<D> system_;
   CollisionRule rule_;
-  double now_ = 0.0;
+  double now_ = 0.0;                 // the stored time of the last processed event
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 };
 
@@ -81,7 +99,7 @@ template <std::size_t D>
 std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
                                        const CollisionRule& rule);
 
-// A particle brought to time t (not before its stored time), wrapped into a periodic box.
+// A particle brought to the stored time t (not before its own), wrapped into a periodic box.
 template <std::size_t D>
 Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
   advance(p, t);
@@ -89,7 +107,8 @@ Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
   return p;
 }
 
-// Every particle brought to time t; the stored states are not touched.
+// Every particle brought to the stored time t (System::stored gives the one of an absolute time);
+// the stored states are not touched.
 template <std::size_t D>
 std::vector<Particle<D>> synchronised(const System<D>& system, double t) {
   std::vector<Particle<D>> at;

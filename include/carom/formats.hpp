@@ -26,10 +26,10 @@ template <std::size_t D>
 std::string particle_line(std::size_t index, const Particle<D>& p, const ParticleRecord& record);
 
 // The header `particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)`, then one
-// particle_line a particle.
+// particle_line a particle: the stored (lazy) states, each at its absolute stored time (the
+// seed's trace).
 template <std::size_t D>
-void write_table(std::ostream& out, std::span<const Particle<D>> particles,
-                 std::span<const ParticleRecord> records);
+void write_table(std::ostream& out, const System<D>& system);
 
 // One line a particle: `%.6f, %.6f, %d, %d` (x, y, wall collisions, particle collisions).
 template <std::size_t D>

@@ -19,7 +19,7 @@ namespace carom {
 inline constexpr double kOverlapTolerance = 1e-9;
 
 // The first pair (i < j, lowest i then j) whose centres are closer than their contact distance
-// beyond kOverlapTolerance at time `time`, using a cell grid: O(N).
+// beyond kOverlapTolerance at the stored time `time` (see System::stored), using a cell grid: O(N).
 template <std::size_t D>
 std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<D>& system,
                                                                      double time);
@@ -28,8 +28,8 @@ std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const Syste
 template <std::size_t D>
 bool overlaps_wall(const Particle<D>& p, const Box<D>& box, int label);
 
-// What is wrong with the configuration at time `time` (every particle moved there from its stored
-// state): a pair overlapping or a particle through a wall or outside the box, beyond
+// What is wrong with the configuration at the stored time `time` (every particle moved there from
+// its stored state): a pair overlapping or a particle through a wall or outside the box, beyond
 // kOverlapTolerance; nullopt when nothing is. O(N) with a cell grid.
 template <std::size_t D>
 std::optional<std::string> find_violation(const System<D>& system, double time);

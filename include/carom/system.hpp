@@ -1,6 +1,8 @@
 // The simulated system: a box, the particles in it and the labels that name walls.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -83,8 +85,45 @@ struct System {
   Box<D> box;
   std::vector<Particle<D>> particles;
   std::vector<ParticleRecord> records;
+  // The absolute time that stored times (Particle::time, ParticleRecord::last_collision) count
+  // from. A run moves it forward now and then (Engine::rebase) so that stored times stay small: a
+  // double then resolves the moments of contact as finely at t = 1e11 as at t = 1.
+  double epoch = 0.0;
 
   std::size_t size() const { return particles.size(); }
+  // A stored time as an absolute one.
+  double absolute(double stored) const { return epoch + stored; }
+  // Moves the epoch `shift` later: every stored time becomes relative to it (particles do not
+  // move; -infinity stays). The new epoch is exactly absolute(shift).
+  void shift_epoch(double shift) {
+    epoch = absolute(shift);
+    for (Particle<D>& p : particles) p.time -= shift;
+    for (ParticleRecord& r : records) r.last_collision -= shift;
+  }
+  // The latest stored time: every particle's state is at or before it.
+  double latest_stored() const {
+    double latest = -std::numeric_limits<double>::infinity();
+    for (const Particle<D>& p : particles) latest = latest < p.time ? p.time : latest;
+    return latest;
+  }
+  // The stored time of an absolute time t: the latest s with absolute(s) <= t. A run has processed
+  // exactly the events whose absolute time is not after t (absolute() is monotone), so bringing
+  // particles to stored(t) passes no event left for later, however coarsely a double resolves t.
+  // With the epoch at zero, t itself.
+  double stored(double t) const {
+    double low = t - epoch;
+    if (!std::isfinite(low) || epoch == 0.0) return low;
+    // Bracket the answer within a few units in the last place of t, then halve the bracket.
+    double step = std::max(std::abs(t), std::abs(low)) * 0x1p-52 + 0x1p-1074;
+    double high = low;
+    while (absolute(low) > t) low -= step, step *= 2.0;
+    while (!(absolute(high) > t)) high += step, step *= 2.0;
+    for (double middle = low + (high - low) / 2.0; middle != low && middle != high;
+         middle = low + (high - low) / 2.0) {
+      (absolute(middle) <= t ? low : high) = middle;
+    }
+    return low;
+  }
   void add(const Particle<D>& particle, double mass = 1.0) {
     particles.push_back(particle);
     records.push_back({mass});

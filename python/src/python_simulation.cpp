@@ -334,9 +334,10 @@ py::array_t<double> per_particle_vectors(const AnySimulation& any, Pick pick) {
         py::array_t<double> out(
             {static_cast<py::ssize_t>(system.size()), static_cast<py::ssize_t>(D)});
         double* data = out.mutable_data();
+        const double now_stored = s.stored_time();
         for (std::size_t i = 0; i < system.size(); ++i) {
           // Each particle brought to the simulation's time on its own: no copy of the state.
-          const auto now = synchronised(system.particles[i], system.box, s.time());
+          const auto now = synchronised(system.particles[i], system.box, now_stored);
           const auto& v = pick(now);
           for (std::size_t k = 0; k < D; ++k) data[i * D + k] = v[k];
         }
