@@ -1,17 +1,22 @@
 #!/usr/bin/env python3
-"""carom's benchmark: collisions per second and bytes per disk or sphere, N = 10^3..10^6.
+"""carom's benchmark: collisions per second, instructions per collision and bytes per particle.
 
-Usage: python3 bench/run_bench.py [--carom build/carom] [--name NAME] [--quick]
+Usage: python3 bench/run_bench.py [--carom build/carom] [--name NAME] [--quick] [--no-callgrind]
 Runs the real command line on `carom init` systems (elastic rule, periodic box, monodisperse,
-kT = 1, seed 1), disks at packing fractions 0.3, 0.5 and 0.7 and spheres (N = 10^4..10^6) at 0.3
-and 0.45: each configuration in its own process, whose peak resident memory is read from
-the kernel (wait4). Collisions per second come from the run's own clock (simulation only, not
-reading or writing files). The seed's algorithm (--engine reference: every pair predicted again
-after every event) is timed at N = 2000 in the same run, for the speedup. Prints a Markdown table
-and writes the same as json to bench/results/NAME.json.
+kT = 1, seed 1), disks at packing fractions 0.3, 0.5 and 0.7 (N = 10^3..10^6) and spheres
+(N = 10^4..10^6) at 0.3 and 0.45: each configuration in its own process, whose peak resident
+memory is read from the kernel (wait4). Collisions per second come from the run's own clock
+(simulation only, not reading or writing files). Instructions per collision are counted, not
+timed (this machine has no hardware counters): callgrind runs the same start twice, to two
+lengths, and the difference of the instruction counts over the difference of the collisions
+leaves out reading, setting up and writing (N = 10^4). The seed's algorithm (--engine reference:
+every pair predicted again after every event) is timed at N = 2000, for the speedup. Each row is
+compared with bench/results/baseline.json (carom 1.1 on the same kind of machine). Prints a
+Markdown table and writes it as json to bench/results/NAME.json (not tracked by git).
 """
 import argparse
 import datetime
+import shutil
 import json
 import math
 import os
@@ -64,12 +69,47 @@ def measure(carom, folder, n, eta, collisions, engine="fast", dim=2):
             "peak_rss_bytes": peak, "bytes_per_particle": peak / n}
 
 
+def instructions_per_collision(carom, folder, n, eta, dim=2):
+    """Instructions per collision by callgrind: (I(long) - I(short)) / (C(long) - C(short))."""
+    start = os.path.join(folder, f"start-{dim}d-{n}-{eta}.txt")
+    counted = []
+    for collisions in (20 * n, 60 * n):
+        end_time = collisions / (n * collision_rate(eta, dim) / 2)
+        out = os.path.join(folder, "callgrind.out")
+        summary = os.path.join(folder, "summary.json")
+        subprocess.run(["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", carom, "run",
+                        start, f"{end_time:.6g}", "--rule", "elastic", "--boundary", "periodic",
+                        "--format", "csv", "-o", os.devnull, "--summary", summary, "--quiet"],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(out) as f:
+            total = next(int(line.split()[1]) for line in f if line.startswith("totals:"))
+        with open(summary) as f:
+            counted.append((total, json.load(f)["pair_collisions"]))
+    (i0, c0), (i1, c1) = counted
+    return (i1 - i0) / (c1 - c0)
+
+
+def baseline_rates():
+    """Collisions per second of bench/results/baseline.json, by (dimension, N, packing)."""
+    path = os.path.join(HERE, "results", "baseline.json")
+    if not os.path.exists(path):
+        return {}
+    with open(path) as f:
+        runs = json.load(f)["runs"]
+    return {(r.get("dimension", 2), r["n"], r["packing_fraction"]): r["collisions_per_second"]
+            for r in runs}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--carom", default="build/carom")
     parser.add_argument("--name", default="latest")
     parser.add_argument("--quick", action="store_true", help="N up to 10^5 only")
+    parser.add_argument("--no-callgrind", action="store_true",
+                        help="skip counting instructions (valgrind is slow)")
     args = parser.parse_args()
+    callgrind = not args.no_callgrind and shutil.which("valgrind") is not None
+    baseline = baseline_rates()
     sizes = [10**3, 10**4, 10**5] + ([] if args.quick else [10**6])
     rows = []
     with tempfile.TemporaryDirectory() as folder:
@@ -79,9 +119,9 @@ def main():
         print(f"N = 2000, eta = 0.5: reference {reference['collisions_per_second']:.4g}/s, "
               f"fast {fast_2000['collisions_per_second']:.4g}/s: speedup {speedup:.0f}x",
               flush=True)
-        print("| particles | N | eta | collisions/s | bytes/particle | collisions | seconds "
-              "| rate / rate(N=10^4) |")
-        print("|---|---|---|---|---|---|---|---|")
+        print("| particles | N | eta | collisions/s | vs baseline | instructions/collision "
+              "| bytes/particle | collisions | seconds | rate / rate(N=10^4) |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
         base = {}
         cases = [(2, eta, n) for eta in (0.3, 0.5, 0.7) for n in sizes]
         cases += [(3, eta, n) for eta in (0.3, 0.45) for n in sizes if n >= 10**4]
@@ -91,10 +131,18 @@ def main():
                 base[dim, eta] = row["collisions_per_second"]
             ratio = row["collisions_per_second"] / base.get((dim, eta), float("nan"))
             row["rate_over_n10000"] = ratio
+            then = baseline.get((dim, n, eta))
+            row["rate_over_baseline"] = row["collisions_per_second"] / then if then else None
+            counted = callgrind and n == 10**4 and (dim, eta) in ((2, 0.5), (2, 0.7), (3, 0.45))
+            row["instructions_per_collision"] = (
+                instructions_per_collision(args.carom, folder, n, eta, dim) if counted else None)
             rows.append(row)
+            shown = lambda value, form: "" if value is None else format(value, form)
             print(f"| {'disks' if dim == 2 else 'spheres'} | {n} | {eta} "
-                  f"| {row['collisions_per_second']:.4g} | {row['bytes_per_particle']:.0f} "
-                  f"| {row['collisions']} | {row['seconds']:.2f} | {ratio:.2f} |", flush=True)
+                  f"| {row['collisions_per_second']:.4g} | {shown(row['rate_over_baseline'], '.2f')} "
+                  f"| {shown(row['instructions_per_collision'], ',.0f')} "
+                  f"| {row['bytes_per_particle']:.0f} | {row['collisions']} | {row['seconds']:.2f} "
+                  f"| {ratio:.2f} |", flush=True)
     result = {"name": args.name, "date": datetime.datetime.now().isoformat(timespec="seconds"),
               "machine": platform.node(), "cpu_count": os.cpu_count(),
               "reference_n2000": reference, "fast_n2000": fast_2000,

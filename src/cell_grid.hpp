@@ -55,6 +55,14 @@ class CellGrid {
       stride *= count_[k];
     }
     head_.assign(static_cast<std::size_t>(total), kNone);
+    // The block around a cell away from every edge: the cell's index plus these.
+    for (std::size_t c = 0; c < kBlock; ++c) {
+      std::int64_t offset = 0;
+      for (std::size_t k = 0, rest = c; k < D; ++k, rest /= 3) {
+        offset += (static_cast<std::int64_t>(rest % 3) - 1) * stride_[k];
+      }
+      inner_block_[c] = static_cast<std::int32_t>(offset);
+    }
   }
 
   std::size_t cell_count() const { return head_.size(); }
@@ -142,7 +150,10 @@ class CellGrid {
       // From the cell's centre, wrapped to the nearest image: at most about half a cell, and so
       // unambiguous even when the axis has only two cells.
       double offset = position[k] - (at[k] + 0.5) * width_[k];
-      if (box_.periodic()) offset -= box_.size[k] * std::nearbyint(offset / box_.size[k]);
+      // Within half a box (nearly always) the nearest image is this one: no division, no libm.
+      if (box_.periodic() && !(std::abs(offset) <= 0.5 * box_.size[k])) {
+        offset -= box_.size[k] * std::nearbyint(offset / box_.size[k]);
+      }
       const double half = 0.5 * width_[k];
       double delay = kNever;
       std::uint32_t target = kNone;
@@ -171,6 +182,14 @@ class CellGrid {
   // walls. Returns how many.
   std::size_t block(std::uint32_t cell, std::array<std::uint32_t, kBlock>& out) const {
     const std::array<std::uint32_t, D> at = coordinates(cell);
+    bool inner = true;
+    for (std::size_t k = 0; k < D; ++k) inner = inner && at[k] >= 1 && at[k] + 2 <= count_[k];
+    if (inner) {  // most cells: no wrapping, no clipping
+      for (std::size_t c = 0; c < kBlock; ++c) {
+        out[c] = static_cast<std::uint32_t>(static_cast<std::int64_t>(cell) + inner_block_[c]);
+      }
+      return kBlock;
+    }
     std::array<std::array<std::uint32_t, 3>, D> along{};
     std::array<std::uint32_t, D> size{};
     for (std::size_t k = 0; k < D; ++k) {
@@ -216,6 +235,7 @@ class CellGrid {
   std::array<std::uint32_t, D> count_{};
   std::array<std::uint32_t, D> stride_{};
   Vec<D> width_;
+  std::array<std::int32_t, kBlock> inner_block_{};
   std::vector<std::uint32_t> head_;
   std::vector<std::uint32_t> next_, prev_, cell_of_;
 };
