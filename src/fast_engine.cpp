@@ -83,7 +83,7 @@ void FastEngine<D>::predict(std::uint32_t i) {
     const Vec<D> offset =
         periodic ? image_offset(here - position_at(particles[j], clock_), this->system_.box)
                  : Vec<D>{};
-    const double t = contact_time(p, particles[j], offset);
+    const double t = contact_time(p, particles[j], offset, best_key.time);
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, 0});

@@ -86,7 +86,11 @@ template <std::size_t D>
 constexpr void wrap(Vec<D>& position, const Box<D>& box) {
   if (!box.periodic()) return;
   for (std::size_t k = 0; k < D; ++k) {
-    position[k] -= box.size[k] * std::floor(position[k] / box.size[k]);
+    // Strictly inside the box floor() is 0 and the subtraction changes nothing (at -0 it would
+    // make +0, hence the strict test): skip the libm call.
+    if (!(position[k] > 0.0 && position[k] < box.size[k])) {
+      position[k] -= box.size[k] * std::floor(position[k] / box.size[k]);
+    }
   }
 }
 
@@ -97,8 +101,15 @@ constexpr void wrap(Vec<D>& position, const Box<D>& box) {
 // c / (-b + sqrt(b^2 - v^2 c)), which has no cancellation. A pair that touches or overlaps by
 // round-off while approaching collides at once. The result is symmetric in a and b bit for bit
 // (swapping them negates r, v and the offset exactly).
+//
+// A caller that only wants contacts no later than `limit` (the earliest event found so far) may
+// get kNever for a later one: the root is at least c / (2 |rv|) away, since the square root is at
+// most |rv|, and that bound, shrunk by far more than the arithmetic's rounding, settles most
+// candidates without a square root. A contact at or before `limit` is never lost: rounding is
+// monotone, so the computed time is at least the computed bound.
 template <std::size_t D>
-constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const Vec<D>& offset) {
+constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const Vec<D>& offset,
+                              double limit = kNever) {
   const double t0 = std::max(a.time, b.time);
   const Vec<D> r = position_at(a, t0) - position_at(b, t0) - offset;
   const Vec<D> v = a.velocity - b.velocity;
@@ -107,6 +118,7 @@ constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const 
   const double sigma = a.radius + b.radius;
   const double c = norm2(r) - sigma * sigma;
   if (c <= 0.0) return t0;
+  if (t0 + c / (-2.0 * rv) * (1.0 - 1e-9) > limit) return kNever;
   const double discriminant = rv * rv - norm2(v) * c;
   if (discriminant < 0.0) return kNever;
   return t0 + c / (-rv + std::sqrt(discriminant));
