@@ -89,6 +89,11 @@ def instructions_per_collision(carom, folder, n, eta, dim=2):
     return (i1 - i0) / (c1 - c0)
 
 
+def shown(value, form):
+    """A table cell: empty for a value not measured."""
+    return "" if value is None else format(value, form)
+
+
 def baseline_rates():
     """Collisions per second of bench/results/baseline.json, by (dimension, N, packing)."""
     path = os.path.join(HERE, "results", "baseline.json")
@@ -129,7 +134,7 @@ def main():
             row = measure(args.carom, folder, n, eta, min(50 * n, 4_000_000), dim=dim)
             if n == 10**4:
                 base[dim, eta] = row["collisions_per_second"]
-            ratio = row["collisions_per_second"] / base.get((dim, eta), float("nan"))
+            ratio = (row["collisions_per_second"] / base[dim, eta]) if (dim, eta) in base else None
             row["rate_over_n10000"] = ratio
             then = baseline.get((dim, n, eta))
             row["rate_over_baseline"] = row["collisions_per_second"] / then if then else None
@@ -137,12 +142,11 @@ def main():
             row["instructions_per_collision"] = (
                 instructions_per_collision(args.carom, folder, n, eta, dim) if counted else None)
             rows.append(row)
-            shown = lambda value, form: "" if value is None else format(value, form)
             print(f"| {'disks' if dim == 2 else 'spheres'} | {n} | {eta} "
                   f"| {row['collisions_per_second']:.4g} | {shown(row['rate_over_baseline'], '.2f')} "
                   f"| {shown(row['instructions_per_collision'], ',.0f')} "
                   f"| {row['bytes_per_particle']:.0f} | {row['collisions']} | {row['seconds']:.2f} "
-                  f"| {ratio:.2f} |", flush=True)
+                  f"| {shown(ratio, '.2f')} |", flush=True)
     result = {"name": args.name, "date": datetime.datetime.now().isoformat(timespec="seconds"),
               "machine": platform.node(), "cpu_count": os.cpu_count(),
               "reference_n2000": reference, "fast_n2000": fast_2000,
