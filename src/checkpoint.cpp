@@ -125,6 +125,17 @@ class Fields {
     }
     return value.get<std::uint64_t>();
   }
+  std::int32_t image(const nlohmann::json& value, const std::string& what) const {
+    constexpr auto kLow = std::numeric_limits<std::int32_t>::min();
+    constexpr auto kHigh = std::numeric_limits<std::int32_t>::max();
+    if (!value.is_number_integer() || value.get<std::int64_t>() < kLow ||
+        value.get<std::int64_t>() > kHigh ||
+        (value.is_number_unsigned() && value.get<std::uint64_t>() > std::uint64_t{kHigh})) {
+      fail_(fmt::format("{} must be a whole number from {} to {}, found {}", what, kLow, kHigh,
+                        shown(value)));
+    }
+    return static_cast<std::int32_t>(value.get<std::int64_t>());
+  }
   std::string text(const nlohmann::json& value, const std::string& what) const {
     if (!value.is_string()) fail_(fmt::format("{} must be a string, found {}", what, shown(value)));
     return value.get<std::string>();
@@ -227,7 +238,8 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     fail(fmt::format("{} particles, more than carom supports ({})", particles.size(),
                      kMaxParticles));
   }
-  const std::size_t columns = format == 1 ? 2 * D + 5 : 2 * D + 6;
+  // Format 3 adds the image flags.
+  const std::size_t columns = format == 1 ? 2 * D + 5 : format == 2 ? 2 * D + 6 : 3 * D + 6;
   c.system.particles.reserve(particles.size());
   c.system.records.reserve(particles.size());
   for (const auto& row : particles) {
@@ -252,6 +264,9 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     if (format == 1) r.last_collision = p.time;
     if (format != 1 && !row[2 * D + 5].is_null()) {
       r.last_collision = f.coordinate(row[2 * D + 5], of("last collision time"));
+    }
+    for (std::size_t k = 0; k < D && format >= 3; ++k) {
+      r.image[k] = f.image(row[2 * D + 6 + k], of("image flag"));
     }
     c.system.particles.push_back(p);
     c.system.records.push_back(r);
@@ -412,7 +427,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   text.resize(text.size() - 2);                 // reopen the object
   out << text << ",\n \"particles\": [";
   // One line a particle: position, velocity, time, radius, mass, wall and pair collisions, last
-  // collision (null: none yet).
+  // collision (null: none yet), image flags.
   for (std::size_t i = 0; i < c.system.size(); ++i) {
     const Particle<D>& p = c.system.particles[i];
     const ParticleRecord& r = c.system.records[i];
@@ -421,6 +436,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
     for (std::size_t k = 0; k < D; ++k) row.push_back(p.velocity[k]);
     row.insert(row.end(), {Json(p.time), Json(p.radius), Json(r.mass), Json(r.wall_collisions),
                            Json(r.pair_collisions), time_or_null(r.last_collision)});
+    for (std::size_t k = 0; k < D; ++k) row.push_back(r.image[k]);
     const std::string line = row.dump();
     hash.add(line);
     hash.add("\n");

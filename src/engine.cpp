@@ -59,8 +59,8 @@ Event Engine<D>::apply(Event event) {
     advance(b, t);
     event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule,
                             event.elastic_by_tc ? 1.0 : rule_.restitution, ra.mass, rb.mass);
-    wrap(a.position, system_.box);
-    wrap(b.position, system_.box);
+    wrap(a.position, system_.box, ra.image);
+    wrap(b.position, system_.box, rb.image);
     ++ra.pair_collisions;
     ++rb.pair_collisions;
     rb.last_collision = t;

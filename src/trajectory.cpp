@@ -55,14 +55,17 @@ class ExtendedXyz final : public TrajectoryFormat<D> {
     const char* pbc = !system.box.periodic() ? "F F F" : D == 3 ? "T T T" : "T T F";
     out << fmt::format(
         "{}\nLattice=\"{} 0 0 0 {} 0 0 0 {}\" "
-        "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1 pbc=\"{}\" "
-        "Time={}\n",
+        "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1:masses:R:1:"
+        "momenta:R:3:image:I:3 pbc=\"{}\" Time={}\n",
         system.size(), L[0], L[1], lz, pbc, t);
   }
-  void line(std::ostream& out, std::size_t, const Particle<D>& p,
-            const ParticleRecord& record) override {
-    out << fmt::format("H {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
-                       record.version());
+  // masses and momenta are the columns ASE reads get_masses() and get_velocities() from (velo is
+  // OVITO's); image unwraps pos as pos + image x the box.
+  void line(std::ostream& out, std::size_t, const Particle<D>& p, const ParticleRecord& record,
+            const std::array<std::int32_t, 3>& image) override {
+    out << fmt::format("H {} {} {} {} {} {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
+                       record.version(), record.mass, xyz(record.mass * p.velocity), image[0],
+                       image[1], image[2]);
   }
 };
 
@@ -97,13 +100,14 @@ class LammpsDump final : public TrajectoryFormat<D> {
     const char* bounds = system.box.periodic() ? "pp pp pp" : D == 3 ? "ff ff ff" : "ff ff pp";
     out << fmt::format(
         "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 {}\n0 {}\n{}\n"
-        "ITEM: ATOMS id type x y z vx vy vz radius\n",
+        "ITEM: ATOMS id type x y z vx vy vz radius mass ix iy iz\n",
         index, system.size(), bounds, L[0], L[1],
         D == 3 ? fmt::format("0 {}", L[D - 1]) : std::string("-0.5 0.5"));
   }
   void line(std::ostream& out, std::size_t index, const Particle<D>& p,
-            const ParticleRecord&) override {
-    out << fmt::format("{} 1 {} {} {}\n", index + 1, xyz(p.position), xyz(p.velocity), p.radius);
+            const ParticleRecord& record, const std::array<std::int32_t, 3>& image) override {
+    out << fmt::format("{} 1 {} {} {} {} {} {} {}\n", index + 1, xyz(p.position), xyz(p.velocity),
+                       p.radius, record.mass, image[0], image[1], image[2]);
   }
 };
 
@@ -113,8 +117,15 @@ template <std::size_t D>
 void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
                                 const System<D>& system) {
   header(out, index, t, system);
-  const std::vector<Particle<D>> now = synchronised(system, system.stored(t));
-  for (std::size_t i = 0; i < now.size(); ++i) line(out, i, now[i], system.records[i]);
+  const double at = system.stored(t);
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    // As synchronised(), counting the sides wrapping moves it by.
+    Particle<D> now = system.particles[i];
+    advance(now, at);
+    std::array<std::int32_t, 3> image = system.records[i].image;
+    wrap(now.position, system.box, image);
+    line(out, i, now, system.records[i], image);
+  }
 }
 
 template <std::size_t D>

@@ -157,7 +157,7 @@ TEST(Checkpoint, ParticlesAreCheckedAsTheInputReaderChecksThem) {
   expect_refused(tampered(text, [](Json& j) { j["particles"][4][2] = "fast"; }),
                  "the velocity of particle 4 must be a number");
   expect_refused(tampered(text, [](Json& j) { j["particles"][4].erase(9); }),
-                 "the row of particle 4 does not hold 10 values");
+                 "the row of particle 4 does not hold 12 values");
   expect_refused(tampered(text, [](Json& j) { j["particles"] = Json::array(); }), "no particles");
   expect_refused(tampered(text, [](Json& j) { j["box"][0] = -10.0; }),
                  "a box side must be greater than 0");
@@ -222,11 +222,27 @@ TEST(Checkpoint, ACheckpointFarInTimeResumesAsPreciselyAsOneNearZero) {
     for (Json& row : j["particles"]) {
       row[4] = epoch + row[4].get<double>();
       if (!row[9].is_null()) row[9] = epoch + row[9].get<double>();
+      row.erase(11);  // format 2 had no image flags
+      row.erase(10);
     }
   });
   const Checkpoint<2> converted = std::get<Checkpoint<2>>(read(old));
   EXPECT_EQ(converted.system.latest_stored(), 0.0);  // re-based to the latest stored time
   expect_resumes_cleanly(old, time, "format 2");
+}
+
+TEST(Checkpoint, ImageFlagsAreWholeNumbersInTheInt32Range) {
+  const std::string text = saved(Boundary::periodic);
+  const Json j = Json::parse(text);
+  bool moved = false;  // some disk was wrapped across the box before t = 5
+  for (const Json& row : j["particles"]) moved = moved || row[10] != 0 || row[11] != 0;
+  EXPECT_TRUE(moved);
+  for (const Json& bad : {Json(1.5), Json(2147483648LL), Json(-2147483649LL), Json("1")}) {
+    expect_refused(tampered(text, [&](Json& k) { k["particles"][3][11] = bad; }),
+                   "the image flag of particle 3 must be a whole number from -2147483648 to "
+                   "2147483647");
+  }
+  EXPECT_NO_THROW(read(tampered(text, [](Json& k) { k["particles"][3][11] = -2147483648LL; })));
 }
 
 TEST(Checkpoint, TheEpochIsATimeTheRunHasReached) {

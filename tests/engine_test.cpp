@@ -180,6 +180,7 @@ void expect_same_runs(const System<D>& system, const CollisionRule& rule, double
     ASSERT_EQ(rf[i].wall_collisions, rr[i].wall_collisions) << label << " particle " << i;
     ASSERT_EQ(rf[i].pair_collisions, rr[i].pair_collisions) << label << " particle " << i;
     ASSERT_EQ(rf[i].last_collision, rr[i].last_collision) << label << " particle " << i;
+    ASSERT_EQ(rf[i].image, rr[i].image) << label << " particle " << i;
   }
   // The run kept every disk in the box and apart.
   EXPECT_FALSE(find_pair_overlap(fast->system(), fast->system().stored(stop)).has_value()) << label;

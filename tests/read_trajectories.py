@@ -87,5 +87,39 @@ with tempfile.TemporaryDirectory() as folder:
         check(np.allclose(dumped[-1].cell.lengths(), [5, 6, 7]), "3D lammpstrj cell")
         check(np.allclose(dumped[-1].positions, final, atol=1e-9), "3D lammpstrj positions")
 
+    # ASE reads velocities and masses from the xyz (the masses and momenta columns), and the image
+    # flags unwrap a periodic run: no jump between frames, and the mean-square displacement from
+    # the unwrapped positions equals the one from the velocities of a free flight.
+    heavy = os.path.join(folder, "heavy.txt")
+    with open(heavy, "w") as f:
+        f.write("3\n0.5\n6 5\n")
+        f.write("1 1 2.3 0.4 0.5 2.0\n3 3 -1.1 1.7 0.5 0.5\n5 1.5 0.2 -3.1 0.5 1.0\n")
+    traj = os.path.join(folder, "heavy.xyz")
+    out = os.path.join(folder, "heavy.json")
+    carom_run("run", heavy, "20", "--rule", "elastic", "--boundary", "periodic", "--format",
+              "json", "-o", out, "--dump", traj, "--every", "0.25")
+    with open(out) as f:
+        result = json.load(f)
+    frames = ase.io.read(traj, index=":")
+    velocities = np.array([[p["vx"], p["vy"], 0.0] for p in result["particles"]])
+    check(np.allclose(frames[-1].get_velocities(), velocities, rtol=1e-14, atol=1e-14),
+          "ASE get_velocities() from the xyz")
+    check(np.allclose(frames[-1].get_masses(), [2.0, 0.5, 1.0]), "ASE get_masses() from the xyz")
+    lengths = np.array([6.0, 5.0, 1.0])
+    unwrapped = [fr.positions + fr.arrays["image"] * lengths for fr in frames]
+    steps = np.abs(np.diff(np.array(unwrapped), axis=0))
+    # At most 6.7 (all the energy in the lightest disk) x 0.25 per axis; a wrong flag jumps by a box.
+    check(np.all(steps[:, :, :2] < 1.7), "image flags: no jump between frames of 0.25")
+    moved = np.abs(np.array([fr.arrays["image"] for fr in frames])).max()
+    check(moved >= 3, f"image flags: the disks crossed the box ({moved} times at most)")
+    # Total momentum is conserved, so the mass-weighted mean unwrapped position moves uniformly.
+    masses = frames[0].get_masses()[:, None]
+    centre = [np.sum(masses * u, axis=0) / masses.sum() for u in unwrapped]
+    momentum = np.sum(masses * velocities, axis=0) / masses.sum()
+    times = np.array([fr.info["Time"] for fr in frames])
+    expected = centre[0] + np.outer(times - times[0], momentum)
+    check(np.allclose(np.array(centre), expected, atol=1e-9),
+          "image flags: the centre of mass of the unwrapped positions moves uniformly")
+
 print(f"{checks - failures} passed, {failures} failed")
 sys.exit(1 if failures else 0)

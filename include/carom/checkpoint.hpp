@@ -15,7 +15,8 @@
 
 namespace carom {
 
-// Format 3 records the epoch the stored times count from (System::epoch). Format 2 (carom 1.1:
+// Format 3 records the epoch the stored times count from (System::epoch) and every particle's
+// image flags (ParticleRecord::image). Format 2 (carom 1.1:
 // the dimension, the TC model's last-collision times, the run's counts apart from the measurement
 // window's, whether the run is whole at its time; absolute stored times) and format 1 (carom
 // 1.0) are still read, their stored times re-based at once to the latest of them.

@@ -8,8 +8,10 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -81,16 +83,33 @@ constexpr Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Bo
   return r - image_offset(r, box);
 }
 
+// Brings one coordinate into [0, side) and returns by how many sides it moved it: floor(x / side).
+// Strictly inside, floor() is 0 and the subtraction changes nothing (at -0 it would make +0,
+// hence the strict test): no libm call then.
+inline double wrap_coordinate(double& x, double side) {
+  if (x > 0.0 && x < side) return 0.0;
+  const double sides = std::floor(x / side);
+  x -= side * sides;
+  return sides;
+}
+
 // Wraps a position into the periodic box; positions in a box with walls are left alone.
 template <std::size_t D>
-constexpr void wrap(Vec<D>& position, const Box<D>& box) {
+void wrap(Vec<D>& position, const Box<D>& box) {
+  if (!box.periodic()) return;
+  for (std::size_t k = 0; k < D; ++k) wrap_coordinate(position[k], box.size[k]);
+}
+
+// The same, adding the sides each axis moved by to `image` (see ParticleRecord::image), which
+// saturates at the int32 range rather than overflow.
+template <std::size_t D>
+void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& image) {
   if (!box.periodic()) return;
   for (std::size_t k = 0; k < D; ++k) {
-    // Strictly inside the box floor() is 0 and the subtraction changes nothing (at -0 it would
-    // make +0, hence the strict test): skip the libm call.
-    if (!(position[k] > 0.0 && position[k] < box.size[k])) {
-      position[k] -= box.size[k] * std::floor(position[k] / box.size[k]);
-    }
+    const double sides = image[k] + wrap_coordinate(position[k], box.size[k]);
+    constexpr double kLow = std::numeric_limits<std::int32_t>::min();
+    constexpr double kHigh = std::numeric_limits<std::int32_t>::max();
+    image[k] = static_cast<std::int32_t>(std::clamp(sides, kLow, kHigh));
   }
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -37,6 +38,10 @@ struct ParticleRecord {
   // The time of its last collision (wall or pair), for the TC model; before any, -infinity.
   // Kept apart from Particle::time, which also moves when states are brought to a common time.
   double last_collision = -std::numeric_limits<double>::infinity();
+  // In a periodic box, how many box sides the particle's stored position has been moved by
+  // wrapping, per axis (z unused for disks): the unwrapped position is position + image x side,
+  // as in HOOMD's and LAMMPS' image flags. Int32, as theirs.
+  std::array<std::int32_t, 3> image{};
 
   // Changes whenever the particle's trajectory changes; events predicted against an older
   // value are stale. Derived from the counters, which grow on every velocity change.

@@ -1,6 +1,7 @@
 // Trajectory files that other tools read: snapshots of every particle at chosen times.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <istream>
@@ -14,7 +15,8 @@ namespace carom {
 
 // A trajectory format: a frame header and one line a particle. Frames are snapshots at time t,
 // computed from the stored states, which are not changed, so writing frames cannot change the
-// dynamics. Positions are wrapped into a periodic box; disks have z = 0.
+// dynamics. Positions are wrapped into a periodic box, with image flags to unwrap them; disks have
+// z = 0.
 template <std::size_t D>
 class TrajectoryFormat {
  public:
@@ -29,9 +31,10 @@ class TrajectoryFormat {
  private:
   virtual void header(std::ostream& out, std::uint64_t index, double t,
                       const System<D>& system) = 0;
-  // `p` is the particle at the frame's time (see synchronised).
+  // `p` is the particle at the frame's time, wrapped into a periodic box (see synchronised), and
+  // `image` its image flags then (see ParticleRecord::image).
   virtual void line(std::ostream& out, std::size_t index, const Particle<D>& p,
-                    const ParticleRecord& record) = 0;
+                    const ParticleRecord& record, const std::array<std::int32_t, 3>& image) = 0;
 };
 
 // The format for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
