@@ -1,13 +1,16 @@
-// Progress of a long run on stderr: simulated time, percent, events per second and the time
-// left. Shown only when stderr is a terminal, only once a run has taken more than a second, and
-// never with --quiet; the line is cleared at the end, so nothing remains in the output.
+// Progress of a long run on stderr: simulated time, percent, events per second, the time left
+// and the compressibility factor Z measured so far. Shown only when stderr is a terminal, only
+// once a run has taken more than a second, and never with --quiet; the line is cleared at the
+// end, so nothing remains in the output.
 #pragma once
 
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <string>
 
 #include "carom/simulation.hpp"
 
@@ -21,7 +24,7 @@ class Progress final : public Observer<D> {
   Progress(double start, double end)
       : Observer<D>(Trigger::every_events(kEvery)), start_(start), end_(end) {}
   ~Progress() override {
-    if (shown_) std::fprintf(stderr, "\r%*s\r", 79, "");
+    if (shown_) std::fprintf(stderr, "\r%*s\r", 100, "");
   }
   Progress(const Progress&) = delete;
   Progress& operator=(const Progress&) = delete;
@@ -39,9 +42,13 @@ class Progress final : public Observer<D> {
     const double time = simulation.time();
     const double done = end_ > start_ ? (time - start_) / (end_ - start_) : 1.0;
     const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
-    std::fprintf(stderr, "\rt = %.6g / %.6g (%4.1f%%)  %.3g events/s  %d:%02d left   ", time, end_,
-                 100.0 * done, static_cast<double>(events_) / elapsed, static_cast<int>(left) / 60,
-                 static_cast<int>(left) % 60);
+    // The compressibility factor over the measurement window so far (O(N): every 250 ms at most).
+    const Observables<D> o = simulation.observables();
+    const std::string z =
+        o.elapsed > 0.0 ? fmt::format("  Z = {:.5g}", o.compressibility_factor) : std::string();
+    std::fprintf(stderr, "\rt = %.6g / %.6g (%4.1f%%)  %.3g events/s  %d:%02d left%s   ", time,
+                 end_, 100.0 * done, static_cast<double>(events_) / elapsed,
+                 static_cast<int>(left) / 60, static_cast<int>(left) % 60, z.c_str());
     std::fflush(stderr);
   }
 

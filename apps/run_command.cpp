@@ -15,6 +15,7 @@
 #include "carom/classic_input.hpp"
 #include "carom/overlap.hpp"
 #include "carom/simulation.hpp"
+#include "carom/time_series.hpp"
 #include "carom/trajectory.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
@@ -83,7 +84,8 @@ void check_distinct_outputs(const RunArguments& args) {
                                    {"--summary", args.summary},
                                    {"--checkpoint", args.checkpoint},
                                    {"--dump", args.dump},
-                                   {"--events", args.events}}) {
+                                   {"--events", args.events},
+                                   {"--log", args.log}}) {
     if (!path.empty() && path != "-") files.emplace_back(flag, path);
   }
   for (std::size_t i = 0; i < files.size(); ++i) {
@@ -118,6 +120,10 @@ void check(const RunArguments& args) {
     throw UsageError("--dump needs --every DT > 0: the time between frames");
   }
   if (args.dump.empty() && args.every != 0.0) throw UsageError("--every needs --dump FILE");
+  if (!args.log.empty() && !(args.log_every > 0.0 && std::isfinite(args.log_every))) {
+    throw UsageError("--log needs --log-every DT > 0: the time between rows");
+  }
+  if (args.log.empty() && args.log_every != 0.0) throw UsageError("--log-every needs --log FILE");
   if (!args.checkpoint_every.empty() && args.checkpoint.empty()) {
     throw UsageError("--checkpoint-every needs --checkpoint FILE: where to save");
   }
@@ -200,7 +206,7 @@ template <std::size_t D>
 struct RunOutputs {
   RunOutputs(const RunArguments& args, const Simulation<D>& simulation, bool resumed)
       : main(args.output) {
-    for (const std::string& streamed : {args.dump, args.events}) {
+    for (const std::string& streamed : {args.dump, args.events, args.log}) {
       if (!streamed.empty()) check_writable(streamed);
     }
     if (!args.summary.empty()) summary.emplace(args.summary);
@@ -220,13 +226,21 @@ struct RunOutputs {
       if (events.tellp() == 0) events << EventLogWriter<D>::kHeader;
       event_log = std::make_shared<EventLogWriter<D>>(events);
     }
+    if (!args.log.empty()) {
+      time_series = std::make_shared<TimeSeriesWriter<D>>(log, args.log_every);
+      log = open_streamed(args.log, resumed, [&](std::istream& in) {
+        return time_series->resume(in, t, inclusive, simulation);
+      });
+      if (log.tellp() == 0) log << TimeSeriesWriter<D>::kHeader;
+    }
   }
 
   Output main;
   std::optional<Output> summary;
-  std::ofstream dump, events;
+  std::ofstream dump, events, log;
   std::shared_ptr<FrameWriter<D>> frames;
   std::shared_ptr<EventLogWriter<D>> event_log;
+  std::shared_ptr<TimeSeriesWriter<D>> time_series;
 };
 
 // Refuses a dump that would not fit on its disk: the frames still to come times the size of one
@@ -273,6 +287,7 @@ std::string interruption(const Simulation<D>& simulation, const RunArguments& ar
                     args.checkpoint);
   if (!args.dump.empty()) what += fmt::format("; frames up to then are in {}", args.dump);
   if (!args.events.empty()) what += fmt::format("; events up to then are in {}", args.events);
+  if (!args.log.empty()) what += fmt::format("; the time series up to then is in {}", args.log);
   return what;
 }
 
@@ -327,6 +342,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   }
   if (outputs.frames) simulation.add_observer(outputs.frames);
   if (outputs.event_log) simulation.add_observer(outputs.event_log);
+  if (outputs.time_series) simulation.add_observer(outputs.time_series);
   if (args.check) {
     const std::uint64_t every = args.check_every > 0
                                     ? args.check_every
@@ -419,6 +435,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "--events", args.events,
       "Write every collision to this csv file as the run goes: "
       "time,kind,first,partner (kind wall or pair; partner a particle or a wall label)");
+  run->add_option("--log", args.log,
+                  "Write a time series to this csv file as the run goes, a row every --log-every "
+                  "DT: the temperature, and the pressure, Z and collision rate over each "
+                  "interval, with running means and block-average errors over the measurement "
+                  "window (like LAMMPS' thermo). A resumed run continues the same file");
+  run->add_option("--log-every", args.log_every, "Time between --log rows")->check(finite_number());
   run->add_option("--summary", args.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");

@@ -20,6 +20,8 @@ struct RunArguments {
   std::string dump;
   double every = 0.0;
   std::string events;
+  std::string log;
+  double log_every = 0.0;
   std::string checkpoint;
   std::string checkpoint_every;
   bool resume = false;

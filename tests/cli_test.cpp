@@ -700,6 +700,77 @@ TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
   }
 }
 
+TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.5", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const std::vector<std::string> physics = {"--rule",   "elastic",       "--boundary",
+                                            "periodic", "--equilibrate", "3"};
+  const auto with = [&](std::vector<std::string> args, const std::vector<std::string>& more) {
+    args.insert(args.end(), more.begin(), more.end());
+    return args;
+  };
+  const fs::path whole_log = dir_ / "whole.csv", summary = dir_ / "summary.json";
+  ASSERT_EQ(carom(with({"run", start, "20", "-o", dir_ / "out.txt", "--summary", summary, "--log",
+                        whole_log, "--log-every", "0.5"},
+                       physics))
+                .exit_code,
+            0);
+  const std::string text = read_file(whole_log);
+  ASSERT_EQ(text.substr(0, text.find('\n') + 1),
+            "time,events,pair_collisions,virial,wall_momentum,temperature,pressure,Z,"
+            "collision_rate,pressure_mean,pressure_error,Z_mean,Z_error\n");
+  std::vector<std::vector<std::string>> rows;
+  for (std::size_t from = text.find('\n') + 1; from < text.size();) {
+    const std::size_t end = text.find('\n', from);
+    std::vector<std::string> fields;
+    std::string line = text.substr(from, end - from), item;
+    std::istringstream in(line);
+    while (std::getline(in, item, ',')) fields.push_back(item);
+    if (line.back() == ',') fields.emplace_back();
+    rows.push_back(fields);
+    from = end + 1;
+  }
+  ASSERT_EQ(rows.size(), 41u);  // t = 0, 0.5, ..., 20
+  EXPECT_EQ(rows[6][0], "3");
+  EXPECT_EQ(rows[6][11], "") << "no averages while equilibrating";
+  EXPECT_EQ(rows[7][11], rows[7][7]) << "the first row of the window is its own mean";
+  // The mean of the intervals' Z over the window is the window's Z, as the summary gives it.
+  const auto z = nlohmann::json::parse(read_file(summary))["compressibility_factor"].get<double>();
+  const double z_mean = std::stod(rows.back()[11]), z_error = std::stod(rows.back()[12]);
+  EXPECT_NEAR(z_mean, z, 1e-9 * z);
+  EXPECT_GT(z_error, 0.0);
+  EXPECT_LT(z_error, 0.05 * z);
+
+  // In pieces: stopped before the window opens and in it, with a row a killed run wrote after the
+  // checkpoint and a row cut short, both dropped when resuming: the same file byte for byte.
+  const fs::path log = dir_ / "log.csv";
+  ASSERT_EQ(carom(with({"run", start, "1.7", "--checkpoint", checkpoint, "--log", log,
+                        "--log-every", "0.5"},
+                       physics))
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", "--resume", checkpoint, "9.2", "--checkpoint", checkpoint, "--log", log,
+                   "--log-every", "0.5"})
+                .exit_code,
+            0);
+  {
+    std::ofstream append(log, std::ios::app);
+    append << "9.5,1,2,3,0,1,2,3,4,,,,\n9.";
+  }
+  const Result resumed =
+      carom({"run", "--resume", checkpoint, "20", "--log", log, "--log-every", "0.5"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_TRUE(read_file(log) == text) << "the time series differ";
+
+  EXPECT_EQ(carom({"run", start, "2", "--log", log}).exit_code, 2);
+  EXPECT_EQ(carom({"run", start, "2", "--log-every", "1"}).exit_code, 2);
+  EXPECT_EQ(carom({"run", start, "2", "--log", log, "--log-every", "0"}).exit_code, 2);
+  EXPECT_EQ(carom({"run", start, "2", "--log", log, "--log-every", "1", "--events", log}).exit_code,
+            2);
+}
+
 TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {
   // A slow run (an overlap check after every event): frames, events and the result of the
   // interrupted and resumed run are those of the uninterrupted one, byte for byte.

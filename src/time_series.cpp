@@ -1,0 +1,159 @@
+#include "carom/time_series.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "carom/observables.hpp"
+#include "whole_lines.hpp"
+
+namespace carom {
+
+void BlockAverage::add(double value) {
+  for (std::size_t level = 0;; ++level) {
+    if (level == levels_.size()) levels_.emplace_back();
+    Level& here = levels_[level];
+    here.sum += value;
+    here.sum_of_squares += value * value;
+    ++here.count;
+    if (!here.has_waiting) {
+      here.waiting = value;
+      here.has_waiting = true;
+      return;
+    }
+    value = 0.5 * (here.waiting + value);  // a block of the next level
+    here.has_waiting = false;
+  }
+}
+
+double BlockAverage::mean() const {
+  if (count() == 0) return std::numeric_limits<double>::quiet_NaN();
+  return levels_.front().sum / static_cast<double>(levels_.front().count);
+}
+
+double BlockAverage::error() const {
+  const auto standard_error = [](const Level& level) {
+    const auto n = static_cast<double>(level.count);
+    const double variance = (level.sum_of_squares - level.sum * level.sum / n) / (n - 1.0);
+    return std::sqrt(std::max(variance, 0.0) / n);
+  };
+  if (count() < 2) return std::numeric_limits<double>::quiet_NaN();
+  double largest = standard_error(levels_.front());
+  for (const Level& level : levels_) {
+    if (level.count >= kLeastBlocks) largest = std::max(largest, standard_error(level));
+  }
+  return largest;
+}
+
+namespace {
+
+Counts difference(const Counts& later, const Counts& earlier) {
+  return {later.events - earlier.events,
+          later.wall_collisions - earlier.wall_collisions,
+          later.pair_collisions - earlier.pair_collisions,
+          later.elastic_by_tc - earlier.elastic_by_tc,
+          later.virial - earlier.virial,
+          later.wall_momentum - earlier.wall_momentum};
+}
+
+// A value in full precision (it reads back as the same double), or an empty field.
+std::string field(double value, bool present = true) {
+  return present && !std::isnan(value) ? fmt::format("{}", value) : std::string();
+}
+
+// When the measurement window opened, or none while equilibration goes on.
+template <std::size_t D>
+std::optional<double> window(const Simulation<D>& simulation) {
+  if (simulation.pending_measurement()) return std::nullopt;
+  return simulation.measurement().start_time;
+}
+
+}  // namespace
+
+template <std::size_t D>
+void TimeSeriesWriter<D>::take(const Row& row, std::optional<double> window_start) {
+  if (window_start != window_start_) {  // a new measurement window (or none yet): new averages
+    window_start_ = window_start;
+    pressure_.clear();
+    z_.clear();
+  }
+  if (row.measured && started_ && window_start_ && last_.time >= *window_start_) {
+    pressure_.add(row.pressure);
+    z_.add(row.z);
+  }
+  last_ = row;
+  started_ = true;
+}
+
+template <std::size_t D>
+void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
+  const System<D>& system = simulation.state();
+  Row row{simulation.time(), simulation.counts(), 0.0, 0.0, false};
+  double rate = 0.0;
+  if (started_ && row.time > last_.time) {
+    const Measurement interval{last_.time, 0.0, difference(row.totals, last_.totals)};
+    const Observables<D> o = measure(system, interval, row.time);
+    row.pressure = o.pressure;
+    row.z = o.compressibility_factor;
+    row.measured = true;
+    rate = o.collision_rate;
+  }
+  take(row, window(simulation));
+  const Counts& c = row.totals;
+  out_ << fmt::format(
+      "{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.time, c.events, c.pair_collisions,
+      field(c.virial), field(c.wall_momentum), field(kinetic_temperature(system)),
+      field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
+      field(pressure_.mean()), field(pressure_.error()), field(z_.mean()), field(z_.error()));
+  if (!out_.flush()) throw std::runtime_error("cannot write the time series");
+}
+
+template <std::size_t D>
+std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclusive,
+                                          const Simulation<D>& simulation) {
+  LineReader reader{in, 0, {}};
+  if (!reader.next() || reader.line + "\n" != kHeader) return 0;
+  std::uint64_t kept = reader.offset;
+  const std::optional<double> window_start = window(simulation);
+  while (reader.next()) {
+    // time,events,pair_collisions,virial,wall_momentum,temperature,pressure,Z,...
+    std::vector<std::string> fields;
+    for (std::size_t from = 0;;) {
+      const std::size_t comma = reader.line.find(',', from);
+      fields.push_back(reader.line.substr(from, comma - from));
+      if (comma == std::string::npos) break;
+      from = comma + 1;
+    }
+    if (fields.size() != 13) break;
+    const auto number = [](const std::string& text, double& value) {
+      char* end = nullptr;
+      value = std::strtod(text.c_str(), &end);
+      return !text.empty() && *end == '\0';
+    };
+    const auto whole = [](const std::string& text, std::uint64_t& value) {
+      char* end = nullptr;
+      value = std::strtoull(text.c_str(), &end, 10);
+      return !text.empty() && text.front() != '-' && *end == '\0';
+    };
+    Row row;
+    if (!number(fields[0], row.time) || !written_before(row.time, t, inclusive) ||
+        !whole(fields[1], row.totals.events) || !whole(fields[2], row.totals.pair_collisions) ||
+        !number(fields[3], row.totals.virial) || !number(fields[4], row.totals.wall_momentum)) {
+      break;
+    }
+    row.measured = number(fields[6], row.pressure) && number(fields[7], row.z);
+    take(row, window_start);
+    kept = reader.offset;
+  }
+  return kept;
+}
+
+template class TimeSeriesWriter<2>;
+template class TimeSeriesWriter<3>;
+
+}  // namespace carom
