@@ -215,7 +215,11 @@ struct RunOutputs {
     if (!args.dump.empty()) {
       std::unique_ptr<TrajectoryFormat<D>> format = dump_format<D>(args.dump);
       dump = open_streamed(args.dump, resumed, [&](std::istream& in) {
-        return format->whole_frames_before(in, t, inclusive, args.every);
+        try {
+          return format->whole_frames_before(in, t, inclusive, args.every);
+        } catch (const std::invalid_argument& e) {  // a format that cannot be continued
+          throw UsageError(e.what());
+        }
       });
       frames = std::make_shared<FrameWriter<D>>(dump, std::move(format), args.every);
     }
@@ -428,8 +432,9 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option(
       "--dump", args.dump,
       "Write frames of every particle at t = 0, DT, 2 DT, ... (--every DT) to this file "
-      "as the run goes: .xyz (extended XYZ, for OVITO and ASE) or .lammpstrj (LAMMPS "
-      "text dump). A resumed run continues the same file");
+      "as the run goes: .xyz (extended XYZ, for OVITO and ASE), .lammpstrj (LAMMPS "
+      "text dump) or .gsd (HOOMD-blue's GSD, for HOOMD, OVITO and freud). A resumed run "
+      "continues the same .xyz or .lammpstrj file");
   run->add_option("--every", args.every, "Time between --dump frames")->check(finite_number());
   run->add_option(
       "--events", args.events,

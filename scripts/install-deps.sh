@@ -6,7 +6,7 @@ packages=(
   g++ cmake make
   libfmt-dev nlohmann-json3-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-ase
-  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-matplotlib
+  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-matplotlib python3-gsd
   libpcg-cpp-dev librapidcheck-dev
   chromium nodejs
 )

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "carom/physics.hpp"
+#include "gsd_format.hpp"
 #include "whole_lines.hpp"
 
 namespace carom {
@@ -23,10 +24,36 @@ std::string xyz(const Vec<D>& v) {
                 : fmt::format("{} {} 0", v[0], v[1]);
 }
 
+// A text format: a frame header, then one line a particle.
+template <std::size_t D>
+class TextFormat : public TrajectoryFormat<D> {
+ public:
+  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) override {
+    header(out, index, t, system);
+    const double at = system.stored(t);
+    for (std::size_t i = 0; i < system.size(); ++i) {
+      // As synchronised(), counting the sides wrapping moves it by.
+      Particle<D> now = system.particles[i];
+      advance(now, at);
+      std::array<std::int32_t, 3> image = system.records[i].image;
+      wrap(now.position, system.box, image);
+      line(out, i, now, system.records[i], image);
+    }
+  }
+
+ private:
+  virtual void header(std::ostream& out, std::uint64_t index, double t,
+                      const System<D>& system) = 0;
+  // `p` is the particle at the frame's time, wrapped into a periodic box (see synchronised), and
+  // `image` its image flags then (see ParticleRecord::image).
+  virtual void line(std::ostream& out, std::size_t index, const Particle<D>& p,
+                    const ParticleRecord& record, const std::array<std::int32_t, 3>& image) = 0;
+};
+
 // Extended XYZ: the box as a lattice (z of thickness 1 for disks), per-particle species,
 // position, velocity, radius and collision count, the periodic axes and the time.
 template <std::size_t D>
-class ExtendedXyz final : public TrajectoryFormat<D> {
+class ExtendedXyz final : public TextFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                     double) const override {
@@ -73,7 +100,7 @@ class ExtendedXyz final : public TrajectoryFormat<D> {
 // frame number times the frame interval), ids count from 1 as in LAMMPS; disks span z in
 // [-0.5, 0.5].
 template <std::size_t D>
-class LammpsDump final : public TrajectoryFormat<D> {
+class LammpsDump final : public TextFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                     double every) const override {
@@ -114,21 +141,6 @@ class LammpsDump final : public TrajectoryFormat<D> {
 }  // namespace
 
 template <std::size_t D>
-void TrajectoryFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
-                                const System<D>& system) {
-  header(out, index, t, system);
-  const double at = system.stored(t);
-  for (std::size_t i = 0; i < system.size(); ++i) {
-    // As synchronised(), counting the sides wrapping moves it by.
-    Particle<D> now = system.particles[i];
-    advance(now, at);
-    std::array<std::int32_t, 3> image = system.records[i].image;
-    wrap(now.position, system.box, image);
-    line(out, i, now, system.records[i], image);
-  }
-}
-
-template <std::size_t D>
 std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path) {
   // Endings in any case: MOVIE.XYZ is as much extended XYZ as movie.xyz.
   const auto ends_with = [&](std::string_view suffix) {
@@ -140,9 +152,10 @@ std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& pa
   };
   if (ends_with(".xyz")) return std::make_unique<ExtendedXyz<D>>();
   if (ends_with(".lammpstrj")) return std::make_unique<LammpsDump<D>>();
+  if (ends_with(".gsd")) return std::make_unique<GsdFormat<D>>();
   throw std::invalid_argument(fmt::format(
-      "cannot tell the trajectory format of '{}': name it .xyz (extended XYZ) or .lammpstrj "
-      "(LAMMPS dump)",
+      "cannot tell the trajectory format of '{}': name it .xyz (extended XYZ), .lammpstrj "
+      "(LAMMPS dump) or .gsd (HOOMD-blue's GSD)",
       path));
 }
 
@@ -154,8 +167,6 @@ void FrameWriter<D>::observe(const Simulation<D>& simulation) {
   if (!out_.flush()) throw std::runtime_error("cannot write the trajectory");
 }
 
-template class TrajectoryFormat<2>;
-template class TrajectoryFormat<3>;
 template std::unique_ptr<TrajectoryFormat<2>> trajectory_format_for(const std::string&);
 template std::unique_ptr<TrajectoryFormat<3>> trajectory_format_for(const std::string&);
 template class FrameWriter<2>;

@@ -771,6 +771,26 @@ TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
             2);
 }
 
+TEST_F(Cli, GsdTrajectoriesAreWrittenAndNotContinuedBlindly) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt", movie = dir_ / "m.gsd";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--rule", "elastic", "--boundary", "periodic", "--dump",
+                   movie, "--every", "0.5", "--checkpoint", checkpoint})
+                .exit_code,
+            0);
+  const std::string frames = read_file(movie);
+  EXPECT_EQ(frames.substr(0, 8), std::string("\xDF\x65\xDF\x65\xDF\x65\xDF\x65", 8));
+  // A resumed run would have to rewrite the index: refused, the file left as it was.
+  const Result resumed =
+      carom({"run", "--resume", checkpoint, "4", "--dump", movie, "--every", "0.5"});
+  EXPECT_EQ(resumed.exit_code, 2);
+  EXPECT_NE(resumed.err.find("cannot continue a .gsd trajectory"), std::string::npos)
+      << resumed.err;
+  EXPECT_TRUE(read_file(movie) == frames);
+}
+
 TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {
   // A slow run (an overlap check after every event): frames, events and the result of the
   // interrupted and resumed run are those of the uninterrupted one, byte for byte.

@@ -13,32 +13,25 @@
 
 namespace carom {
 
-// A trajectory format: a frame header and one line a particle. Frames are snapshots at time t,
-// computed from the stored states, which are not changed, so writing frames cannot change the
-// dynamics. Positions are wrapped into a periodic box, with image flags to unwrap them; disks have
-// z = 0.
+// A trajectory format. Frames are snapshots at time t, computed from the stored states, which are
+// not changed, so writing frames cannot change the dynamics. Positions are wrapped into a periodic
+// box, with image flags to unwrap them; disks have z = 0.
 template <std::size_t D>
 class TrajectoryFormat {
  public:
   virtual ~TrajectoryFormat() = default;
   // Frame number `index` of a run writing a frame every `every`: t = index x every.
-  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system);
+  virtual void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) = 0;
   // The length of the leading part of a file in this format made of whole frames taken before
   // `t` (or at it, when `inclusive`): what a resumed run keeps before appending its own frames.
+  // Throws std::invalid_argument for a format a resumed run cannot continue.
   virtual std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                             double every) const = 0;
-
- private:
-  virtual void header(std::ostream& out, std::uint64_t index, double t,
-                      const System<D>& system) = 0;
-  // `p` is the particle at the frame's time, wrapped into a periodic box (see synchronised), and
-  // `image` its image flags then (see ParticleRecord::image).
-  virtual void line(std::ostream& out, std::size_t index, const Particle<D>& p,
-                    const ParticleRecord& record, const std::array<std::int32_t, 3>& image) = 0;
 };
 
 // The format for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
-// dump. Throws std::invalid_argument naming the supported endings for anything else.
+// dump, `.gsd` HOOMD-blue's GSD (binary: the stream must be seekable). Throws
+// std::invalid_argument naming the supported endings for anything else.
 template <std::size_t D>
 std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path);
 

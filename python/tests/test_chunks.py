@@ -1,6 +1,7 @@
 """Runs in pieces: sim.run(t1); sim.run(t2); ... ends as one run to the last time, bit for bit,
 with the same trajectory file and the same collision log (which are also the command line's)."""
 
+import gsd.hoomd
 import numpy as np
 import pytest
 
@@ -23,6 +24,9 @@ CHUNK_CASES = {
                                       rule="elastic", restitution=0.5, tc=1e-3), 5.0, 0.5, "xyz"),
     "polydisperse-reference": (dict(n=80, phi=0.3, seed=57, polydispersity=0.1, rule="elastic",
                                     engine="reference"), 4.0, 0.5, "xyz"),
+    # a binary trajectory whose index grows as the frames come
+    "elastic-periodic-gsd": (dict(n=300, phi=0.4, seed=59, boundary="periodic", rule="elastic"),
+                             3.0, 0.1, "gsd"),
 }
 
 INIT_KEYS = ("n", "phi", "seed", "dim", "boundary", "polydispersity")
@@ -63,7 +67,11 @@ def test_pieces_equal_one_run(tmp_path, chunk_case):
     assert len(whole_log) == whole.events
     whole_dump = (tmp_path / f"whole.{ending}").read_bytes()
     assert (tmp_path / f"pieces.{ending}").read_bytes() == whole_dump
-    frames = whole_dump.count(b"ITEM: TIMESTEP" if ending == "lammpstrj" else b"Time=")
+    if ending == "gsd":
+        with gsd.hoomd.open(str(tmp_path / "whole.gsd"), "rb") as trajectory:
+            frames = len(trajectory)
+    else:
+        frames = whole_dump.count(b"ITEM: TIMESTEP" if ending == "lammpstrj" else b"Time=")
     assert frames == int(round(end / every)) + 1
 
 
