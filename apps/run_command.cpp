@@ -13,6 +13,7 @@
 
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
+#include "carom/gsd.hpp"
 #include "carom/overlap.hpp"
 #include "carom/simulation.hpp"
 #include "carom/time_series.hpp"
@@ -164,7 +165,7 @@ Start load(const RunArguments& args) {
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
                      args.input, false};
       },
-      read_any_classic_file(args.input, args.boundary));
+      read_any_start_file(args.input, args.boundary));
 }
 
 // A file written as the run goes (frames, the event log): kept when the run stops early. A

@@ -1,13 +1,22 @@
 #include "gsd_format.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cctype>
+#include <cmath>
 #include <cstring>
+#include <fstream>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 
+#include "carom/classic_input.hpp"
+#include "carom/gsd.hpp"
 #include "carom/physics.hpp"
 #include "carom/version.hpp"
 
@@ -183,5 +192,244 @@ std::uint64_t GsdFormat<D>::whole_frames_before(std::istream&, double, bool, dou
 
 template class GsdFormat<2>;
 template class GsdFormat<3>;
+
+}  // namespace carom
+
+// Reading a start from a GSD file.
+namespace carom {
+
+namespace {
+
+// Bytes per element of each GSD type (0: not a type).
+constexpr std::array<std::uint64_t, 11> kTypeSize = {0, 1, 2, 4, 8, 1, 2, 4, 8, 4, 8};
+// Elements a start may read from one chunk: far beyond any system carom runs, far below memory.
+constexpr std::uint64_t kMostElements = std::uint64_t{1} << 30;
+
+class GsdReader {
+ public:
+  explicit GsdReader(const std::string& path) : path_(path), in_(open_input(path)) {
+    in_.seekg(0, std::ios::end);
+    size_ = static_cast<std::uint64_t>(in_.tellg());
+    std::array<char, kHeaderSize> header{};
+    read_at(0, header.data(), header.size(), "the header");
+    const auto field = [&](std::size_t offset, auto value) {
+      std::memcpy(&value, header.data() + offset, sizeof(value));
+      return value;
+    };
+    if (field(0, std::uint64_t{}) != kMagic) fail("it does not start as a GSD file does");
+    const std::uint32_t file_version = field(44, std::uint32_t{});
+    if (file_version >> 16 < 1 || file_version >> 16 > 2) {
+      fail(fmt::format("GSD file version {}.{} (carom reads 1.x and 2.x)", file_version >> 16,
+                       file_version & 0xFFFF));
+    }
+    if (std::string(header.data() + 112, strnlen(header.data() + 112, 64)) != "hoomd") {
+      fail("its schema is not HOOMD's (\"hoomd\")");
+    }
+    // The names, null-separated (one terminator each in version 2, 64-byte slots in version 1).
+    const std::uint64_t names_at = field(24, std::uint64_t{}), blocks = field(32, std::uint64_t{});
+    if (blocks > size_ / kNameBlock) fail("its name list runs past the end of the file");
+    std::string names(blocks * kNameBlock, '\0');
+    read_at(names_at, names.data(), names.size(), "the name list");
+    for (std::size_t from = 0; from < names.size();) {
+      const std::size_t end = std::min(names.find('\0', from), names.size());
+      if (end > from) ids_[names.substr(from, end - from)] = static_cast<std::uint16_t>(count_++);
+      from = end + 1;
+    }
+    // The index: entries sorted by frame, up to the first with location 0.
+    const std::uint64_t index_at = field(8, std::uint64_t{}), capacity = field(16, std::uint64_t{});
+    if (capacity > size_ / sizeof(GsdEntry)) fail("its index runs past the end of the file");
+    std::vector<GsdEntry> all(capacity);
+    read_at(index_at, reinterpret_cast<char*>(all.data()), capacity * sizeof(GsdEntry),
+            "the index");
+    for (const GsdEntry& e : all) {
+      if (e.location == 0) break;
+      const std::uint64_t element = e.type < kTypeSize.size() ? kTypeSize[e.type] : 0;
+      if (element == 0 || e.m == 0 || e.id >= count_ || e.location < 0 ||
+          (!entries_.empty() && e.frame < entries_.back().frame) || e.n > kMostElements ||
+          e.m > kMostElements / std::max<std::uint64_t>(e.n, 1) ||
+          static_cast<std::uint64_t>(e.location) > size_ ||
+          e.n * e.m * element > size_ - static_cast<std::uint64_t>(e.location)) {
+        fail(fmt::format("index entry {} is corrupt", entries_.size()));
+      }
+      entries_.push_back(e);
+    }
+    if (entries_.empty()) fail("it holds no frames");
+  }
+
+  std::uint64_t frames() const { return entries_.back().frame + 1; }
+
+  // The values of chunk `name` in `frame` (else frame 0) as doubles, row by row, with its shape;
+  // nullopt when neither has it.
+  struct Values {
+    std::vector<double> data;
+    std::uint64_t rows = 0, columns = 0;
+  };
+  std::optional<Values> values(const std::string& name, std::uint64_t frame) {
+    const auto id = ids_.find(name);
+    if (id == ids_.end()) return std::nullopt;
+    for (const std::uint64_t in_frame : {frame, std::uint64_t{0}}) {
+      for (const GsdEntry& e : entries_) {
+        if (e.frame != in_frame || e.id != id->second) continue;
+        const std::uint64_t element = kTypeSize[e.type];
+        std::vector<char> raw(e.n * e.m * element);
+        read_at(static_cast<std::uint64_t>(e.location), raw.data(), raw.size(), name);
+        Values v{std::vector<double>(e.n * e.m), e.n, e.m};
+        for (std::size_t i = 0; i < v.data.size(); ++i) v.data[i] = element_at(raw, i, e.type);
+        return v;
+      }
+    }
+    return std::nullopt;
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(path_, 0, "not a usable GSD start: " + what);
+  }
+
+ private:
+  using GsdEntry = typename GsdFormat<2>::Entry;
+
+  void read_at(std::uint64_t offset, char* data, std::uint64_t bytes, const std::string& what) {
+    if (offset > size_ || bytes > size_ - offset) fail(what + " runs past the end of the file");
+    in_.seekg(static_cast<std::streamoff>(offset));
+    in_.read(data, static_cast<std::streamsize>(bytes));
+    if (!in_) fail("cannot read " + what);
+  }
+
+  static double element_at(const std::vector<char>& raw, std::size_t i, std::uint8_t type) {
+    const auto get = [&](auto value) {
+      std::memcpy(&value, raw.data() + i * sizeof(value), sizeof(value));
+      return static_cast<double>(value);
+    };
+    switch (type) {
+      case 1:
+        return get(std::uint8_t{});
+      case 2:
+        return get(std::uint16_t{});
+      case 3:
+        return get(std::uint32_t{});
+      case 4:
+        return get(std::uint64_t{});
+      case 5:
+        return get(std::int8_t{});
+      case 6:
+        return get(std::int16_t{});
+      case 7:
+        return get(std::int32_t{});
+      case 8:
+        return get(std::int64_t{});
+      case 9:
+        return get(float{});
+      default:
+        return get(double{});
+    }
+  }
+
+  std::string path_;
+  std::ifstream in_;
+  std::uint64_t size_ = 0;
+  std::map<std::string, std::uint16_t> ids_;
+  std::size_t count_ = 0;
+  std::vector<GsdEntry> entries_;
+};
+
+template <std::size_t D>
+ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vector<double>& box) {
+  const auto n_values = gsd.values("particles/N", frame);
+  if (!n_values || n_values->data.size() != 1 || n_values->data[0] < 1) {
+    gsd.fail(fmt::format("frame {} has no particles (particles/N)", frame));
+  }
+  const auto n = static_cast<std::uint64_t>(n_values->data[0]);
+  const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
+                          bool required) {
+    std::optional<GsdReader::Values> v = gsd.values(name, frame);
+    if (!v) {
+      if (required) gsd.fail(fmt::format("frame {} has no {}", frame, name));
+      return std::vector<double>(n * columns, fallback);
+    }
+    if (v->rows != n || v->columns != columns) {
+      gsd.fail(fmt::format("{} has {} x {} values for {} particles", name, v->rows, v->columns, n));
+    }
+    return std::move(v->data);
+  };
+  const std::vector<double> position = column("particles/position", 3, 0.0, true);
+  const std::vector<double> velocity = column("particles/velocity", 3, 0.0, false);
+  const std::vector<double> diameter = column("particles/diameter", 1, 1.0, false);
+  const std::vector<double> mass = column("particles/mass", 1, 1.0, false);
+  const std::vector<double> image = column("particles/image", 3, 0.0, false);
+  ClassicInput<D> input;
+  System<D>& system = input.system;
+  system.box.boundary = Boundary::periodic;
+  for (std::size_t k = 0; k < D; ++k) system.box.size[k] = box[k];
+  for (std::uint64_t i = 0; i < n; ++i) {
+    Particle<D> p;
+    for (std::size_t k = 0; k < D; ++k) {
+      p.position[k] = position[3 * i + k] + 0.5 * box[k];  // HOOMD's box is centred
+      p.velocity[k] = velocity[3 * i + k];
+    }
+    p.radius = 0.5 * diameter[i];
+    ParticleRecord record{mass[i]};
+    std::array<std::int32_t, 3> flags{};
+    for (std::size_t k = 0; k < D; ++k) {
+      const double f = image[3 * i + k];
+      if (!(std::abs(f) <= 2147483647.0) || f != std::floor(f)) {
+        gsd.fail(fmt::format("particle {} has image flag {}", i, f));
+      }
+      flags[k] = static_cast<std::int32_t>(f);
+    }
+    record.image = flags;
+    wrap(p.position, system.box, record.image);
+    system.particles.push_back(p);
+    system.records.push_back(record);
+  }
+  input.radius = system.particles.front().radius;
+  try {
+    check_start(system);
+  } catch (const std::invalid_argument& e) {
+    gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
+  }
+  return input;
+}
+
+}  // namespace
+
+AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint64_t> frame) {
+  GsdReader gsd(path);
+  const std::uint64_t k = frame.value_or(gsd.frames() - 1);
+  if (k >= gsd.frames()) {
+    gsd.fail(fmt::format("it has frames 0 to {}, not {}", gsd.frames() - 1, k));
+  }
+  const auto dimensions = gsd.values("configuration/dimensions", k);
+  const double dim = dimensions && dimensions->data.size() == 1 ? dimensions->data[0] : 3.0;
+  if (dim != 2.0 && dim != 3.0) gsd.fail(fmt::format("{} dimensions", dim));
+  const auto box_values = gsd.values("configuration/box", k);
+  std::vector<double> box = box_values ? box_values->data : std::vector<double>{1, 1, 1, 0, 0, 0};
+  if (box.size() != 6) gsd.fail("configuration/box does not hold 6 values");
+  if (box[3] != 0.0 || box[4] != 0.0 || box[5] != 0.0) {
+    gsd.fail("its box is tilted (xy, xz, yz not 0): carom's boxes are rectangular");
+  }
+  if (dim == 2.0) return start_from<2>(gsd, k, box);
+  return start_from<3>(gsd, k, box);
+}
+
+AnyClassicInput read_any_start_file(const std::string& spec, Boundary boundary) {
+  // FILE.gsd or FILE.gsd:K, the ending in any case.
+  const auto lower = [](std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+  };
+  const std::string lowered = lower(spec);
+  if (lowered.size() > 4 && lowered.ends_with(".gsd")) return read_gsd_start(spec, std::nullopt);
+  const std::size_t colon = lowered.rfind(".gsd:");
+  if (colon != std::string::npos) {
+    const std::string number = spec.substr(colon + 5);
+    if (!number.empty() && number.size() <= 18 &&
+        std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      return read_gsd_start(spec.substr(0, colon + 4), std::stoull(number));
+    }
+    throw InputError(spec, 0,
+                     fmt::format("'{}' is not a frame number (FILE.gsd:K, K from 0)", number));
+  }
+  return read_any_classic_file(spec, boundary);
+}
 
 }  // namespace carom

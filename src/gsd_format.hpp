@@ -22,7 +22,6 @@ class GsdFormat final : public TrajectoryFormat<D> {
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
                                     double every) const override;
 
- private:
   struct Entry {  // the on-disk index entry
     std::uint64_t frame, n;
     std::int64_t location;
@@ -32,6 +31,7 @@ class GsdFormat final : public TrajectoryFormat<D> {
   };
   static_assert(sizeof(Entry) == 32);
 
+ private:
   void start(std::ostream& out);
   void write_header(std::ostream& out) const;
 

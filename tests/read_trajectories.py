@@ -168,5 +168,56 @@ with tempfile.TemporaryDirectory() as folder:
                 moved = max(np.abs(f.particles.image).max() for f in trajectory)
                 check(moved > 0, f"{label}: some particle crossed the box")
 
+    # A start from a GSD file that HOOMD's own library wrote (gsd.hoomd), 2D, centred positions,
+    # frames 0 and 1 (frame 1 lacks the velocities and masses: frame 0's are used).
+    made = os.path.join(folder, "hoomd.gsd")
+    Frame = getattr(gsd.hoomd, "Frame", None) or gsd.hoomd.Snapshot  # gsd 3 renamed it
+    first = Frame()
+    first.configuration.box = [8.0, 6.0, 0.0, 0, 0, 0]
+    first.configuration.dimensions = 2
+    first.particles.N = 3
+    first.particles.types = ["A"]
+    first.particles.position = [[-3.0, -2.0, 0.0], [0.5, 1.0, 0.0], [2.5, -2.5, 0.0]]
+    first.particles.velocity = [[0.5, 0.25, 0.0], [-1.0, 0.0, 0.0], [0.0, 2.0, 0.0]]
+    first.particles.diameter = [1.0, 1.5, 1.0]
+    first.particles.mass = [1.0, 2.0, 0.5]
+    first.particles.image = [[0, 0, 0], [1, -2, 0], [0, 0, 0]]
+    second = Frame()
+    second.configuration.box = [8.0, 6.0, 0.0, 0, 0, 0]
+    second.configuration.dimensions = 2
+    second.particles.N = 3
+    second.particles.position = [[-2.0, -2.0, 0.0], [0.5, 2.0, 0.0], [3.5, 2.5, 0.0]]
+    with gsd.hoomd.open(made, "wb") as trajectory:
+        trajectory.append(first)
+        trajectory.append(second)
+    for spec, frame in ((made + ":0", first), (made, second)):
+        out = os.path.join(folder, "from-gsd.json")
+        carom_run("run", spec, "0", "--rule", "elastic", "--format", "json", "-o", out)
+        with open(out) as f:
+            result = json.load(f)
+        check(result["boundary"] == "periodic" and result["box"] == [8.0, 6.0], f"{spec}: box")
+        got = np.array([[p["x"], p["y"]] for p in result["particles"]])
+        expected = np.array(frame.particles.position)[:, :2] + [4.0, 3.0]
+        check(np.allclose(got, expected), f"{spec}: positions moved into [0, L)")
+        check([p["vx"] for p in result["particles"]] == [0.5, -1.0, 0.0], f"{spec}: velocities")
+        check([p["mass"] for p in result["particles"]] == [1.0, 2.0, 0.5], f"{spec}: masses")
+        check([p["radius"] for p in result["particles"]] == [0.5, 0.75, 0.5], f"{spec}: radii")
+    # carom's own dump, continued from its last frame
+    carom_run("run", paths["gsd"], "1", "--rule", "elastic", "-o", os.devnull)
+    # What is not a usable start: exit 2, the file named, nothing run.
+    with open(paths["gsd"], "rb") as f:
+        whole = f.read()
+    broken = {"truncated": whole[:len(whole) // 3], "not-gsd": b"x" * 300,
+              "empty": b"", "bad-magic": b"\0" + whole[1:]}
+    for name, data in broken.items():
+        path = os.path.join(folder, f"{name}.gsd")
+        with open(path, "wb") as f:
+            f.write(data)
+        run = subprocess.run([carom, "run", path, "1"], capture_output=True, text=True)
+        check(run.returncode == 2 and path in run.stderr, f"{name}.gsd refused: {run.stderr}")
+    for spec in (made + ":2", made + ":-1", made + ":x"):
+        run = subprocess.run([carom, "run", spec, "1"], capture_output=True, text=True)
+        check(run.returncode == 2 and "frame" in run.stderr, f"{spec} refused: {run.stderr}")
+
 print(f"{checks - failures} passed, {failures} failed")
 sys.exit(1 if failures else 0)

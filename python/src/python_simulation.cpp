@@ -12,6 +12,7 @@
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/formats.hpp"
+#include "carom/gsd.hpp"
 #include "carom/trajectory.hpp"
 
 namespace carom::python {
@@ -139,7 +140,7 @@ PythonSimulation PythonSimulation::read(const std::string& path, Boundary bounda
                                               std::move(input.system), settings),
                                 path);
       },
-      read_any_classic_file(path, boundary));
+      read_any_start_file(path, boundary));
 }
 
 PythonSimulation PythonSimulation::init(const InitRequest& request, const Settings& settings) {
