@@ -10,7 +10,7 @@ PYTHON ?= /usr/bin/python3
 # /usr/local/lib/python3.X/dist-packages), else the user's own.
 PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps build demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz bench clean format python-install python-uninstall
+.PHONY: all deps build demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd bench clean format python-install python-uninstall
 
 all: build
 
@@ -64,7 +64,7 @@ fuzz-build: deps
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > $(BUILD)-fuzz.configure.log 2>&1 \
 	  || { cat $(BUILD)-fuzz.configure.log; exit 1; }
-	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input carom_fuzz_checkpoint carom_fuzz_xyz
+	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input carom_fuzz_checkpoint carom_fuzz_xyz carom_fuzz_gsd
 
 fuzz: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus
@@ -80,6 +80,11 @@ fuzz-xyz: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus-xyz
 	cd $(BUILD)-fuzz && ./carom_fuzz_xyz $(FUZZ_FLAGS) -max_len=8192 \
 	  corpus-xyz ../tests/fuzz/xyz/corpus
+
+fuzz-gsd: fuzz-build
+	mkdir -p $(BUILD)-fuzz/corpus-gsd
+	cd $(BUILD)-fuzz && ./carom_fuzz_gsd $(FUZZ_FLAGS) -max_len=16384 \
+	  corpus-gsd ../tests/fuzz/gsd/corpus
 
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build

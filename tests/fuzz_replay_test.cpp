@@ -117,4 +117,22 @@ TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
   }
 }
 
+// The GSD start reader: carom's own dumps are read and run; truncated and corrupt files are
+// refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
+TEST(FuzzReplay, GsdCorpusAndRegressions) {
+  const auto outcomes = replay_all<carom::fuzz::GsdOutcome>("gsd", carom::fuzz::gsd);
+  ASSERT_GE(outcomes.size(), 4u);
+  for (const auto& [name, o] : outcomes) EXPECT_EQ(o.violations, 0) << name;
+  for (const char* valid : {"disks.gsd", "spheres.gsd"}) {
+    ASSERT_TRUE(outcomes.count(valid)) << valid;
+    EXPECT_EQ(outcomes.at(valid).started, 1) << valid;
+    EXPECT_GT(outcomes.at(valid).events, 0) << valid;
+  }
+  for (const auto& [name, o] : outcomes) {
+    if (name.rfind("bad-", 0) == 0 || name.rfind("crash-", 0) == 0) {
+      EXPECT_EQ(o.refused, 1) << name;
+    }
+  }
+}
+
 }  // namespace

@@ -5,9 +5,13 @@
 // runs under plain `make test`.
 #pragma once
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -15,6 +19,7 @@
 
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
+#include "carom/gsd.hpp"
 #include "carom/overlap.hpp"
 #include "carom/viewer.hpp"
 
@@ -96,6 +101,49 @@ inline XyzOutcome xyz(const std::uint8_t* data, std::size_t size) {
   } catch (const InputError&) {
     ++outcome.refused;
   }
+  return outcome;
+}
+
+struct GsdOutcome {
+  int refused = 0;  // InputError
+  int started = 0;  // read as a start and run for a few events
+  int events = 0;
+  int violations = 0;  // an accepted start broke an invariant: a bug
+};
+
+// Any bytes as a GSD file (the reader takes a path: they are written to a scratch file first).
+// What is accepted as a start runs 50 events under the invariant check.
+inline GsdOutcome gsd(const std::uint8_t* data, std::size_t size) {
+  GsdOutcome outcome;
+  const std::filesystem::path path = std::filesystem::temp_directory_path() /
+                                     ("carom-fuzz-" + std::to_string(::getpid()) + ".gsd");
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  try {
+    const AnyClassicInput start = read_gsd_start(path.string(), std::nullopt);
+    std::visit(
+        [&](const auto& input) {
+          using System = std::remove_cvref_t<decltype(input.system)>;
+          if (input.system.size() > 200) return;  // keep it quick
+          ++outcome.started;
+          try {
+            Simulation<System::dimension> simulation(input.system, {{Rule::elastic}});
+            simulation.add_observer(std::make_shared<InvariantCheck<System::dimension>>(1));
+            if (most_crossings(input.system, 1.0) < 1e5) simulation.run_until(1.0, 50);
+            outcome.events = static_cast<int>(simulation.counts().events);
+          } catch (const JamError&) {
+          } catch (const std::exception&) {
+            ++outcome.violations;
+          }
+        },
+        start);
+  } catch (const InputError&) {
+    ++outcome.refused;
+  }
+  std::error_code ignored;
+  std::filesystem::remove(path, ignored);
   return outcome;
 }
 
