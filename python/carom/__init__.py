@@ -294,7 +294,8 @@ class Simulation:
 
 
 def read(path, rule="swap", boundary="walls", restitution=1.0, tc=1e-5, engine="fast"):
-    """A Simulation from a classic input file (two box sides: disks; three: spheres).
+    """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
+    frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
     The options are `carom run`'s. A broken file raises carom.InputError naming the file and line.
     """

@@ -222,3 +222,18 @@ def test_elastic_periodic_run_conserves_energy_and_momentum():
     d -= sim.box * np.round(d / sim.box)
     distance = np.sqrt((d ** 2).sum(axis=-1)) + np.eye(sim.n) * 1e9
     assert distance.min() >= 2 * 0.5 * (1 - 1e-9)
+
+
+def test_read_starts_from_a_gsd_frame(tmp_path):
+    import gsd.hoomd
+    sim = carom.init(n=60, phi=0.3, seed=61, boundary="periodic", rule="elastic")
+    sim.run(2.0, dump=tmp_path / "m.gsd", every=1.0)
+    with gsd.hoomd.open(str(tmp_path / "m.gsd"), "rb") as trajectory:
+        frame = trajectory[1]
+    again = carom.read(f"{tmp_path / 'm.gsd'}:1", rule="elastic")
+    assert again.n == 60 and again.time == 0.0
+    box = np.asarray(frame.configuration.box[:2])
+    assert np.allclose(again.positions, frame.particles.position[:, :2] + box / 2, atol=1e-5)
+    assert np.allclose(again.velocities, frame.particles.velocity[:, :2])
+    with pytest.raises(carom.InputError, match="frames 0 to 2, not 7"):
+        carom.read(f"{tmp_path / 'm.gsd'}:7")
