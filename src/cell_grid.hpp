@@ -32,11 +32,8 @@ class CellGrid {
   // capped at about two per particle, so a huge sparse box costs no memory.
   CellGrid(const Box<D>& box, double min_width, std::size_t particles)
       : box_(box), next_(particles, kNone), prev_(particles, kNone), cell_of_(particles, kNone) {
-    const double max_cells = std::min(2.0 * static_cast<double>(particles) + 16.0, 0x1p31);
-    double width = min_width * (1.0 + 1e-6);
-    double volume = 1.0;
-    for (std::size_t k = 0; k < D; ++k) volume *= box.size[k];
-    width = std::max(width, std::pow(volume / max_cells, 1.0 / static_cast<double>(D)));
+    const double max_cells = most_cells(particles);
+    double width = least_width(box, min_width, particles);
     // Per axis the cap alone is not enough (a thin slab in 3D): widen until the product fits.
     double total = 0.0;
     do {
@@ -63,6 +60,14 @@ class CellGrid {
       }
       inner_block_[c] = static_cast<std::int32_t>(offset);
     }
+  }
+
+  // No cell of such a grid is narrower than this (the cap on their number may widen them).
+  static double least_width(const Box<D>& box, double min_width, std::size_t particles) {
+    double volume = 1.0;
+    for (std::size_t k = 0; k < D; ++k) volume *= box.size[k];
+    return std::max(min_width * (1.0 + 1e-6),
+                    std::pow(volume / most_cells(particles), 1.0 / static_cast<double>(D)));
   }
 
   std::size_t cell_count() const { return head_.size(); }
@@ -171,6 +176,10 @@ class CellGrid {
   }
 
  private:
+  static double most_cells(std::size_t particles) {
+    return std::min(2.0 * static_cast<double>(particles) + 16.0, 0x1p31);
+  }
+
   std::array<std::uint32_t, D> coordinates(std::uint32_t cell) const {
     std::array<std::uint32_t, D> at{};
     for (std::size_t k = 0; k < D; ++k) at[k] = (cell / stride_[k]) % count_[k];

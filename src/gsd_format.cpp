@@ -335,10 +335,13 @@ class GsdReader {
 template <std::size_t D>
 ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vector<double>& box) {
   const auto n_values = gsd.values("particles/N", frame);
-  if (!n_values || n_values->data.size() != 1 || n_values->data[0] < 1) {
-    gsd.fail(fmt::format("frame {} has no particles (particles/N)", frame));
+  const double count = n_values && n_values->data.size() == 1 ? n_values->data[0] : 0.0;
+  if (!(count >= 1.0 && count <= static_cast<double>(kMostElements)) ||
+      count != std::floor(count)) {
+    gsd.fail(fmt::format("frame {} has no particle count (particles/N) from 1 to {}", frame,
+                         kMostElements));
   }
-  const auto n = static_cast<std::uint64_t>(n_values->data[0]);
+  const auto n = static_cast<std::uint64_t>(count);
   const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
                           bool required) {
     std::optional<GsdReader::Values> v = gsd.values(name, frame);
@@ -360,14 +363,24 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vecto
   System<D>& system = input.system;
   system.box.boundary = Boundary::periodic;
   for (std::size_t k = 0; k < D; ++k) system.box.size[k] = box[k];
+  // Every number as the classic reader checks one (finite, sensible magnitudes), before use.
+  const auto checked = [&](double value, std::uint64_t i, const char* what) {
+    try {
+      check_number(value, fmt::format("the {} of particle {}", what, i));
+    } catch (const std::invalid_argument& e) {
+      gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
+    }
+    return value;
+  };
   for (std::uint64_t i = 0; i < n; ++i) {
     Particle<D> p;
     for (std::size_t k = 0; k < D; ++k) {
-      p.position[k] = position[3 * i + k] + 0.5 * box[k];  // HOOMD's box is centred
-      p.velocity[k] = velocity[3 * i + k];
+      // HOOMD's box is centred on the origin
+      p.position[k] = checked(position[3 * i + k], i, "position") + 0.5 * box[k];
+      p.velocity[k] = checked(velocity[3 * i + k], i, "velocity");
     }
-    p.radius = 0.5 * diameter[i];
-    ParticleRecord record{mass[i]};
+    p.radius = 0.5 * checked(diameter[i], i, "diameter");
+    ParticleRecord record{checked(mass[i], i, "mass")};
     std::array<std::int32_t, 3> flags{};
     for (std::size_t k = 0; k < D; ++k) {
       const double f = image[3 * i + k];
@@ -406,6 +419,11 @@ AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint6
   if (box.size() != 6) gsd.fail("configuration/box does not hold 6 values");
   if (box[3] != 0.0 || box[4] != 0.0 || box[5] != 0.0) {
     gsd.fail("its box is tilted (xy, xz, yz not 0): carom's boxes are rectangular");
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(dim); ++k) {
+    if (!(box[k] > 0.0) || !std::isfinite(box[k])) {
+      gsd.fail(fmt::format("box side {} is {}: sides must be positive numbers", k, box[k]));
+    }
   }
   if (dim == 2.0) return start_from<2>(gsd, k, box);
   return start_from<3>(gsd, k, box);

@@ -408,6 +408,24 @@ TEST(Simulation, TimeIsResolvedAsFinelyAtAnyAbsoluteTime) {
   }
 }
 
+TEST(Simulation, TinyParticlesInABigBoxAreNotCutIntoEndlessSlices) {
+  // Regression (found by fuzzing the GSD reader): slices of time were sized from the diameter
+  // alone, so twelve points of radius 1e-41 in a box of side 3 advanced by 1e-38 a slice and a
+  // run to t = 1 never ended.
+  System<3> points;
+  points.box = {{{3.155, 3.155, 3.155}}, Boundary::periodic};
+  for (int i = 0; i < 12; ++i) {
+    Particle<3> p;
+    p.position = {{0.25 * i + 0.1, 0.2 * i + 0.3, 3.0 - 0.24 * i}};
+    p.velocity = {{0.5 - 0.1 * i, 0.3 * (i % 3) - 0.2, 0.1 * i - 0.6}};
+    p.radius = 1.1389753918032113e-41;
+    points.add(p);
+  }
+  Simulation<3> simulation(points, {{Rule::elastic}});
+  EXPECT_EQ(simulation.run_until(1.0), RunStatus::reached);
+  EXPECT_EQ(simulation.time(), 1.0);
+}
+
 TEST(Simulation, CarromOneCheckpointsAreStillRead) {
   const std::string folder = std::string(CAROM_TEST_DATA) + "/checkpoint_v1/";
   std::ifstream file(folder + "v1.ckpt");

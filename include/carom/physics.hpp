@@ -101,12 +101,14 @@ void wrap(Vec<D>& position, const Box<D>& box) {
 }
 
 // The same, adding the sides each axis moved by to `image` (see ParticleRecord::image), which
-// saturates at the int32 range rather than overflow.
+// saturates at the int32 range rather than overflow (and is left alone for a position that is not
+// a number, which no run has but a reader may be handed).
 template <std::size_t D>
 void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& image) {
   if (!box.periodic()) return;
   for (std::size_t k = 0; k < D; ++k) {
     const double sides = image[k] + wrap_coordinate(position[k], box.size[k]);
+    if (std::isnan(sides)) continue;
     constexpr double kLow = std::numeric_limits<std::int32_t>::min();
     constexpr double kHigh = std::numeric_limits<std::int32_t>::max();
     image[k] = static_cast<std::int32_t>(std::clamp(sides, kLow, kHigh));

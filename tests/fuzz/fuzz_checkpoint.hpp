@@ -131,7 +131,9 @@ inline GsdOutcome gsd(const std::uint8_t* data, std::size_t size) {
           try {
             Simulation<System::dimension> simulation(input.system, {{Rule::elastic}});
             simulation.add_observer(std::make_shared<InvariantCheck<System::dimension>>(1));
-            if (most_crossings(input.system, 1.0) < 1e5) simulation.run_until(1.0, 50);
+            // A fast particle in a box too small for five cells renews every prediction each
+            // time it could cross half the box: a long run, not a bug (the fuzzer found one).
+            if (most_crossings(input.system, 1.0) < 1e3) simulation.run_until(1.0, 50);
             outcome.events = static_cast<int>(simulation.counts().events);
           } catch (const JamError&) {
           } catch (const std::exception&) {
