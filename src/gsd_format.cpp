@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "carom/classic_input.hpp"
+#include "carom/engine.hpp"
 #include "carom/gsd.hpp"
 #include "carom/physics.hpp"
 #include "carom/version.hpp"
@@ -77,6 +78,12 @@ void put(std::ostream& out, const std::vector<T>& values) {
             static_cast<std::streamsize>(values.size() * sizeof(T)));
 }
 
+// Room for index entries still to come.
+void put_zeros(std::ostream& out, std::uint64_t bytes) {
+  const std::vector<char> zeros(bytes, '\0');
+  out.write(zeros.data(), static_cast<std::streamsize>(zeros.size()));
+}
+
 }  // namespace
 
 template <std::size_t D>
@@ -111,8 +118,7 @@ void GsdFormat<D>::start(std::ostream& out) {
   index_capacity_ = kFirstIndexCapacity;
   write_header(out);
   out.write(names.data(), static_cast<std::streamsize>(names.size()));
-  const std::vector<char> empty(index_capacity_ * sizeof(Entry), '\0');
-  out.write(empty.data(), static_cast<std::streamsize>(empty.size()));
+  put_zeros(out, index_capacity_ * sizeof(Entry));
 }
 
 template <std::size_t D>
@@ -129,10 +135,8 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
   std::vector<std::int32_t> image(3 * std::size_t{n});
   const double at = system.stored(t);
   for (std::uint32_t i = 0; i < n; ++i) {
-    Particle<D> p = system.particles[i];
-    advance(p, at);
     std::array<std::int32_t, 3> flags = system.records[i].image;
-    wrap(p.position, system.box, flags);
+    const Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
     for (std::size_t k = 0; k < D; ++k) {
       position[3 * i + k] = static_cast<float>(p.position[k] - 0.5 * side[k]);
       velocity[3 * i + k] = static_cast<float>(p.velocity[k]);
@@ -172,8 +176,7 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
     index_capacity_ = 2 * std::max(needed, index_capacity_);
     index_location_ = static_cast<std::uint64_t>(out.tellp());
     put(out, entries_);
-    const std::vector<char> empty((index_capacity_ - entries_.size()) * sizeof(Entry), '\0');
-    out.write(empty.data(), static_cast<std::streamsize>(empty.size()));
+    put_zeros(out, (index_capacity_ - entries_.size()) * sizeof(Entry));
   }
   out.seekp(static_cast<std::streamoff>(index_location_ + entries_.size() * sizeof(Entry)));
   put(out, added);

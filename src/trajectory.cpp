@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "carom/engine.hpp"
 #include "carom/physics.hpp"
 #include "gsd_format.hpp"
 #include "whole_lines.hpp"
@@ -32,11 +33,8 @@ class TextFormat : public TrajectoryFormat<D> {
     header(out, index, t, system);
     const double at = system.stored(t);
     for (std::size_t i = 0; i < system.size(); ++i) {
-      // As synchronised(), counting the sides wrapping moves it by.
-      Particle<D> now = system.particles[i];
-      advance(now, at);
       std::array<std::int32_t, 3> image = system.records[i].image;
-      wrap(now.position, system.box, image);
+      const Particle<D> now = synchronised(system.particles[i], system.box, at, image);
       line(out, i, now, system.records[i], image);
     }
   }

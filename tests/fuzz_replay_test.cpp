@@ -20,6 +20,17 @@ std::string bytes_of(const std::filesystem::path& path) {
   return std::string((std::istreambuf_iterator<char>(in)), {});
 }
 
+// Every input named `prefix`... (a hand-made bad one) or crash-... (a fuzzer's find) is refused.
+template <class Outcome>
+void expect_refused_when_named(const std::map<std::string, Outcome>& outcomes,
+                               const std::string& prefix) {
+  for (const auto& [name, o] : outcomes) {
+    if (name.rfind(prefix, 0) == 0 || name.rfind("crash-", 0) == 0) {
+      EXPECT_EQ(o.refused, 1) << name;
+    }
+  }
+}
+
 Outcome replay(const std::filesystem::path& path) {
   const std::string bytes = bytes_of(path);
   return carom::fuzz::classic_input(reinterpret_cast<const std::uint8_t*>(bytes.data()),
@@ -94,11 +105,7 @@ TEST(FuzzReplay, CheckpointCorpusAndRegressions) {
     EXPECT_EQ(outcomes.at(valid).resumed, 1) << valid;
     EXPECT_GT(outcomes.at(valid).events, 0) << valid;
   }
-  for (const auto& [name, o] : outcomes) {
-    if (name.rfind("tampered-", 0) == 0 || name.rfind("crash-", 0) == 0) {
-      EXPECT_EQ(o.refused, 1) << name;
-    }
-  }
+  expect_refused_when_named(outcomes, "tampered-");
 }
 
 // carom view's reader: carom's own dumps are read; malformed headers and rows are refused with a
@@ -110,11 +117,7 @@ TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
     ASSERT_TRUE(outcomes.count(valid)) << valid;
     EXPECT_GT(outcomes.at(valid).frames, 1) << valid;
   }
-  for (const auto& [name, o] : outcomes) {
-    if (name.rfind("bad-", 0) == 0 || name.rfind("crash-", 0) == 0) {
-      EXPECT_EQ(o.refused, 1) << name;
-    }
-  }
+  expect_refused_when_named(outcomes, "bad-");
 }
 
 // The GSD start reader: carom's own dumps are read and run; truncated and corrupt files are
@@ -128,11 +131,7 @@ TEST(FuzzReplay, GsdCorpusAndRegressions) {
     EXPECT_EQ(outcomes.at(valid).started, 1) << valid;
     EXPECT_GT(outcomes.at(valid).events, 0) << valid;
   }
-  for (const auto& [name, o] : outcomes) {
-    if (name.rfind("bad-", 0) == 0 || name.rfind("crash-", 0) == 0) {
-      EXPECT_EQ(o.refused, 1) << name;
-    }
-  }
+  expect_refused_when_named(outcomes, "bad-");
 }
 
 }  // namespace

@@ -107,6 +107,15 @@ Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
   return p;
 }
 
+// The same, adding the box sides wrapping moves it by to `image`, its image flags (a trajectory's).
+template <std::size_t D>
+Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t,
+                         std::array<std::int32_t, 3>& image) {
+  advance(p, t);
+  wrap(p.position, box, image);
+  return p;
+}
+
 // Every particle brought to the stored time t (System::stored gives the one of an absolute time);
 // the stored states are not touched.
 template <std::size_t D>
