@@ -417,7 +417,9 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   CLI::App* run = app.add_subcommand(
       "run", "Simulate FILE from t = 0 to END_TIME and print every particle's final state.");
   run->footer(std::string(kFormatHelp) + "\n\n" + kExamples);
-  run->add_option("FILE", args.input, "Input in the classic format (see below); - reads stdin")
+  run->add_option("FILE", args.input,
+                  "Input in the classic format (see below); - reads stdin; FILE.gsd or "
+                  "FILE.gsd:K starts from the last frame or frame K of a GSD file (periodic)")
       ->required();
   run->add_option("END_TIME", args.end_time, "Time to simulate to (a number >= 0)")->required();
   add_choice<Format>(run, "--format", args.format,
