@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "analyze_command.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
@@ -121,8 +122,10 @@ int main(int argc, char** argv) {
   carom init --dim 3 --n 4000 --phi 0.45 -o spheres.txt  hard spheres (FCC, melts when run)
   carom run gas.txt 100 --rule elastic --boundary periodic --format json
   carom run gas.txt 20 --dump movie.xyz --every 0.1 && carom view movie.xyz -o movie.html
+  carom run gas.txt 40 --boundary periodic --dump run.gsd --every 0.5 && carom analyze run.gsd --html report.html
 
-Run 'carom run --help', 'carom init --help' or 'carom view --help' for each command's options.)");
+Run 'carom run --help', 'carom init --help', 'carom view --help' or 'carom analyze --help' for each
+command's options.)");
 
   RunArguments run_args;
   InitArguments init_args;
@@ -130,6 +133,8 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
   CLI::App* init = add_init_command(app, init_args);
   ViewArguments view_args;
   CLI::App* view = add_view_command(app, view_args);
+  AnalyzeArguments analyze_args;
+  CLI::App* analyze = add_analyze_command(app, analyze_args);
 
   if (argc <= 1) {
     std::cout << app.help();
@@ -137,7 +142,7 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
   }
   // The command named on the line, for messages (the parser may fail before it knows).
   CLI::App* named = nullptr;
-  for (CLI::App* command : {run, init, view}) {
+  for (CLI::App* command : {run, init, view, analyze}) {
     if (command->get_name() == argv[1]) named = command;
   }
   const std::string usage = named != nullptr ? "carom " + named->get_name() : "carom";
@@ -156,6 +161,7 @@ Run 'carom run --help', 'carom init --help' or 'carom view --help' for each comm
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
     if (view->parsed()) view_command(view_args);
+    if (analyze->parsed()) analyze_command(analyze_args);
     return 0;
   } catch (const Interrupted& e) {
     std::cerr << "carom: " << e.what() << '\n';

@@ -14,11 +14,14 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <tuple>
+#include <utility>
 
 #include "carom/classic_input.hpp"
 #include "carom/engine.hpp"
 #include "carom/gsd.hpp"
 #include "carom/physics.hpp"
+#include "carom/trajectory_reader.hpp"
 #include "carom/version.hpp"
 
 namespace carom {
@@ -210,7 +213,9 @@ constexpr std::uint64_t kMostElements = std::uint64_t{1} << 30;
 
 class GsdReader {
  public:
-  explicit GsdReader(const std::string& path) : path_(path), in_(open_input(path)) {
+  // `purpose` begins every failure's message: "not a usable GSD start", ...
+  GsdReader(const std::string& path, std::string purpose)
+      : path_(path), purpose_(std::move(purpose)), in_(open_input(path)) {
     in_.seekg(0, std::ios::end);
     size_ = static_cast<std::uint64_t>(in_.tellg());
     std::array<char, kHeaderSize> header{};
@@ -271,8 +276,12 @@ class GsdReader {
     const auto id = ids_.find(name);
     if (id == ids_.end()) return std::nullopt;
     for (const std::uint64_t in_frame : {frame, std::uint64_t{0}}) {
-      for (const GsdEntry& e : entries_) {
-        if (e.frame != in_frame || e.id != id->second) continue;
+      // The entries are sorted by frame.
+      const auto first = std::partition_point(
+          entries_.begin(), entries_.end(), [&](const GsdEntry& e) { return e.frame < in_frame; });
+      for (auto it = first; it != entries_.end() && it->frame == in_frame; ++it) {
+        const GsdEntry& e = *it;
+        if (e.id != id->second) continue;
         const std::uint64_t element = kTypeSize[e.type];
         std::vector<char> raw(e.n * e.m * element);
         read_at(static_cast<std::uint64_t>(e.location), raw.data(), raw.size(), name);
@@ -285,7 +294,7 @@ class GsdReader {
   }
 
   [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(path_, 0, "not a usable GSD start: " + what);
+    throw InputError(path_, 0, purpose_ + ": " + what);
   }
 
  private:
@@ -327,7 +336,7 @@ class GsdReader {
     }
   }
 
-  std::string path_;
+  std::string path_, purpose_;
   std::ifstream in_;
   std::uint64_t size_ = 0;
   std::map<std::string, std::uint16_t> ids_;
@@ -335,8 +344,15 @@ class GsdReader {
   std::vector<GsdEntry> entries_;
 };
 
-template <std::size_t D>
-ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vector<double>& box) {
+// The particles of frame `frame`: the count and every per-particle chunk carom uses, in the
+// schema's shapes (a missing chunk from frame 0, else HOOMD's default), every number checked.
+struct FrameChunks {
+  std::uint64_t n = 0;
+  std::vector<double> position, velocity, diameter, mass;
+  std::vector<std::array<std::int32_t, 3>> image;
+};
+
+FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
   const auto n_values = gsd.values("particles/N", frame);
   const double count = n_values && n_values->data.size() == 1 ? n_values->data[0] : 0.0;
   if (!(count >= 1.0 && count <= static_cast<double>(kMostElements)) ||
@@ -344,7 +360,8 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vecto
     gsd.fail(fmt::format("frame {} has no particle count (particles/N) from 1 to {}", frame,
                          kMostElements));
   }
-  const auto n = static_cast<std::uint64_t>(count);
+  FrameChunks chunks;
+  const auto n = chunks.n = static_cast<std::uint64_t>(count);
   const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
                           bool required) {
     std::optional<GsdReader::Values> v = gsd.values(name, frame);
@@ -355,44 +372,69 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vecto
     if (v->rows != n || v->columns != columns) {
       gsd.fail(fmt::format("{} has {} x {} values for {} particles", name, v->rows, v->columns, n));
     }
+    // Every number as the classic reader checks one (finite, sensible magnitudes), before use.
+    for (std::size_t i = 0; i < v->data.size(); ++i) {
+      try {
+        check_number(v->data[i], fmt::format("{} of particle {}", name, i / columns));
+      } catch (const std::invalid_argument& e) {
+        gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
+      }
+    }
     return std::move(v->data);
   };
-  const std::vector<double> position = column("particles/position", 3, 0.0, true);
-  const std::vector<double> velocity = column("particles/velocity", 3, 0.0, false);
-  const std::vector<double> diameter = column("particles/diameter", 1, 1.0, false);
-  const std::vector<double> mass = column("particles/mass", 1, 1.0, false);
+  chunks.position = column("particles/position", 3, 0.0, true);
+  chunks.velocity = column("particles/velocity", 3, 0.0, false);
+  chunks.diameter = column("particles/diameter", 1, 1.0, false);
+  chunks.mass = column("particles/mass", 1, 1.0, false);
   const std::vector<double> image = column("particles/image", 3, 0.0, false);
+  chunks.image.resize(n);
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    const double f = image[i];
+    if (!(std::abs(f) <= 2147483647.0) || f != std::floor(f)) {
+      gsd.fail(fmt::format("particle {} has image flag {}", i / 3, f));
+    }
+    chunks.image[i / 3][i % 3] = static_cast<std::int32_t>(f);
+  }
+  return chunks;
+}
+
+// The dimension and box of frame `frame`, which carom's boxes can be.
+std::pair<int, std::array<double, 3>> read_frame_box(GsdReader& gsd, std::uint64_t frame) {
+  const auto dimensions = gsd.values("configuration/dimensions", frame);
+  const double dim = dimensions && dimensions->data.size() == 1 ? dimensions->data[0] : 3.0;
+  if (dim != 2.0 && dim != 3.0) gsd.fail(fmt::format("{} dimensions", dim));
+  const auto box_values = gsd.values("configuration/box", frame);
+  std::vector<double> box = box_values ? box_values->data : std::vector<double>{1, 1, 1, 0, 0, 0};
+  if (box.size() != 6) gsd.fail("configuration/box does not hold 6 values");
+  if (box[3] != 0.0 || box[4] != 0.0 || box[5] != 0.0) {
+    gsd.fail("its box is tilted (xy, xz, yz not 0): carom's boxes are rectangular");
+  }
+  for (std::size_t k = 0; k < static_cast<std::size_t>(dim); ++k) {
+    if (!(box[k] > 0.0) || !std::isfinite(box[k])) {
+      gsd.fail(fmt::format("box side {} is {}: sides must be positive numbers", k, box[k]));
+    }
+  }
+  return {static_cast<int>(dim), {box[0], box[1], box[2]}};
+}
+
+template <std::size_t D>
+ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::array<double, 3>& box) {
+  const FrameChunks chunks = read_frame_chunks(gsd, frame);
   ClassicInput<D> input;
   System<D>& system = input.system;
   system.box.boundary = Boundary::periodic;
   for (std::size_t k = 0; k < D; ++k) system.box.size[k] = box[k];
-  // Every number as the classic reader checks one (finite, sensible magnitudes), before use.
-  const auto checked = [&](double value, std::uint64_t i, const char* what) {
-    try {
-      check_number(value, fmt::format("the {} of particle {}", what, i));
-    } catch (const std::invalid_argument& e) {
-      gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
-    }
-    return value;
-  };
-  for (std::uint64_t i = 0; i < n; ++i) {
+  for (std::uint64_t i = 0; i < chunks.n; ++i) {
     Particle<D> p;
     for (std::size_t k = 0; k < D; ++k) {
       // HOOMD's box is centred on the origin
-      p.position[k] = checked(position[3 * i + k], i, "position") + 0.5 * box[k];
-      p.velocity[k] = checked(velocity[3 * i + k], i, "velocity");
+      p.position[k] = chunks.position[3 * i + k] + 0.5 * box[k];
+      p.velocity[k] = chunks.velocity[3 * i + k];
     }
-    p.radius = 0.5 * checked(diameter[i], i, "diameter");
-    ParticleRecord record{checked(mass[i], i, "mass")};
-    std::array<std::int32_t, 3> flags{};
-    for (std::size_t k = 0; k < D; ++k) {
-      const double f = image[3 * i + k];
-      if (!(std::abs(f) <= 2147483647.0) || f != std::floor(f)) {
-        gsd.fail(fmt::format("particle {} has image flag {}", i, f));
-      }
-      flags[k] = static_cast<std::int32_t>(f);
-    }
-    record.image = flags;
+    p.radius = 0.5 * chunks.diameter[i];
+    ParticleRecord record{chunks.mass[i]};
+    record.image = chunks.image[i];
+    for (std::size_t k = D; k < 3; ++k) record.image[k] = 0;
     wrap(p.position, system.box, record.image);
     system.particles.push_back(p);
     system.records.push_back(record);
@@ -409,27 +451,58 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::vecto
 }  // namespace
 
 AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint64_t> frame) {
-  GsdReader gsd(path);
+  GsdReader gsd(path, "not a usable GSD start");
   const std::uint64_t k = frame.value_or(gsd.frames() - 1);
   if (k >= gsd.frames()) {
     gsd.fail(fmt::format("it has frames 0 to {}, not {}", gsd.frames() - 1, k));
   }
-  const auto dimensions = gsd.values("configuration/dimensions", k);
-  const double dim = dimensions && dimensions->data.size() == 1 ? dimensions->data[0] : 3.0;
-  if (dim != 2.0 && dim != 3.0) gsd.fail(fmt::format("{} dimensions", dim));
-  const auto box_values = gsd.values("configuration/box", k);
-  std::vector<double> box = box_values ? box_values->data : std::vector<double>{1, 1, 1, 0, 0, 0};
-  if (box.size() != 6) gsd.fail("configuration/box does not hold 6 values");
-  if (box[3] != 0.0 || box[4] != 0.0 || box[5] != 0.0) {
-    gsd.fail("its box is tilted (xy, xz, yz not 0): carom's boxes are rectangular");
-  }
-  for (std::size_t k = 0; k < static_cast<std::size_t>(dim); ++k) {
-    if (!(box[k] > 0.0) || !std::isfinite(box[k])) {
-      gsd.fail(fmt::format("box side {} is {}: sides must be positive numbers", k, box[k]));
-    }
-  }
-  if (dim == 2.0) return start_from<2>(gsd, k, box);
+  const auto [dimension, box] = read_frame_box(gsd, k);
+  if (dimension == 2) return start_from<2>(gsd, k, box);
   return start_from<3>(gsd, k, box);
+}
+
+std::vector<Frame> read_gsd_frames(const std::string& path) {
+  GsdReader gsd(path, "not a readable GSD trajectory");
+  std::vector<Frame> frames;
+  for (std::uint64_t k = 0; k < gsd.frames(); ++k) {
+    Frame f;
+    std::array<double, 3> box{};
+    std::tie(f.dimension, box) = read_frame_box(gsd, k);
+    const FrameChunks chunks = read_frame_chunks(gsd, k);
+    if (!frames.empty() &&
+        (chunks.n != frames.front().radius.size() || f.dimension != frames.front().dimension)) {
+      gsd.fail(fmt::format("frame {} has {} particles in {}D, frame 0 {} in {}D", k, chunks.n,
+                           f.dimension, frames.front().radius.size(), frames.front().dimension));
+    }
+    const auto d = static_cast<std::size_t>(f.dimension);
+    const auto time = gsd.values("log/time", k);
+    const auto step = gsd.values("configuration/step", k);
+    f.time = time && time->data.size() == 1   ? time->data[0]
+             : step && step->data.size() == 1 ? step->data[0]
+                                              : static_cast<double>(k);
+    if (!std::isfinite(f.time)) gsd.fail(fmt::format("frame {} has time {}", k, f.time));
+    f.periodic = true;
+    for (std::size_t c = 0; c < d; ++c) f.box[c] = box[c];
+    for (std::uint64_t i = 0; i < chunks.n; ++i) {
+      Vec<3> x{}, v{};
+      for (std::size_t c = 0; c < d; ++c) {
+        x[c] = chunks.position[3 * i + c] + 0.5 * box[c];  // HOOMD's box is centred
+        v[c] = chunks.velocity[3 * i + c];
+      }
+      if (!(chunks.diameter[i] > 0.0)) {
+        gsd.fail(fmt::format("frame {}: particle {} has diameter {}", k, i, chunks.diameter[i]));
+      }
+      f.position.push_back(x);
+      f.velocity.push_back(v);
+      f.radius.push_back(0.5 * chunks.diameter[i]);
+      std::array<std::int32_t, 3> flags = chunks.image[i];
+      for (std::size_t c = d; c < 3; ++c) flags[c] = 0;
+      f.image.push_back(flags);
+    }
+    f.collisions.assign(chunks.n, 0);
+    frames.push_back(std::move(f));
+  }
+  return frames;
 }
 
 AnyClassicInput read_any_start_file(const std::string& spec, Boundary boundary) {

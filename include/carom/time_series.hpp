@@ -8,6 +8,7 @@
 #include <istream>
 #include <optional>
 #include <ostream>
+#include <string>
 #include <vector>
 
 #include "carom/simulation.hpp"
@@ -45,8 +46,8 @@ class BlockAverage {
 // events to wall_momentum are the run's running totals (Counts); temperature is kT at the row's
 // time; pressure, Z = P V / (N kT) and the collision rate (per particle) are measured over the
 // interval since the previous row; the means and errors (BlockAverage) are over the rows whose
-// interval lies in the measurement window (none while equilibrating). Empty fields: not measured (the
-// first row, or no row yet in the window). Throws std::runtime_error when the stream fails.
+// interval lies in the measurement window (none while equilibrating). Empty fields: not measured
+// (the first row, or no row yet in the window). Throws std::runtime_error when the stream fails.
 template <std::size_t D>
 class TimeSeriesWriter final : public Observer<D> {
  public:
@@ -78,9 +79,19 @@ class TimeSeriesWriter final : public Observer<D> {
 
   std::ostream& out_;
   bool started_ = false;
-  Row last_;                   // the previous row
+  Row last_;                            // the previous row
   std::optional<double> window_start_;  // the measurement window the averages are over
   BlockAverage pressure_, z_;
 };
+
+// A time-series log (carom run --log FILE.csv) as read back: its columns, and rows of numbers
+// (NaN where a field is empty: not measured yet).
+struct LogTable {
+  std::string file;
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+};
+// Throws InputError naming the file and line for anything that is not such a table.
+LogTable read_log_table(const std::string& path);
 
 }  // namespace carom

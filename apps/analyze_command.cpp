@@ -1,0 +1,131 @@
+#include "analyze_command.hpp"
+
+#include <fmt/format.h>
+
+#include <iostream>
+#include <stdexcept>
+
+#include "carom/analysis.hpp"
+#include "cli_support.hpp"
+
+namespace carom::cli {
+
+CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
+  CLI::App* analyze = app.add_subcommand(
+      "analyze",
+      "Analyse a trajectory (.gsd or .xyz from carom run --dump): g(r) and Z from its contact "
+      "value, the mean-square displacement, the hexatic order psi6; as JSON and as a report page.");
+  analyze->footer(
+      R"(What it computes (2D and 3D; psi6 for disks only):
+  rdf    g(r) over every frame, minimum image in a periodic box, bins of d/50 up to 5 d (d the
+         mean diameter), so contact is a bin edge; for a monodisperse periodic fluid, g(d+) from a
+         least-squares quadratic over the bins within d/10 of contact and Z = 1 + 2 eta g(d+)
+         (disks) or 1 + 4 eta g(d+) (spheres)
+  msd    mean-square displacement of the unwrapped positions (image flags), averaged over every
+         particle and time origin; frames must be evenly spaced in time
+  psi6   |<psi6>| per frame and the mean local |psi6_j|, psi6_j = (1/6) sum of exp(6 i theta_jk)
+         over the 6 nearest neighbours k of disk j
+An analysis that does not apply is left out with the reason on standard error. A summary goes to
+standard output, the whole result to -o FILE.json, the report page to --html FILE.html.
+
+Example (a fluid of disks at packing 0.5, its Z near 4.45):
+  carom init --n 1000 --phi 0.5 --boundary periodic --seed 1 -o gas.txt
+  carom run gas.txt 40 --rule elastic --boundary periodic --dump run.gsd --every 0.5 \
+      --log run.csv --log-every 0.5 -o end.txt
+  carom analyze run.gsd --equilibrate 10 --log run.csv -o analysis.json --html report.html)");
+  analyze->add_option("TRAJECTORY", args.trajectory, "A .gsd or extended .xyz trajectory")
+      ->required();
+  analyze->add_option("-o,--output", args.output, "Write the analysis as JSON here ('-': stdout)");
+  analyze->add_option("--html", args.html,
+                      "Write the report page here: plots and a snapshot coloured by local psi6");
+  analyze->add_option("--log", args.log, "A time-series log of the run (carom run --log) to plot");
+  analyze->add_option("--equilibrate", args.from_time,
+                      "Analyse only the frames from this time on (as carom run --equilibrate)");
+  analyze->add_option("--bin", args.bin_width, "The width of g(r)'s bins (default: d / 50)");
+  analyze->add_option("--r-max", args.r_max,
+                      "How far g(r) reaches (default: 5 d, at most half the box)");
+  analyze->add_option("--contact-width", args.contact_width,
+                      "The range above contact g(d+) is fitted on (default: d / 10)");
+  return analyze;
+}
+
+namespace {
+
+// What a terminal user reads first.
+void print_summary(std::ostream& out, const Analysis& a) {
+  const TrajectoryShape& s = a.shape;
+  std::string box;
+  for (const double side : s.box) box += (box.empty() ? "" : " x ") + fmt::format("{:g}", side);
+  out << fmt::format("{}: {} {}, {} box {}, packing fraction {:.4f}\n", a.trajectory, s.particles,
+                     s.dimension == 2 ? "disks" : "spheres", s.periodic ? "periodic" : "walled",
+                     box, s.packing_fraction);
+  out << fmt::format("frames: {} of {}, t = {:g} to {:g}\n", a.time.size(), a.frames_in_file,
+                     a.time.front(), a.time.back());
+  out << fmt::format("g(r): bins of {:g} to r = {:g}", a.rdf.bin_width, a.rdf.r_max);
+  if (a.contact)
+    out << fmt::format("; contact g(d+) = {:.4f}, Z = {:.4f}", a.contact->g, a.contact->z);
+  out << '\n';
+  if (a.msd && a.msd->t.size() > 1) {
+    out << fmt::format("MSD: {} lags, {:.6g} at t = {:g}\n", a.msd->t.size(), a.msd->msd.back(),
+                       a.msd->t.back());
+  }
+  if (a.psi6) {
+    double global = 0.0, local = 0.0;
+    for (std::size_t f = 0; f < a.psi6->t.size(); ++f) {
+      global += a.psi6->global[f];
+      local += a.psi6->local_mean[f];
+    }
+    const auto frames = static_cast<double>(a.psi6->t.size());
+    out << fmt::format("psi6: global {:.4f}, mean local {:.4f} (averaged over frames)\n",
+                       global / frames, local / frames);
+  }
+}
+
+double option_number(const std::string& text, const char* what, double otherwise) {
+  if (text.empty()) return otherwise;
+  const double value = parse_number(text, what);
+  if (!(value > 0.0) && std::string_view(what) != "--equilibrate") {
+    throw UsageError(fmt::format("{} must be greater than 0, not {}", what, text));
+  }
+  return value;
+}
+
+}  // namespace
+
+void analyze_command(const AnalyzeArguments& args) {
+  // Where results go is checked before the work.
+  for (const std::string* path : {&args.output, &args.html}) {
+    if (!path->empty() && *path != "-") check_writable(*path);
+  }
+  AnalysisOptions options;
+  options.from_time = option_number(args.from_time, "--equilibrate", options.from_time);
+  options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);
+  options.rdf.r_max = option_number(args.r_max, "--r-max", 0.0);
+  options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
+  std::optional<LogTable> log;
+  if (!args.log.empty()) log = read_log_table(args.log);
+  const std::vector<Frame> frames = read_trajectory_frames(args.trajectory);
+  Analysis analysis;
+  try {
+    analysis = analyze(frames, args.trajectory, options);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(fmt::format("cannot analyse {}: {}", args.trajectory, e.what()));
+  }
+  analysis.log = std::move(log);
+  stop_if_asked("nothing was written");
+  for (const std::string& warning : analysis.warnings)
+    std::cerr << "carom: note: " << warning << '\n';
+  if (args.output != "-") print_summary(std::cout, analysis);
+  if (!args.output.empty()) {
+    Output out(args.output);
+    write_analysis_json(out.stream(), analysis);
+    out.commit();
+  }
+  if (!args.html.empty()) {
+    Output out(args.html);
+    write_report_html(out.stream(), analysis);
+    out.commit();
+  }
+}
+
+}  // namespace carom::cli

@@ -1,0 +1,420 @@
+#include "carom/analysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <stdexcept>
+
+namespace carom {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The particles of one frame binned into a grid of cells at least `width` wide (at most about
+// two cells a particle), for the pairs within a range (g(r)) or the nearest neighbours (psi6).
+template <std::size_t D>
+class Cells {
+ public:
+  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
+
+  Cells(const Frame& frame, double width) : frame_(frame) {
+    const std::size_t n = frame.position.size();
+    double cells = 1.0;
+    for (std::size_t k = 0; k < D; ++k) {
+      count_[k] = static_cast<std::int64_t>(
+          std::clamp(std::floor(frame.box[k] / width), 1.0, 2.0 * static_cast<double>(n) + 1.0));
+      cells *= static_cast<double>(count_[k]);
+    }
+    // A thin slab can still hold too many cells: fewer along every side until they fit.
+    while (cells > 4.0 * static_cast<double>(n) + 8.0) {
+      cells = 1.0;
+      for (std::size_t k = 0; k < D; ++k) {
+        count_[k] = std::max<std::int64_t>(1, count_[k] / 2);
+        cells *= static_cast<double>(count_[k]);
+      }
+    }
+    for (std::size_t k = 0; k < D; ++k) width_[k] = frame.box[k] / static_cast<double>(count_[k]);
+    head_.assign(static_cast<std::size_t>(cells), kNone);
+    next_.assign(n, kNone);
+    cell_of_.resize(n);
+    for (std::size_t i = n; i-- > 0;) {  // lists in increasing index order
+      std::array<std::int64_t, D> at{};
+      for (std::size_t k = 0; k < D; ++k) {
+        // Positions from a float32 file may sit a rounding outside [0, L).
+        at[k] = std::clamp(static_cast<std::int64_t>(std::floor(frame.position[i][k] / width_[k])),
+                           std::int64_t{0}, count_[k] - 1);
+      }
+      cell_of_[i] = at;
+      const std::size_t c = index(at);
+      next_[i] = head_[c];
+      head_[c] = static_cast<std::uint32_t>(i);
+    }
+  }
+
+  double least_width() const { return *std::min_element(width_.begin(), width_.end()); }
+
+  // The displacement from particle i to particle j (minimum image in a periodic box).
+  Vec<D> separation(std::size_t i, std::size_t j) const {
+    Vec<D> r;
+    for (std::size_t k = 0; k < D; ++k) {
+      double dx = frame_.position[j][k] - frame_.position[i][k];
+      if (frame_.periodic) dx -= frame_.box[k] * std::nearbyint(dx / frame_.box[k]);
+      r[k] = dx;
+    }
+    return r;
+  }
+
+  // Calls f(j) for every particle in the cells at Chebyshev distance exactly `ring` from
+  // particle i's cell, each cell once however small the grid (wrapping in a periodic box).
+  // `seen` (one stamp per cell) and `stamp` (new for each ring search) keep cells from repeating.
+  template <class F>
+  void for_each_in_ring(std::size_t i, std::int64_t ring, std::vector<std::uint64_t>& seen,
+                        std::uint64_t stamp, F&& f) const {
+    std::array<std::int64_t, D> offset{};
+    offset.fill(-ring);
+    while (true) {
+      std::int64_t chebyshev = 0;
+      for (std::size_t k = 0; k < D; ++k) chebyshev = std::max(chebyshev, std::abs(offset[k]));
+      if (chebyshev == ring) visit_cell(i, offset, seen, stamp, f);
+      std::size_t k = 0;
+      while (k < D && offset[k] == ring) offset[k++] = -ring;
+      if (k == D) break;
+      ++offset[k];
+    }
+  }
+
+  // Whether rings up to `ring` already cover every cell.
+  bool covers_all(std::int64_t ring) const {
+    for (std::size_t k = 0; k < D; ++k) {
+      if (frame_.periodic ? 2 * ring + 1 < count_[k] : ring < count_[k] - 1) return false;
+    }
+    return true;
+  }
+
+  std::size_t cells() const { return head_.size(); }
+
+ private:
+  std::size_t index(const std::array<std::int64_t, D>& at) const {
+    std::size_t c = 0;
+    for (std::size_t k = D; k-- > 0;) c = c * static_cast<std::size_t>(count_[k]) + at[k];
+    return c;
+  }
+
+  template <class F>
+  void visit_cell(std::size_t i, const std::array<std::int64_t, D>& offset,
+                  std::vector<std::uint64_t>& seen, std::uint64_t stamp, F& f) const {
+    std::array<std::int64_t, D> at{};
+    for (std::size_t k = 0; k < D; ++k) {
+      at[k] = cell_of_[i][k] + offset[k];
+      if (frame_.periodic) {
+        at[k] = ((at[k] % count_[k]) + count_[k]) % count_[k];
+      } else if (at[k] < 0 || at[k] >= count_[k]) {
+        return;
+      }
+    }
+    const std::size_t c = index(at);
+    if (seen[c] == stamp) return;
+    seen[c] = stamp;
+    for (std::uint32_t j = head_[c]; j != kNone; j = next_[j]) f(j);
+  }
+
+  const Frame& frame_;
+  std::array<std::int64_t, D> count_{};
+  std::array<double, D> width_{};
+  std::vector<std::uint32_t> head_, next_;
+  std::vector<std::array<std::int64_t, D>> cell_of_;
+};
+
+double ball_volume(int dimension, double r) {
+  return dimension == 2 ? kPi * r * r : 4.0 / 3.0 * kPi * r * r * r;
+}
+
+// The volume two copies of a box of sides `a` share, one shifted by a distance r in a uniformly
+// random direction (the isotropic set covariance; exact for r up to the smallest side).
+double set_covariance(const std::vector<double>& a, double r) {
+  if (a.size() == 2) return a[0] * a[1] - 2.0 * r * (a[0] + a[1]) / kPi + r * r / kPi;
+  return a[0] * a[1] * a[2] - r * (a[0] * a[1] + a[0] * a[2] + a[1] * a[2]) / 2.0 +
+         2.0 * r * r * (a[0] + a[1] + a[2]) / (3.0 * kPi) - r * r * r / (4.0 * kPi);
+}
+
+template <std::size_t D>
+void count_pairs(const Frame& frame, double bin_width, double r_max,
+                 std::vector<double>& histogram) {
+  const Cells<D> cells(frame, r_max);
+  std::vector<std::uint64_t> seen(cells.cells(), 0);
+  const double reach2 = r_max * r_max;
+  for (std::size_t i = 0; i < frame.position.size(); ++i) {
+    // Rings 0 and 1 hold every partner within r_max; each pair is counted from its lower index.
+    for (std::int64_t ring = 0; ring <= 1; ++ring) {
+      cells.for_each_in_ring(i, ring, seen, i + 1, [&](std::size_t j) {
+        if (j <= i) return;
+        const double r2 = norm2(cells.separation(i, j));
+        if (r2 >= reach2) return;
+        const auto bin = static_cast<std::size_t>(std::sqrt(r2) / bin_width);
+        if (bin < histogram.size()) histogram[bin] += 1.0;
+      });
+    }
+  }
+}
+
+template <std::size_t D>
+std::vector<std::complex<double>> local_psi6_in(const Frame& frame) {
+  const std::size_t n = frame.position.size();
+  double area = 1.0;
+  for (std::size_t k = 0; k < D; ++k) area *= frame.box[k];
+  // About two disks a cell: the six nearest are usually within two rings.
+  const Cells<D> cells(frame, std::sqrt(2.0 * area / static_cast<double>(n)));
+  std::vector<std::uint64_t> seen(cells.cells(), 0);
+  std::vector<std::complex<double>> psi(n);
+  struct Candidate {
+    double r2;
+    std::size_t j;
+    Vec<D> bond;
+    bool operator<(const Candidate& o) const { return r2 < o.r2 || (r2 == o.r2 && j < o.j); }
+  };
+  std::vector<Candidate> candidates;
+  std::uint64_t stamp = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    candidates.clear();
+    ++stamp;
+    for (std::int64_t ring = 0;; ++ring) {
+      cells.for_each_in_ring(i, ring, seen, stamp, [&](std::size_t j) {
+        if (j == i) return;
+        const Vec<D> bond = cells.separation(i, j);
+        candidates.push_back({norm2(bond), j, bond});
+      });
+      // Anything beyond ring r is at least r cell widths away.
+      const double beyond = static_cast<double>(ring) * cells.least_width();
+      if (candidates.size() >= 6) {
+        std::nth_element(candidates.begin(), candidates.begin() + 5, candidates.end());
+        if (candidates[5].r2 <= beyond * beyond) break;
+      }
+      if (cells.covers_all(ring)) break;
+    }
+    std::sort(candidates.begin(), candidates.end());
+    std::complex<double> sum = 0.0;
+    for (std::size_t m = 0; m < 6; ++m) {
+      const Vec<D>& b = candidates[m].bond;
+      sum += std::polar(1.0, 6.0 * std::atan2(b[1], b[0]));
+    }
+    psi[i] = sum / 6.0;
+  }
+  return psi;
+}
+
+}  // namespace
+
+TrajectoryShape shape_of(const Frame& frame) {
+  TrajectoryShape shape;
+  shape.dimension = frame.dimension;
+  shape.particles = frame.radius.size();
+  shape.periodic = frame.periodic;
+  double volume = 1.0, filled = 0.0, diameters = 0.0;
+  for (int k = 0; k < frame.dimension; ++k) {
+    shape.box.push_back(frame.box[static_cast<std::size_t>(k)]);
+    volume *= frame.box[static_cast<std::size_t>(k)];
+  }
+  for (const double r : frame.radius) {
+    filled += ball_volume(frame.dimension, r);
+    diameters += 2.0 * r;
+    shape.monodisperse = shape.monodisperse && r == frame.radius.front();
+  }
+  shape.mean_diameter = diameters / static_cast<double>(frame.radius.size());
+  shape.packing_fraction = filled / volume;
+  return shape;
+}
+
+Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& options) {
+  if (frames.empty()) throw std::invalid_argument("g(r) needs at least one frame");
+  const TrajectoryShape shape = shape_of(frames.front());
+  const double d = shape.mean_diameter;
+  // Where pair centres can be: the whole box when periodic, the box less a diameter between walls.
+  std::vector<double> window = shape.box;
+  if (!shape.periodic) {
+    for (double& side : window) side -= d;
+  }
+  const double smallest = *std::min_element(window.begin(), window.end());
+  // Minimum image sees every pair up to half the smallest side; the set covariance holds up to
+  // the smallest side, and half of it keeps the correction small.
+  const double most = 0.5 * smallest;
+  Rdf rdf;
+  rdf.bin_width = options.bin_width > 0.0 ? options.bin_width : d / 50.0;
+  double r_max = options.r_max > 0.0 ? options.r_max : std::min(5.0 * d, most);
+  if (!(most > 0.0) || r_max > most * (1.0 + 1e-12)) {
+    throw std::invalid_argument(fmt::format(
+        "g(r) reaches r = {:g} at most in this box (half its smallest side{}), not {:g}", most,
+        shape.periodic ? "" : " less a diameter", r_max));
+  }
+  const auto bins = static_cast<std::size_t>(std::floor(r_max / rdf.bin_width * (1.0 + 1e-12)));
+  if (bins < 1 || bins > 10'000'000) {
+    throw std::invalid_argument(
+        fmt::format("a bin width of {:g} gives {} bins up to r = {:g} (1 to 10^7)", rdf.bin_width,
+                    bins, r_max));
+  }
+  rdf.r_max = static_cast<double>(bins) * rdf.bin_width;
+  std::vector<double> histogram(bins, 0.0);
+  for (const Frame& frame : frames) {
+    if (shape.dimension == 2) {
+      count_pairs<2>(frame, rdf.bin_width, rdf.r_max, histogram);
+    } else {
+      count_pairs<3>(frame, rdf.bin_width, rdf.r_max, histogram);
+    }
+  }
+  const auto n = static_cast<double>(shape.particles);
+  double window_volume = 1.0;
+  for (const double side : window) window_volume *= side;
+  const double pairs = static_cast<double>(frames.size()) * n * (n - 1.0) / 2.0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double lo = static_cast<double>(b) * rdf.bin_width, hi = lo + rdf.bin_width;
+    const double r = lo + 0.5 * rdf.bin_width;
+    const double shell = ball_volume(shape.dimension, hi) - ball_volume(shape.dimension, lo);
+    // The chance that an ideal pair's separation falls in the shell.
+    const double share = shape.periodic
+                             ? shell / window_volume
+                             : shell * set_covariance(window, r) / (window_volume * window_volume);
+    rdf.r.push_back(r);
+    rdf.g.push_back(histogram[b] / (pairs * share));
+  }
+  return rdf;
+}
+
+std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int dimension,
+                                          double packing_fraction, double width) {
+  // Least squares for g = c0 + c1 x + c2 x^2, x = r - d, over the bins wholly in [d, d + width].
+  std::array<std::array<double, 4>, 3> normal{};  // the normal equations, augmented
+  std::size_t used = 0;
+  for (std::size_t b = 0; b < rdf.r.size(); ++b) {
+    const double lo = rdf.r[b] - 0.5 * rdf.bin_width, hi = rdf.r[b] + 0.5 * rdf.bin_width;
+    if (lo < diameter * (1.0 - 1e-9) || hi > (diameter + width) * (1.0 + 1e-9)) continue;
+    const double x = rdf.r[b] - diameter;
+    const std::array<double, 3> basis = {1.0, x, x * x};
+    for (std::size_t p = 0; p < 3; ++p) {
+      for (std::size_t q = 0; q < 3; ++q) normal[p][q] += basis[p] * basis[q];
+      normal[p][3] += basis[p] * rdf.g[b];
+    }
+    ++used;
+  }
+  if (used < 3) return std::nullopt;
+  // Gaussian elimination with partial pivoting, then back substitution.
+  for (std::size_t p = 0; p < 3; ++p) {
+    std::size_t pivot = p;
+    for (std::size_t q = p + 1; q < 3; ++q) {
+      if (std::abs(normal[q][p]) > std::abs(normal[pivot][p])) pivot = q;
+    }
+    std::swap(normal[p], normal[pivot]);
+    for (std::size_t q = p + 1; q < 3; ++q) {
+      const double factor = normal[q][p] / normal[p][p];
+      for (std::size_t c = p; c < 4; ++c) normal[q][c] -= factor * normal[p][c];
+    }
+  }
+  std::array<double, 3> c{};
+  for (std::size_t p = 3; p-- > 0;) {
+    double rest = normal[p][3];
+    for (std::size_t q = p + 1; q < 3; ++q) rest -= normal[p][q] * c[q];
+    c[p] = rest / normal[p][p];
+  }
+  ContactValue contact;
+  contact.r = diameter;
+  contact.g = c[0];
+  contact.z = 1.0 + (dimension == 2 ? 2.0 : 4.0) * packing_fraction * contact.g;
+  return contact;
+}
+
+Msd mean_square_displacement(const std::vector<Frame>& frames) {
+  if (frames.empty()) throw std::invalid_argument("the MSD needs at least one frame");
+  const Frame& first = frames.front();
+  const std::size_t count = frames.size(), n = first.position.size();
+  const auto d = static_cast<std::size_t>(first.dimension);
+  if (first.periodic) {
+    for (std::size_t f = 0; f < count; ++f) {
+      if (frames[f].image.size() != n) {
+        throw std::invalid_argument(fmt::format(
+            "the MSD of a periodic trajectory needs image flags, and frame {} (t = {:g}) has none "
+            "(carom 1.2 and later write them in .gsd, .xyz and .lammpstrj dumps)",
+            f, frames[f].time));
+      }
+    }
+  }
+  const double spacing =
+      count > 1 ? (frames.back().time - first.time) / static_cast<double>(count - 1) : 0.0;
+  for (std::size_t f = 0; f < count; ++f) {
+    const double expected = first.time + static_cast<double>(f) * spacing;
+    if (std::abs(frames[f].time - expected) >
+            1e-6 * std::abs(spacing) + 1e-12 * std::abs(expected) ||
+        (count > 1 && !(spacing > 0.0))) {
+      throw std::invalid_argument(fmt::format(
+          "the MSD needs frames evenly spaced in time, and frame {} is at t = {:g}, not {:g}", f,
+          frames[f].time, expected));
+    }
+  }
+  // Unwrapped positions, frame after frame.
+  std::vector<double> unwrapped(count * n * d);
+  for (std::size_t f = 0; f < count; ++f) {
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < d; ++k) {
+        double x = frames[f].position[i][k];
+        if (first.periodic) x += frames[f].box[k] * static_cast<double>(frames[f].image[i][k]);
+        unwrapped[(f * n + i) * d + k] = x;
+      }
+    }
+  }
+  std::vector<std::size_t> lags;
+  if (count <= 201) {
+    for (std::size_t lag = 0; lag < count; ++lag) lags.push_back(lag);
+  } else {
+    lags.push_back(0);
+    const double top = std::log(static_cast<double>(count - 1));
+    for (int m = 0; m <= 100; ++m) {
+      const auto lag = static_cast<std::size_t>(std::llround(std::exp(top * m / 100.0)));
+      if (lag > lags.back()) lags.push_back(lag);
+    }
+  }
+  Msd msd;
+  for (const std::size_t lag : lags) {
+    double sum = 0.0;
+    for (std::size_t f = 0; f + lag < count; ++f) {
+      const double* from = &unwrapped[f * n * d];
+      const double* to = &unwrapped[(f + lag) * n * d];
+      for (std::size_t c = 0; c < n * d; ++c) sum += (to[c] - from[c]) * (to[c] - from[c]);
+    }
+    msd.t.push_back(static_cast<double>(lag) * spacing);
+    msd.msd.push_back(sum / (static_cast<double>(count - lag) * static_cast<double>(n)));
+  }
+  return msd;
+}
+
+std::vector<std::complex<double>> local_psi6(const Frame& frame) {
+  if (frame.dimension != 2) {
+    throw std::invalid_argument("psi6, the hexatic order, is defined for disks (2D)");
+  }
+  if (frame.position.size() < 7) {
+    throw std::invalid_argument(fmt::format(
+        "psi6 needs six neighbours a disk: 7 disks or more, not {}", frame.position.size()));
+  }
+  return local_psi6_in<2>(frame);
+}
+
+Psi6Series psi6_series(const std::vector<Frame>& frames) {
+  Psi6Series series;
+  for (const Frame& frame : frames) {
+    const std::vector<std::complex<double>> psi = local_psi6(frame);
+    std::complex<double> sum = 0.0;
+    double moduli = 0.0;
+    for (const std::complex<double>& p : psi) {
+      sum += p;
+      moduli += std::abs(p);
+    }
+    const auto n = static_cast<double>(psi.size());
+    series.t.push_back(frame.time);
+    series.global.push_back(std::abs(sum) / n);
+    series.local_mean.push_back(moduli / n);
+  }
+  return series;
+}
+
+}  // namespace carom

@@ -1,0 +1,390 @@
+#include "carom/analysis.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "carom/classic_input.hpp"
+#include "carom/initial.hpp"
+#include "carom/simulation.hpp"
+#include "carom/trajectory.hpp"
+
+namespace carom {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// `n` points uniformly in the box (overlapping: an ideal gas), radius 0.5, between walls kept a
+// radius from them.
+Frame ideal_gas(int dimension, std::size_t n, Vec<3> box, bool periodic, std::uint32_t seed) {
+  std::mt19937_64 random(seed);
+  Frame f;
+  f.dimension = dimension;
+  f.box = box;
+  f.periodic = periodic;
+  const double margin = periodic ? 0.0 : 0.5;
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec<3> x{};
+    for (int k = 0; k < dimension; ++k) {
+      const auto side = static_cast<std::size_t>(k);
+      x[side] = std::uniform_real_distribution<double>(margin, box[side] - margin)(random);
+    }
+    f.position.push_back(x);
+    f.velocity.push_back({});
+    f.radius.push_back(0.5);
+    f.collisions.push_back(0);
+  }
+  return f;
+}
+
+// A triangular lattice of spacing a, rows of `columns` disks, filling a periodic box exactly
+// (rows even), or rotated by `angle`.
+Frame triangular_lattice(std::size_t columns, std::size_t rows, double a, double angle) {
+  Frame f;
+  f.periodic = true;
+  f.box = {{a * static_cast<double>(columns), a * std::sqrt(3.0) / 2.0 * static_cast<double>(rows),
+            1.0}};
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns; ++c) {
+      const double x = a * (static_cast<double>(c) + 0.5 * static_cast<double>(r % 2));
+      const double y = a * std::sqrt(3.0) / 2.0 * static_cast<double>(r);
+      f.position.push_back({{x, y, 0.0}});
+      f.velocity.push_back({});
+      f.radius.push_back(0.4 * a);
+      f.collisions.push_back(0);
+    }
+  }
+  if (angle != 0.0) {  // about the origin: the lattice no longer tiles the box
+    for (Vec<3>& x : f.position) {
+      const double u = x[0], v = x[1];
+      x = {{std::cos(angle) * u - std::sin(angle) * v, std::sin(angle) * u + std::cos(angle) * v,
+            0}};
+    }
+  }
+  return f;
+}
+
+// The pair histogram by brute force: every pair, minimum image.
+std::vector<double> brute_force_histogram(const Frame& f, double bin, std::size_t bins) {
+  std::vector<double> histogram(bins, 0.0);
+  for (std::size_t i = 0; i < f.position.size(); ++i) {
+    for (std::size_t j = i + 1; j < f.position.size(); ++j) {
+      double r2 = 0.0;
+      for (std::size_t k = 0; k < static_cast<std::size_t>(f.dimension); ++k) {
+        double dx = f.position[j][k] - f.position[i][k];
+        if (f.periodic) dx -= f.box[k] * std::nearbyint(dx / f.box[k]);
+        r2 += dx * dx;
+      }
+      const auto b = static_cast<std::size_t>(std::sqrt(r2) / bin);
+      if (std::sqrt(r2) < bin * static_cast<double>(bins) && b < bins) histogram[b] += 1.0;
+    }
+  }
+  return histogram;
+}
+
+double ball(int dimension, double r) {
+  return dimension == 2 ? kPi * r * r : 4.0 / 3.0 * kPi * r * r * r;
+}
+
+TEST(Rdf, TheCellGridCountsEveryPairOnceAsBruteForceDoes) {
+  // Boxes of many cells, of fewer than three a side (cells wrap onto themselves), thin slabs,
+  // walls, disks and spheres.
+  struct Case {
+    int dimension;
+    Vec<3> box;
+    bool periodic;
+    std::size_t n;
+    double r_max;
+  };
+  const std::vector<Case> cases = {
+      {2, {{20, 20, 1}}, true, 400, 3.0}, {2, {{5, 5, 1}}, true, 60, 2.5},
+      {2, {{40, 4, 1}}, true, 200, 2.0},  {2, {{12, 9, 1}}, false, 150, 4.0},
+      {3, {{8, 8, 8}}, true, 300, 2.5},   {3, {{5, 6, 7}}, true, 200, 2.5},
+      {3, {{30, 30, 3}}, true, 300, 1.5}, {3, {{9, 9, 9}}, false, 200, 3.0}};
+  for (const Case& c : cases) {
+    const Frame f = ideal_gas(c.dimension, c.n, c.box, c.periodic, 7);
+    const double bin = 0.05;
+    const Rdf rdf = radial_distribution({f}, {bin, c.r_max});
+    ASSERT_EQ(rdf.r.size(), static_cast<std::size_t>(std::llround(c.r_max / bin)));
+    const std::vector<double> count = brute_force_histogram(f, bin, rdf.r.size());
+    // The normalisation, independently: an ideal pair's chance of a separation in the shell.
+    std::vector<double> window;
+    for (int k = 0; k < c.dimension; ++k) {
+      window.push_back(c.box[static_cast<std::size_t>(k)] - (c.periodic ? 0.0 : 1.0));
+    }
+    double volume = 1.0;
+    for (const double side : window) volume *= side;
+    const auto n = static_cast<double>(c.n);
+    for (std::size_t b = 0; b < rdf.r.size(); ++b) {
+      const double lo = bin * static_cast<double>(b), r = lo + 0.5 * bin;
+      const double shell = ball(c.dimension, lo + bin) - ball(c.dimension, lo);
+      double covariance = volume;
+      if (!c.periodic && c.dimension == 2) {
+        covariance = window[0] * window[1] - 2 * r * (window[0] + window[1]) / kPi + r * r / kPi;
+      } else if (!c.periodic) {
+        const double a = window[0], w = window[1], h = window[2];
+        covariance = a * w * h - r * (a * w + a * h + w * h) / 2 +
+                     2 * r * r * (a + w + h) / (3 * kPi) - r * r * r / (4 * kPi);
+      }
+      const double expected = count[b] / (n * (n - 1) / 2 * shell * covariance / (volume * volume));
+      EXPECT_NEAR(rdf.g[b], expected, 1e-12 * expected) << "box " << c.box[0] << " bin " << b;
+    }
+  }
+}
+
+TEST(Rdf, AnIdealGasIsUncorrelatedInAPeriodicBoxAndBetweenWalls) {
+  // g = 1 everywhere for points placed independently: between walls only if the normalisation
+  // counts the pairs the walls cut off (without it g falls by 2 r (a + b) / (pi a b): 30 % at r =
+  // 4).
+  for (const bool periodic : {true, false}) {
+    std::vector<Frame> frames;
+    for (std::uint32_t seed = 1; seed <= 40; ++seed) {
+      frames.push_back(ideal_gas(2, 500, {{20, 16, 1}}, periodic, seed));
+    }
+    const Rdf rdf = radial_distribution(frames, {0.5, 5.0});
+    for (std::size_t b = 1; b < rdf.r.size(); ++b) {
+      EXPECT_NEAR(rdf.g[b], 1.0, 0.05) << (periodic ? "periodic" : "walls") << " r " << rdf.r[b];
+    }
+  }
+}
+
+TEST(Rdf, ContactIsABinEdgeByDefault) {
+  const Frame f = ideal_gas(2, 100, {{10, 10, 1}}, true, 3);
+  const Rdf rdf = radial_distribution({f});
+  EXPECT_DOUBLE_EQ(rdf.bin_width, 1.0 / 50.0);
+  EXPECT_DOUBLE_EQ(rdf.r_max, 5.0);  // 5 d, half the box
+  EXPECT_EQ(rdf.r.size(), 250u);
+  EXPECT_NEAR(rdf.r[50] - 0.5 * rdf.bin_width, 1.0, 1e-12);
+  const Frame small = ideal_gas(2, 100, {{6, 8, 1}}, true, 3);
+  EXPECT_DOUBLE_EQ(radial_distribution({small}).r_max, 3.0);  // half the smallest side
+}
+
+TEST(Rdf, ARangeBeyondHalfTheBoxIsRefused) {
+  const Frame f = ideal_gas(2, 100, {{10, 10, 1}}, true, 3);
+  EXPECT_THROW(radial_distribution({f}, {0.02, 6.0}), std::invalid_argument);
+  EXPECT_THROW(radial_distribution({f}, {1e-9, 5.0}), std::invalid_argument);  // 5e9 bins
+  const Frame walled = ideal_gas(2, 100, {{10, 10, 1}}, false, 3);
+  EXPECT_THROW(radial_distribution({walled}, {0.02, 4.6}), std::invalid_argument);
+}
+
+TEST(Contact, TheFitRecoversAQuadraticAtContact) {
+  Rdf rdf;
+  rdf.bin_width = 0.02;
+  for (int b = 0; b < 100; ++b) {
+    const double r = 0.02 * b + 0.01;
+    rdf.r.push_back(r);
+    const double x = r - 1.0;
+    rdf.g.push_back(r < 1.0 ? 0.0 : 3.25 - 5.0 * x + 7.0 * x * x);
+  }
+  const auto disks = contact_value(rdf, 1.0, 2, 0.5, 0.1);
+  ASSERT_TRUE(disks);
+  EXPECT_NEAR(disks->g, 3.25, 1e-9);
+  EXPECT_NEAR(disks->z, 1.0 + 2.0 * 0.5 * 3.25, 1e-9);
+  const auto spheres = contact_value(rdf, 1.0, 3, 0.3, 0.1);
+  EXPECT_NEAR(spheres->z, 1.0 + 4.0 * 0.3 * 3.25, 1e-9);
+  // Fewer than three bins in range: no value.
+  EXPECT_FALSE(contact_value(rdf, 1.0, 2, 0.5, 0.05));
+}
+
+TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
+  // Particles at constant velocity, wrapped with image flags: MSD(t) = <v^2> t^2.
+  std::vector<Frame> frames;
+  const std::vector<Vec<3>> velocity = {{{1.5, -0.5, 0}}, {{-2.0, 0.25, 0}}, {{0.1, 3.0, 0}}};
+  double v2 = 0.0;
+  for (const Vec<3>& v : velocity) v2 += norm2(v) / 3.0;
+  for (int f = 0; f < 30; ++f) {
+    Frame frame;
+    frame.time = 2.0 + 0.5 * f;
+    frame.box = {{4, 5, 1}};
+    frame.periodic = true;
+    for (const Vec<3>& v : velocity) {
+      Vec<3> x = {{1.0 + v[0] * frame.time, 2.0 + v[1] * frame.time, 0}};
+      std::array<std::int32_t, 3> image{};
+      for (std::size_t k = 0; k < 2; ++k) {
+        image[k] = static_cast<std::int32_t>(std::floor(x[k] / frame.box[k]));
+        x[k] -= image[k] * frame.box[k];
+      }
+      frame.position.push_back(x);
+      frame.image.push_back(image);
+    }
+    frames.push_back(frame);
+  }
+  const Msd msd = mean_square_displacement(frames);
+  ASSERT_EQ(msd.t.size(), 30u);
+  for (std::size_t lag = 0; lag < 30; ++lag) {
+    EXPECT_DOUBLE_EQ(msd.t[lag], 0.5 * static_cast<double>(lag));
+    EXPECT_NEAR(msd.msd[lag], v2 * msd.t[lag] * msd.t[lag], 1e-9 * (1 + msd.msd[lag]));
+  }
+  // Without image flags the periodic MSD is refused, as are uneven frames.
+  std::vector<Frame> no_images = frames;
+  no_images[3].image.clear();
+  EXPECT_THROW(mean_square_displacement(no_images), std::invalid_argument);
+  std::vector<Frame> uneven = frames;
+  uneven[5].time += 0.1;
+  EXPECT_THROW(mean_square_displacement(uneven), std::invalid_argument);
+}
+
+TEST(Msd, LongTrajectoriesUseLogSpacedLags) {
+  std::vector<Frame> frames(1000);
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    frames[f].time = static_cast<double>(f);
+    frames[f].position = {{{0.01 * static_cast<double>(f), 0, 0}}};
+  }
+  const Msd msd = mean_square_displacement(frames);
+  EXPECT_GT(msd.t.size(), 50u);
+  EXPECT_LT(msd.t.size(), 102u);
+  EXPECT_EQ(msd.t.front(), 0.0);
+  EXPECT_EQ(msd.t.back(), 999.0);
+  for (std::size_t m = 0; m < msd.t.size(); ++m) {
+    EXPECT_NEAR(msd.msd[m], 1e-4 * msd.t[m] * msd.t[m], 1e-9);
+    if (m > 0) {
+      EXPECT_GT(msd.t[m], msd.t[m - 1]);
+    }
+  }
+}
+
+TEST(Psi6, ATriangularLatticeIsPerfectlyHexatic) {
+  const Frame lattice = triangular_lattice(20, 24, 1.1, 0.0);
+  for (const auto& p : local_psi6(lattice)) {
+    EXPECT_NEAR(std::abs(p), 1.0, 1e-12);
+    EXPECT_NEAR(std::arg(p), 0.0, 1e-9);
+  }
+  const Psi6Series series = psi6_series({lattice});
+  EXPECT_NEAR(series.global[0], 1.0, 1e-12);
+  EXPECT_NEAR(series.local_mean[0], 1.0, 1e-12);
+}
+
+TEST(Psi6, TheLocalPhaseTurnsSixTimesAsFastAsTheLattice) {
+  // A rotated patch of lattice in a big box with walls: the inner disks' phase is 6 x angle.
+  for (const double angle : {0.05, 0.2, -0.4}) {
+    Frame patch = triangular_lattice(12, 12, 1.0, angle);
+    patch.periodic = false;
+    patch.box = {{40, 40, 1}};
+    for (Vec<3>& x : patch.position) {
+      x[0] += 20.0;
+      x[1] += 20.0;
+    }
+    const auto psi = local_psi6(patch);
+    const std::size_t centre = 6 * 12 + 6;
+    EXPECT_NEAR(std::abs(psi[centre]), 1.0, 1e-12);
+    EXPECT_NEAR(std::arg(psi[centre]), 6.0 * angle, 1e-9);
+  }
+}
+
+TEST(Psi6, TheNearestSixAreFoundAsBruteForceFindsThem) {
+  for (const bool periodic : {true, false}) {
+    for (const Vec<3> box : {Vec<3>{{30, 30, 1}}, Vec<3>{{4, 5, 1}}, Vec<3>{{60, 3, 1}}}) {
+      const Frame f = ideal_gas(2, periodic ? 300 : 200, box, periodic, 11);
+      const auto psi = local_psi6(f);
+      for (std::size_t i = 0; i < f.position.size(); ++i) {
+        std::vector<std::pair<double, std::size_t>> all;
+        std::vector<Vec<2>> bonds(f.position.size());
+        for (std::size_t j = 0; j < f.position.size(); ++j) {
+          if (j == i) continue;
+          Vec<2> b;
+          for (std::size_t k = 0; k < 2; ++k) {
+            double dx = f.position[j][k] - f.position[i][k];
+            if (periodic) dx -= f.box[k] * std::nearbyint(dx / f.box[k]);
+            b[k] = dx;
+          }
+          bonds[j] = b;
+          all.emplace_back(norm2(b), j);
+        }
+        std::sort(all.begin(), all.end());
+        std::complex<double> sum = 0.0;
+        for (std::size_t m = 0; m < 6; ++m) {
+          const Vec<2>& b = bonds[all[m].second];
+          sum += std::polar(1.0, 6.0 * std::atan2(b[1], b[0]));
+        }
+        EXPECT_EQ(psi[i], sum / 6.0) << "box " << box[0] << " disk " << i;
+      }
+    }
+  }
+}
+
+TEST(Psi6, IsForDisksAndNeedsSevenOfThem) {
+  EXPECT_THROW(local_psi6(ideal_gas(3, 50, {{5, 5, 5}}, true, 1)), std::invalid_argument);
+  EXPECT_THROW(local_psi6(ideal_gas(2, 6, {{5, 5, 1}}, true, 1)), std::invalid_argument);
+  EXPECT_NO_THROW(local_psi6(ideal_gas(2, 7, {{5, 5, 1}}, true, 1)));
+}
+
+// A short run of disks dumped as .gsd and .xyz: the frames read back agree.
+TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
+  const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_test";
+  std::filesystem::create_directories(folder);
+  InitialOptions init;
+  init.n = 60;
+  init.packing_fraction = 0.4;
+  init.boundary = Boundary::periodic;
+  const System<2> start = make_initial<2>(init);
+  std::vector<std::string> paths;
+  for (const char* ending : {".gsd", ".xyz"}) {
+    const std::string path = (folder / (std::string("run") + ending)).string();
+    std::ofstream out(path, std::ios::binary);
+    Settings settings;
+    settings.rule.rule = Rule::elastic;
+    Simulation<2> simulation(start, settings);
+    simulation.add_observer(
+        std::make_shared<FrameWriter<2>>(out, trajectory_format_for<2>(path), 0.25));
+    simulation.run_until(5.0);
+    paths.push_back(path);
+  }
+  const std::vector<Frame> gsd = read_trajectory_frames(paths[0]);
+  const std::vector<Frame> xyz = read_trajectory_frames(paths[1]);
+  ASSERT_EQ(gsd.size(), 21u);
+  ASSERT_EQ(gsd.size(), xyz.size());
+  for (std::size_t f = 0; f < gsd.size(); ++f) {
+    EXPECT_DOUBLE_EQ(gsd[f].time, xyz[f].time);
+    EXPECT_EQ(gsd[f].dimension, 2);
+    EXPECT_TRUE(gsd[f].periodic);
+    ASSERT_EQ(gsd[f].image.size(), 60u);
+    EXPECT_EQ(gsd[f].image, xyz[f].image);
+    for (std::size_t i = 0; i < 60; ++i) {
+      for (std::size_t k = 0; k < 2; ++k) {
+        // float32 in GSD
+        EXPECT_NEAR(gsd[f].position[i][k], xyz[f].position[i][k], 1e-5);
+        EXPECT_NEAR(gsd[f].velocity[i][k], xyz[f].velocity[i][k], 1e-5);
+      }
+      EXPECT_NEAR(gsd[f].radius[i], xyz[f].radius[i], 1e-7);
+    }
+  }
+  std::filesystem::remove_all(folder);
+}
+
+TEST(LogTable, ReadsACaromLogAndNamesTheLineOfAnError) {
+  const auto folder = std::filesystem::temp_directory_path() / "carom_log_table_test";
+  std::filesystem::create_directories(folder);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    const std::string path = (folder / name).string();
+    std::ofstream(path) << text;
+    return path;
+  };
+  const LogTable table =
+      read_log_table(write("good.csv", "time,Z,Z_mean\n0,,\n0.5,3.5,\n1,4,3.75\n"));
+  EXPECT_EQ(table.columns, (std::vector<std::string>{"time", "Z", "Z_mean"}));
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_TRUE(std::isnan(table.rows[0][1]));
+  EXPECT_EQ(table.rows[2][2], 3.75);
+  const auto error_of = [&](const std::string& text) {
+    try {
+      read_log_table(write("bad.csv", text));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error_of("x,y\n1,2\n").find("bad.csv:1:"), std::string::npos);
+  EXPECT_NE(error_of("time,Z\n1,2\n3\n").find("bad.csv:3: expected 2 fields, found 1"),
+            std::string::npos);
+  EXPECT_NE(error_of("time,Z\n1,abc\n").find("bad.csv:2:"), std::string::npos);
+  EXPECT_NE(error_of("").find("empty"), std::string::npos);
+  std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace carom
