@@ -941,6 +941,74 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
   }
 }
 
+TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
+  const fs::path start = dir_ / "gas.txt", movie = dir_ / "run.gsd", log = dir_ / "run.csv";
+  ASSERT_EQ(carom({"init", "--n", "200", "--phi", "0.4", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(
+      carom({"run", start, "5", "--rule", "elastic", "--boundary", "periodic", "--dump", movie,
+             "--every", "0.5", "--log", log, "--log-every", "0.5", "-o", dir_ / "end.txt"})
+          .exit_code,
+      0);
+  const fs::path json = dir_ / "analysis.json", page = dir_ / "report.html";
+  const Result ok =
+      carom({"analyze", movie, "--equilibrate", "1", "--log", log, "-o", json, "--html", page});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("200 disks, periodic box"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("frames: 9 of 11, t = 1 to 5"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("Z = "), std::string::npos) << ok.out;
+  EXPECT_EQ(ok.err, "");
+  const nlohmann::json analysis = nlohmann::json::parse(read_file(json));
+  EXPECT_EQ(analysis["particles"], 200);
+  EXPECT_EQ(analysis["frames"]["count"], 9);
+  EXPECT_EQ(analysis["log"]["rows"].size(), 11u);
+  EXPECT_EQ(analysis["warnings"].size(), 0u);
+  const std::string html = read_file(page);
+  EXPECT_EQ(html.find("/*CAROM_DATA*/"), std::string::npos);
+  // Nothing fetched from the network (the SVG namespace is a name, not a request; the browser
+  // test watches the requests themselves).
+  EXPECT_EQ(html.find("https:"), std::string::npos);
+  EXPECT_EQ(html.find("src=\"http"), std::string::npos);
+  // -o - puts the JSON alone on standard output.
+  const Result to_stdout = carom({"analyze", movie, "-o", "-"});
+  ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
+  EXPECT_EQ(nlohmann::json::parse(to_stdout.out)["particles"], 200);
+
+  // What does not apply is left out, with the reason: the MSD of a periodic .xyz without
+  // image flags.
+  const std::string old_xyz =
+      "8\nLattice=\"4 0 0 0 4 0 0 0 1\" Properties=species:S:1:pos:R:3 pbc=\"T T T\" Time=0\n" +
+      std::string("H 0.5 0.5 0\nH 1.5 0.5 0\nH 2.5 0.5 0\nH 3.5 0.5 0\n") +
+      "H 0.5 2.5 0\nH 1.5 2.5 0\nH 2.5 2.5 0\nH 3.5 2.5 0\n";
+  const Result no_images = carom({"analyze", write("old.xyz", old_xyz), "--r-max", "1.5"});
+  EXPECT_EQ(no_images.exit_code, 0) << no_images.err;
+  EXPECT_NE(no_images.err.find("carom: note: no MSD: the MSD of a periodic trajectory needs "
+                               "image flags, and frame 0 (t = 0) has none"),
+            std::string::npos)
+      << no_images.err;
+
+  // Usage and input errors: exit 2, a message naming what is wrong, nothing written.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"analyze", (dir_ / "missing.gsd").string()}, "missing.gsd: cannot open"},
+      {{"analyze", write("bad.xyz", "not a trajectory\n").string()}, "bad.xyz:1:"},
+      {{"analyze", write("bad.gsd", "not a gsd file at all").string()}, "bad.gsd"},
+      {{"analyze", movie.string(), "--bin", "-0.1"}, "--bin must be greater than 0"},
+      {{"analyze", movie.string(), "--r-max", "1e3"}, "g(r) reaches r = "},
+      {{"analyze", movie.string(), "--equilibrate", "6"}, "no frame at or after t = 6"},
+      {{"analyze", movie.string(), "--log", write("bad.csv", "time,Z\n1\n").string()},
+       "bad.csv:2: expected 2 fields, found 1"},
+      {{"analyze", movie.string(), "-o", (dir_ / "no/such/folder.json").string()}, "no folder"}};
+  for (const auto& [args, message] : bad) {
+    std::vector<std::string> with_output = args;
+    with_output.insert(with_output.end(), {"--html", (dir_ / "bad.html").string()});
+    const Result r = carom(with_output);
+    EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.html"));
+  }
+}
+
 TEST_F(Cli, CheckedRunsFindNothingWrong) {
   const fs::path start = dir_ / "gas.txt";
   for (const std::string boundary : {"walls", "periodic"}) {

@@ -7,4 +7,5 @@ PYBIND11_MODULE(_carom, m) {
   m.attr("__version__") = carom::kVersion;
   carom::python::export_errors(m);
   carom::python::export_simulation(m);
+  carom::python::export_analysis(m);
 }
