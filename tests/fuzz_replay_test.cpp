@@ -120,7 +120,7 @@ TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
   expect_refused_when_named(outcomes, "bad-");
 }
 
-// The GSD start reader: carom's own dumps are read and run; truncated and corrupt files are
+// The GSD readers: carom's own dumps are read and run, and analysed; truncated and corrupt files are
 // refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
 TEST(FuzzReplay, GsdCorpusAndRegressions) {
   const auto outcomes = replay_all<carom::fuzz::GsdOutcome>("gsd", carom::fuzz::gsd);
@@ -130,6 +130,7 @@ TEST(FuzzReplay, GsdCorpusAndRegressions) {
     ASSERT_TRUE(outcomes.count(valid)) << valid;
     EXPECT_EQ(outcomes.at(valid).started, 1) << valid;
     EXPECT_GT(outcomes.at(valid).events, 0) << valid;
+    EXPECT_EQ(outcomes.at(valid).analysed, 1) << valid;
   }
   expect_refused_when_named(outcomes, "bad-");
 }

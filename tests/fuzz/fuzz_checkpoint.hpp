@@ -17,6 +17,7 @@
 #include <string>
 #include <variant>
 
+#include "carom/analysis.hpp"
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/gsd.hpp"
@@ -109,10 +110,13 @@ struct GsdOutcome {
   int started = 0;  // read as a start and run for a few events
   int events = 0;
   int violations = 0;  // an accepted start broke an invariant: a bug
+  int analysed = 0;    // read as a trajectory and analysed (carom analyze)
 };
 
 // Any bytes as a GSD file (the reader takes a path: they are written to a scratch file first).
-// What is accepted as a start runs 50 events under the invariant check.
+// What is accepted as a start runs 50 events under the invariant check; what is accepted as a
+// trajectory is analysed as carom analyze does (refusing options it cannot have is fine, any
+// other failure is a bug).
 inline GsdOutcome gsd(const std::uint8_t* data, std::size_t size) {
   GsdOutcome outcome;
   const std::filesystem::path path = std::filesystem::temp_directory_path() /
@@ -143,6 +147,19 @@ inline GsdOutcome gsd(const std::uint8_t* data, std::size_t size) {
         start);
   } catch (const InputError&) {
     ++outcome.refused;
+  }
+  try {
+    const std::vector<Frame> frames = read_gsd_frames(path.string());
+    if (frames.front().radius.size() <= 200 && frames.size() <= 20) {
+      try {
+        analyze(frames, "fuzz.gsd");
+        ++outcome.analysed;
+      } catch (const std::invalid_argument&) {
+      }
+    }
+  } catch (const InputError&) {
+  } catch (const std::exception&) {
+    ++outcome.violations;
   }
   std::error_code ignored;
   std::filesystem::remove(path, ignored);
