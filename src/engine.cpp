@@ -10,17 +10,23 @@
 namespace carom {
 
 template <std::size_t D>
-Engine<D>::Engine(System<D> system, const CollisionRule& rule)
-    : system_(std::move(system)), rule_(rule) {
+Engine<D>::Engine(System<D> system, const CollisionRule& rule, const Growth& growth)
+    : system_(std::move(system)), rule_(rule), growth_(growth) {
   // No records at all: every particle of mass 1, nothing happened to it yet.
   if (system_.records.empty()) system_.records.resize(system_.particles.size());
   if (system_.records.size() != system_.particles.size()) {
     throw std::invalid_argument("a system needs one record per particle (or none)");
   }
   for (const Particle<D>& p : system_.particles) now_ = std::max(now_, p.time);
+  largest_ = grown_radius(largest_radius(system_), growth_.rate, growth_.until);
+  if (growing()) {
+    for (const Particle<D>& p : system_.particles) {
+      fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));
+    }
+  }
   if (system_.box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
-      if (!(system_.box.size[k] > 4.0 * largest_radius(system_))) {
+      if (!(system_.box.size[k] > 4.0 * largest_)) {
         throw std::invalid_argument(
             "a periodic box side must exceed two diameters of the largest particle");
       }
@@ -45,7 +51,9 @@ Event Engine<D>::apply(Event event) {
   ParticleRecord& ra = system_.records[event.first];
   if (event.is_wall()) {
     advance(a, t);
-    event.impulse = bounce(a, event.partner, system_.box, ra.mass);
+    event.impulse = growing() ? growing_bounce(a, event.partner, system_.box, ra.mass, growth_.rate)
+                              : bounce(a, event.partner, system_.box, ra.mass);
+    if (growing()) fastest_ = std::max(fastest_, std::sqrt(norm2(a.velocity)) * (1.0 + 1e-9));
     ++ra.wall_collisions;
   } else {
     const auto j = static_cast<std::size_t>(event.partner);
@@ -58,7 +66,12 @@ Event Engine<D>::apply(Event event) {
     advance(a, t);
     advance(b, t);
     event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule,
-                            event.elastic_by_tc ? 1.0 : rule_.restitution, ra.mass, rb.mass);
+                            event.elastic_by_tc ? 1.0 : rule_.restitution, ra.mass, rb.mass,
+                            (a.radius + b.radius) * growth_.rate);
+    if (growing()) {
+      const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
+      fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
+    }
     wrap(a.position, system_.box, ra.image);
     wrap(b.position, system_.box, rb.image);
     ++ra.pair_collisions;
@@ -74,6 +87,8 @@ template <std::size_t D>
 void Engine<D>::rebase() {
   const double shift = now_;
   if (shift == 0.0) return;
+  // Radii grow from stored time 0: a grown run is restarted instead (see Compression).
+  if (growing()) throw std::logic_error("a growing engine cannot be rebased");
   // The new epoch is the absolute time step() reported for the last event, exactly.
   system_.shift_epoch(shift);
   now_ = 0.0;
@@ -90,9 +105,8 @@ Vec<D> Engine<D>::image(std::uint32_t i, std::uint32_t j, double t) const {
 template <std::size_t D>
 double Engine<D>::image_horizon() const {
   if (!system_.box.periodic()) return kNever;
-  const double speed = speed_bound(system_);
-  const double largest = largest_radius(system_);
-  const double room = shortest_side(system_.box) / 2.0 - 2.0 * largest;
+  const double speed = growing() ? fastest_ : speed_bound(system_);
+  const double room = shortest_side(system_.box) / 2.0 - 2.0 * largest_;
   return speed > 0.0 ? room / (2.0 * speed) : kNever;
 }
 
@@ -105,17 +119,19 @@ void Engine<D>::throw_too_fast(double t) const {
 }
 
 template <std::size_t D>
-std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
-                                       const CollisionRule& rule) {
+std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const CollisionRule& rule,
+                                       const Growth& growth) {
   if (kind == EngineKind::reference) {
-    return std::make_unique<ReferenceEngine<D>>(std::move(system), rule);
+    return std::make_unique<ReferenceEngine<D>>(std::move(system), rule, growth);
   }
-  return std::make_unique<FastEngine<D>>(std::move(system), rule);
+  return std::make_unique<FastEngine<D>>(std::move(system), rule, growth);
 }
 
 template class Engine<2>;
 template class Engine<3>;
-template std::unique_ptr<Engine<2>> make_engine(EngineKind, System<2>, const CollisionRule&);
-template std::unique_ptr<Engine<3>> make_engine(EngineKind, System<3>, const CollisionRule&);
+template std::unique_ptr<Engine<2>> make_engine(EngineKind, System<2>, const CollisionRule&,
+                                                const Growth&);
+template std::unique_ptr<Engine<3>> make_engine(EngineKind, System<3>, const CollisionRule&,
+                                                const Growth&);
 
 }  // namespace carom

@@ -5,9 +5,9 @@
 namespace carom {
 
 template <std::size_t D>
-FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule)
-    : Engine<D>(std::move(system), rule),
-      grid_(this->system_.box, 2.0 * largest_radius(this->system_), this->system_.particles.size()),
+FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Growth& growth)
+    : Engine<D>(std::move(system), rule, growth),
+      grid_(this->system_.box, 2.0 * this->largest_reach(), this->system_.particles.size()),
       queue_(static_cast<std::uint32_t>(this->system_.particles.size() + 1)),
       pending_(this->system_.particles.size() + 1),
       clock_(this->now_),
@@ -53,7 +53,19 @@ void FastEngine<D>::schedule_horizon() {
   if (horizon_ == kNever) return;
   if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
   pending_[horizon_slot_] = {Kind::horizon, 0, 0, 0};
-  queue_.update(horizon_slot_, {clock_ + horizon_, kNoEvent.order});  // after every event then
+  renewal_ = clock_ + horizon_;
+  queue_.update(horizon_slot_, {renewal_, kNoEvent.order});  // after every event then
+}
+
+template <std::size_t D>
+void FastEngine<D>::shorten_horizon() {
+  if (horizon_ == kNever) return;
+  horizon_ = this->image_horizon();
+  if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
+  if (clock_ + horizon_ < renewal_) {
+    renewal_ = clock_ + horizon_;
+    queue_.update(horizon_slot_, {renewal_, kNoEvent.order});
+  }
 }
 
 template <std::size_t D>
@@ -72,7 +84,9 @@ void FastEngine<D>::predict(std::uint32_t i) {
     }
   };
 
-  const WallHit hit = next_wall_hit(p, this->system_.box);
+  const double rate = this->growth_.rate;
+  const WallHit hit = this->growing() ? growing_wall_hit(p, this->system_.box, rate)
+                                      : next_wall_hit(p, this->system_.box);
   if (hit.time != kNever) {
     consider({std::max(hit.time, clock_), i, hit.label}, {Kind::wall, hit.label, 0, 0});
   }
@@ -83,7 +97,8 @@ void FastEngine<D>::predict(std::uint32_t i) {
     const Vec<D> offset =
         periodic ? image_offset(here - position_at(particles[j], clock_), this->system_.box)
                  : Vec<D>{};
-    const double t = contact_time(p, particles[j], offset, best_key.time);
+    const double t = this->growing() ? growing_contact_time(p, particles[j], offset, rate)
+                                     : contact_time(p, particles[j], offset, best_key.time);
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, 0});
@@ -148,6 +163,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         clock_ = t;
         const Event event = this->apply({t, i, pending.partner});
         predict(i);
+        if (this->growing()) shorten_horizon();
         return event;
       }
       case Kind::pair: {
@@ -160,6 +176,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         const Event event = this->apply(pair_event(t, i, j));
         predict(i);
         predict(j);
+        if (this->growing()) shorten_horizon();
         return event;
       }
     }

@@ -24,7 +24,7 @@ namespace carom {
 template <std::size_t D>
 class FastEngine final : public Engine<D> {
  public:
-  FastEngine(System<D> system, const CollisionRule& rule);
+  FastEngine(System<D> system, const CollisionRule& rule, const Growth& growth = {});
   std::optional<Event> step(double end_time) override;
 
  private:
@@ -46,6 +46,8 @@ class FastEngine final : public Engine<D> {
   void predict_all();
   // Queues the next time every particle is predicted again, or none.
   void schedule_horizon();
+  // With growth, after an event: brings that renewal forward if the particles sped up.
+  void shorten_horizon();
 
   CellGrid<D> grid_;
   EventCalendar queue_;
@@ -56,6 +58,7 @@ class FastEngine final : public Engine<D> {
   // Engine::image_horizon); otherwise infinite.
   double horizon_ = kNever;
   std::uint32_t horizon_slot_ = 0;  // the queue entry (after the particles') of the renewal
+  double renewal_ = kNever;         // when it is due
 };
 
 }  // namespace carom

@@ -14,12 +14,14 @@ namespace carom {
 template <std::size_t D>
 class ReferenceEngine final : public Engine<D> {
  public:
-  ReferenceEngine(System<D> system, const CollisionRule& rule)
-      : Engine<D>(std::move(system), rule),
+  ReferenceEngine(System<D> system, const CollisionRule& rule, const Growth& growth = {})
+      : Engine<D>(std::move(system), rule, growth),
         horizon_(this->image_horizon()),
         window_start_(this->now_) {}
 
   std::optional<Event> step(double end_time) override {
+    // Growing particles speed up at collisions: the window shrinks with them.
+    if (this->growing()) horizon_ = this->image_horizon();
     while (true) {
       Event best = earliest();
       const double window_end = window_start_ + horizon_;
@@ -48,11 +50,16 @@ class ReferenceEngine final : public Engine<D> {
         best_key = key;
       }
     };
+    const double rate = this->growth_.rate;
     for (std::uint32_t i = 0; i < n; ++i) {
-      const WallHit hit = next_wall_hit(particles[i], this->system_.box);
+      const WallHit hit = this->growing() ? growing_wall_hit(particles[i], this->system_.box, rate)
+                                          : next_wall_hit(particles[i], this->system_.box);
       if (hit.time != kNever) consider({std::max(hit.time, window_start_), i, hit.label});
       for (std::uint32_t j = i + 1; j < n; ++j) {
-        const double t = contact_time(particles[i], particles[j], this->image(i, j, window_start_));
+        const Vec<D> offset = this->image(i, j, window_start_);
+        const double t = this->growing()
+                             ? growing_contact_time(particles[i], particles[j], offset, rate)
+                             : contact_time(particles[i], particles[j], offset);
         if (t != kNever) consider(pair_event(std::max(t, window_start_), i, j));
       }
     }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "carom/event.hpp"
 
@@ -207,6 +208,95 @@ TEST(Vec, WorksInThreeDimensions) {
   a.velocity = {{0, 0, 1}};
   EXPECT_EQ(next_wall_hit(a, box).label, -6);
   EXPECT_DOUBLE_EQ(next_wall_hit(a, box).time, 1.5);
+}
+
+// Growing particles (Lubachevsky-Stillinger).
+
+TEST(Growth, WithoutGrowthTheGrowingFunctionsAreThePlainOnesBitForBit) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> u(-3.0, 3.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const Particle<2> a = disk(10 + u(random), 5 + u(random) / 2, u(random), u(random), 0.5, 0.25);
+    const Particle<2> b = disk(10 + u(random), 5 + u(random) / 2, u(random), u(random), 0.3, 0.5);
+    EXPECT_EQ(growing_contact_time(a, b, Vec2{}, 0.0), contact_time(a, b));
+    const WallHit plain = next_wall_hit(a, kBox), grown = growing_wall_hit(a, kBox, 0.0);
+    EXPECT_EQ(plain.time, grown.time);
+    if (plain.time != kNever) {
+      EXPECT_EQ(plain.label, grown.label);
+      Particle<2> p = a, q = a;
+      advance(p, plain.time);
+      advance(q, plain.time);
+      EXPECT_EQ(bounce(p, plain.label, kBox, 1.5), growing_bounce(q, plain.label, kBox, 1.5, 0.0));
+      EXPECT_EQ(p.position, q.position);
+      EXPECT_EQ(p.velocity, q.velocity);
+    }
+  }
+}
+
+TEST(Growth, ParticlesAtRestTouchOnceTheyHaveGrownIntoEachOther) {
+  // Radii 1 growing at rate g: contact distance 2 (1 + g t) = 3 at t = 0.5 / g.
+  const Particle<2> a = disk(2, 5, 0, 0), b = disk(5, 5, 0, 0);
+  EXPECT_DOUBLE_EQ(growing_contact_time(a, b, Vec2{}, 0.01), 50.0);
+  EXPECT_DOUBLE_EQ(grown_radius(1.0, 0.01, 50.0), 1.5);
+}
+
+TEST(Growth, AnOpeningPairMeetsAgainOnlyIfItsGrowthOutrunsIt) {
+  for (const double speed : {0.1, 0.3}) {  // the contact distance grows at 2 x 0.2 = 0.4
+    const Particle<2> a = disk(2, 5, -speed, 0), b = disk(5, 5, speed, 0);
+    const double t = growing_contact_time(a, b, Vec2{}, 0.2);
+    if (2 * speed >= 0.4) {
+      EXPECT_EQ(t, kNever);
+      continue;
+    }
+    // At that time the centres are exactly the grown contact distance apart.
+    const double distance = 3.0 + 2 * speed * t, sigma = grown_radius(2.0, 0.2, t);
+    EXPECT_NEAR(distance, sigma, 1e-12);
+    EXPECT_GT(t, 0.0);
+  }
+  // Far apart and moving apart (r.v > sigma sigma': the gap opens at first), yet slower than the
+  // contact distance grows: they meet at the later root.
+  const Particle<2> a = disk(0, 5, -0.075, 0), b = disk(4, 5, 0.075, 0);  // gap 2, opening
+  const double again = growing_contact_time(a, b, Vec2{}, 0.1);           // sigma' = 0.2
+  EXPECT_NEAR(4.0 + 0.15 * again, grown_radius(2.0, 0.1, again), 1e-12);
+  EXPECT_GT(again, 0.0);
+  // Touching and closing: at once.
+  EXPECT_EQ(growing_contact_time(disk(0, 5, 0.05, 0), disk(2, 5, -0.05, 0), Vec2{}, 0.1), 0.0);
+}
+
+TEST(Growth, ACollisionReversesTheRateAtWhichTheGapCloses) {
+  // Touching disks approaching slower than they grow: afterwards the gap opens as fast as it
+  // closed, in the frame of the moving surfaces, and momentum is kept.
+  Particle<2> a = disk(0, 0, 0.3, 0.2), b = disk(1.2, 1.6, -0.1, -0.4);  // distance 2 = r_a + r_b
+  const Vec2 r = a.position - b.position;
+  const double growth_speed = 0.7, ma = 1.0, mb = 3.0;
+  const auto closing = [&] {
+    return -(dot(a.velocity - b.velocity, r) / std::sqrt(norm2(r)) - growth_speed);
+  };
+  const double before = closing();
+  const Vec2 momentum = ma * a.velocity + mb * b.velocity;
+  collide(a, b, r, Rule::elastic, 1.0, ma, mb, growth_speed);
+  EXPECT_NEAR(closing(), -before, 1e-12);
+  const Vec2 after = ma * a.velocity + mb * b.velocity;
+  EXPECT_NEAR(after[0], momentum[0], 1e-12);
+  EXPECT_NEAR(after[1], momentum[1], 1e-12);
+}
+
+TEST(Growth, AGrowingParticleReachesBothWallsAndLeavesFasterThanItGrows) {
+  // At rest, radius 1 growing at speed 0.1: the nearer wall (x = 0, gap 1) at t = 10.
+  const Particle<2> p = disk(2, 5, 0, 0, 1.0);
+  const WallHit hit = growing_wall_hit(p, kBox, 0.1);
+  EXPECT_DOUBLE_EQ(hit.time, 10.0);
+  EXPECT_EQ(hit.label, -1);
+  Particle<2> q = p;
+  advance(q, hit.time);
+  const double impulse = growing_bounce(q, hit.label, kBox, 2.0, 0.1);
+  EXPECT_DOUBLE_EQ(q.position[0], 2.0);  // on the wall: radius 1 x (1 + 0.1 x 10)
+  EXPECT_DOUBLE_EQ(q.velocity[0], 0.2);  // the gap closed at 0.1; it opens at 0.1
+  EXPECT_DOUBLE_EQ(impulse, 2.0 * 0.2);
+  // Moving away from a wall slower than it grows, it still reaches it.
+  EXPECT_EQ(growing_wall_hit(disk(2, 5, -0.05, 0, 1.0), kBox, 0.1).label, -1);
+  EXPECT_EQ(growing_wall_hit(disk(2, 5, 0.05, 0, 1.0), kBox, 0.1).label, -1);
+  EXPECT_EQ(growing_wall_hit(disk(2, 5, 0.5, 0, 1.0), kBox, 0.1).label, -2);
 }
 
 }  // namespace

@@ -33,6 +33,15 @@ struct EnumNames<EngineKind> {
       {{"fast", EngineKind::fast}, {"reference", EngineKind::reference}}};
 };
 
+// Every radius growing during a run (Lubachevsky-Stillinger compression, see grown_radius): at
+// stored time t a particle's radius is radius x (1 + rate x t). An engine with growth runs only up
+// to stored time `until`: its cell grid and image horizon are sized for the radii then. Rate 0:
+// no growth.
+struct Growth {
+  double rate = 0.0;
+  double until = 0.0;
+};
+
 // Runs a system event by event. Events are processed in the order of EventKey, only the
 // particles involved are moved, and the particles' stored states follow the seed's lazy
 // convention (see Particle). Engines know nothing of end times, frames or measurements: the
@@ -68,9 +77,10 @@ class Engine {
   double stored_time() const { return now_; }
 
  protected:
-  // Throws std::invalid_argument for a periodic box with a side not above two diameters, or
-  // records that do not match the particles (none at all means mass 1 and no history each).
-  Engine(System<D> system, const CollisionRule& rule);
+  // Throws std::invalid_argument for a periodic box with a side not above two diameters (grown
+  // to growth.until), or records that do not match the particles (none at all means mass 1 and
+  // no history each).
+  Engine(System<D> system, const CollisionRule& rule, const Growth& growth);
   // Carries out a collision that is due (at a stored time): moves the particles involved to its
   // time, applies the rule or the wall bounce, updates their records and fills in what it did.
   // Returns the event at its absolute time.
@@ -84,20 +94,29 @@ class Engine {
   Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;
 
   // How long pair predictions made with the images seen at one moment stay right: within this
-  // time no pair can travel far enough to touch through another image. Infinite for walls.
+  // time no pair can travel far enough to touch through another image. Infinite for walls. With
+  // growth, collisions speed particles up, and it shrinks as they do (see fastest_).
   double image_horizon() const;
+  bool growing() const { return growth_.rate != 0.0; }
+  // The largest radius the run can reach (grown to growth.until).
+  double largest_reach() const { return largest_; }
   // For a horizon too short for a double to advance the time at `t`: the run cannot progress.
   [[noreturn]] void throw_too_fast(double t) const;
 
   System<D> system_;
   CollisionRule rule_;
+  Growth growth_;
+  double largest_ = 0.0;  // see largest_reach()
+  // With growth: a bound on every particle's speed so far (collisions between growing particles
+  // add energy, so speed_bound() does not hold); raised after each collision.
+  double fastest_ = 0.0;
   double now_ = 0.0;                 // the stored time of the last processed event
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 };
 
 template <std::size_t D>
-std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system,
-                                       const CollisionRule& rule);
+std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const CollisionRule& rule,
+                                       const Growth& growth = {});
 
 // A particle brought to the stored time t (not before its own), wrapped into a periodic box.
 template <std::size_t D>

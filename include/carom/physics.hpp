@@ -150,6 +150,64 @@ constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
   return contact_time(a, b, Vec<D>{});
 }
 
+// Growing particles (Lubachevsky-Stillinger compression, carom compress): every radius grows
+// linearly in stored time, radius(t) = radius x (1 + rate x t), `radius` being a particle's radius
+// at stored time 0, so that the size ratios are kept. The functions below are the growing twins
+// of next_wall_hit, contact_time, collide and bounce; with rate 0 they give the same times and
+// velocities (the tests check it), but the engines call the plain ones then, which are cheaper.
+inline constexpr double grown_radius(double radius, double rate, double t) {
+  return radius * (1.0 + rate * t);
+}
+
+// The first wall a growing particle reaches. The gap to a wall closes at |v| + its growth speed
+// moving towards the wall, and at its growth speed less |v| moving away, so a particle slower than
+// it grows reaches both walls of an axis; the earlier is taken (ties: the lower |label|, then the
+// lower wall).
+template <std::size_t D>
+constexpr WallHit growing_wall_hit(const Particle<D>& p, const Box<D>& box, double rate) {
+  WallHit hit;
+  if (box.periodic()) return hit;
+  const double radius = grown_radius(p.radius, rate, p.time), growth = p.radius * rate;
+  for (std::size_t k = 0; k < D; ++k) {
+    for (const bool upper : {false, true}) {
+      const double closing = (upper ? p.velocity[k] : -p.velocity[k]) + growth;
+      if (!(closing > 0.0)) continue;
+      const double gap = upper ? (box.size[k] - radius) - p.position[k] : p.position[k] - radius;
+      const double t = p.time + std::max(gap, 0.0) / closing;
+      if (t < hit.time) hit = {t, wall_label(k, upper)};
+    }
+  }
+  return hit;
+}
+
+// When two growing particles first touch: the earliest tau >= 0 with |r + v tau|^2 =
+// (sigma + sigma' tau)^2, sigma the contact distance at t0 and sigma' its growth speed, that is
+// A tau^2 + 2 B tau + C = 0 with A = v^2 - sigma'^2, B = r.v - sigma sigma' (the gap closes while
+// B < 0) and C = |r|^2 - sigma^2. A closing pair that touches or overlaps by round-off collides at
+// once; an opening pair meets again only if the growth outruns it (A < 0), at the positive root.
+// Both roots are taken in their cancellation-free forms.
+template <std::size_t D>
+constexpr double growing_contact_time(const Particle<D>& a, const Particle<D>& b,
+                                      const Vec<D>& offset, double rate) {
+  const double t0 = std::max(a.time, b.time);
+  const Vec<D> r = position_at(a, t0) - position_at(b, t0) - offset;
+  const Vec<D> v = a.velocity - b.velocity;
+  const double sum = a.radius + b.radius;
+  const double sigma = grown_radius(sum, rate, t0), speed = sum * rate;
+  const double quadratic = norm2(v) - speed * speed;
+  const double half_linear = dot(r, v) - sigma * speed;
+  const double c = norm2(r) - sigma * sigma;
+  if (half_linear < 0.0) {
+    if (c <= 0.0) return t0;
+    const double discriminant = half_linear * half_linear - quadratic * c;
+    if (discriminant < 0.0) return kNever;
+    return t0 + c / (-half_linear + std::sqrt(discriminant));
+  }
+  if (!(quadratic < 0.0)) return kNever;
+  const double discriminant = half_linear * half_linear - quadratic * std::max(c, 0.0);
+  return t0 + (half_linear + std::sqrt(discriminant)) / -quadratic;
+}
+
 // How two touching particles change velocity.
 enum class Rule {
   swap,     // the seed's rule: the two whole velocity vectors are exchanged
@@ -179,15 +237,20 @@ struct CollisionRule {
 
 // Applies `rule` to two particles already advanced to their moment of contact; `r` is the
 // separation a - b of the touching image. Returns the collision virial r . (momentum given to a),
-// from which the pressure follows.
+// from which the pressure follows. Growing particles (`growth_speed`, the speed at which their
+// contact distance grows) collide elastically in the frame of their moving surfaces: the rate at
+// which the gap closes is reversed, so the normal relative velocity u becomes 2 growth_speed - u
+// and the pair separates faster than it grows.
 template <std::size_t D>
 constexpr double collide(Particle<D>& a, Particle<D>& b, const Vec<D>& r, Rule rule,
-                         double restitution, double mass_a, double mass_b) {
+                         double restitution, double mass_a, double mass_b,
+                         double growth_speed = 0.0) {
   const Vec<D> before = a.velocity;
   if (rule == Rule::swap) {
     std::swap(a.velocity, b.velocity);
   } else {
-    const double approach = dot(a.velocity - b.velocity, r);
+    double approach = dot(a.velocity - b.velocity, r);
+    if (growth_speed != 0.0) approach -= growth_speed * std::sqrt(norm2(r));
     // Impulse along r, scaled so that the normal relative velocity is reversed and scaled by the
     // restitution.
     const double j = (1.0 + restitution) * approach / ((mass_a + mass_b) * norm2(r));
@@ -206,6 +269,21 @@ constexpr double bounce(Particle<D>& p, int wall, const Box<D>& box, double mass
   p.position[k] = wall_is_upper(wall) ? box.size[k] - p.radius : p.radius;
   p.velocity[k] = -p.velocity[k];
   return 2.0 * mass * std::abs(p.velocity[k]);
+}
+
+// The same for a particle growing at `rate` (see grown_radius), at stored time t: the rate at which
+// the gap to the wall closes is reversed, v + g becoming -(v + g) towards the upper wall (g the
+// growth speed), so the particle leaves the wall faster than it grows.
+template <std::size_t D>
+constexpr double growing_bounce(Particle<D>& p, int wall, const Box<D>& box, double mass,
+                                double rate) {
+  const std::size_t k = wall_axis(wall);
+  const double radius = grown_radius(p.radius, rate, p.time), growth = p.radius * rate;
+  const bool upper = wall_is_upper(wall);
+  p.position[k] = upper ? box.size[k] - radius : radius;
+  const double before = p.velocity[k];
+  p.velocity[k] = upper ? -before - 2.0 * growth : -before + 2.0 * growth;
+  return mass * std::abs(p.velocity[k] - before);
 }
 
 }  // namespace carom
