@@ -78,6 +78,11 @@ class Output {
   std::ostream& stream() { return file_ ? file_->stream() : std::cout; }
   void commit() {
     stop_if_asked("nothing was written");
+    keep();
+  }
+  // Commits even after a stop signal: for a result that is valid however the work ended (the
+  // packing a stopped compression reached).
+  void keep() {
     if (file_) {
       file_->commit();
     } else if (!std::cout.flush()) {

@@ -17,6 +17,7 @@
 #include "carom/classic_input.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
+#include "compress_command.hpp"
 #include "init_command.hpp"
 #include "run_command.hpp"
 #include "view_command.hpp"
@@ -123,9 +124,9 @@ int main(int argc, char** argv) {
   carom run gas.txt 100 --rule elastic --boundary periodic --format json
   carom run gas.txt 20 --dump movie.xyz --every 0.1 && carom view movie.xyz -o movie.html
   carom run gas.txt 40 --boundary periodic --dump run.gsd --every 0.5 && carom analyze run.gsd --html report.html
+  carom compress spheres.txt --jam --boundary periodic -o jammed.txt   grow until jammed (~0.64)
 
-Run 'carom run --help', 'carom init --help', 'carom view --help' or 'carom analyze --help' for each
-command's options.)");
+Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command's options.)");
 
   RunArguments run_args;
   InitArguments init_args;
@@ -135,6 +136,8 @@ command's options.)");
   CLI::App* view = add_view_command(app, view_args);
   AnalyzeArguments analyze_args;
   CLI::App* analyze = add_analyze_command(app, analyze_args);
+  CompressArguments compress_args;
+  CLI::App* compress = add_compress_command(app, compress_args);
 
   if (argc <= 1) {
     std::cout << app.help();
@@ -142,7 +145,7 @@ command's options.)");
   }
   // The command named on the line, for messages (the parser may fail before it knows).
   CLI::App* named = nullptr;
-  for (CLI::App* command : {run, init, view, analyze}) {
+  for (CLI::App* command : {run, init, view, analyze, compress}) {
     if (command->get_name() == argv[1]) named = command;
   }
   const std::string usage = named != nullptr ? "carom " + named->get_name() : "carom";
@@ -155,13 +158,15 @@ command's options.)");
     return kUsageError;
   }
 
-  // Only a run has state worth saving on a signal; init and view stop at once, as any program.
-  if (run->parsed()) carom::install_stop_handlers(stop_signal());
+  // Only a run and a compression have state worth saving on a signal; the others stop at once,
+  // as any program.
+  if (run->parsed() || compress->parsed()) carom::install_stop_handlers(stop_signal());
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
     if (view->parsed()) view_command(view_args);
     if (analyze->parsed()) analyze_command(analyze_args);
+    if (compress->parsed()) compress_command(compress_args);
     return 0;
   } catch (const Interrupted& e) {
     std::cerr << "carom: " << e.what() << '\n';

@@ -1,0 +1,27 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "carom/compression.hpp"
+#include "carom/system.hpp"
+
+namespace carom::cli {
+
+struct CompressArguments {
+  std::string input;
+  double target = 0.0;
+  bool jam = false;
+  Boundary boundary = Boundary::walls;
+  CompressionSettings settings;
+  std::string output;
+  std::string summary;
+  bool quiet = false;
+};
+
+// Declares `carom compress` on `app`, filling `args` when parsed.
+CLI::App* add_compress_command(CLI::App& app, CompressArguments& args);
+
+void compress_command(CompressArguments args);
+
+}  // namespace carom::cli
