@@ -28,7 +28,7 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
 An analysis that does not apply is left out with the reason on standard error. A summary goes to
 standard output, the whole result to -o FILE.json, the report page to --html FILE.html.
 
-Example (a fluid of disks at packing 0.5, its Z near 4.45):
+Example (a fluid of disks at packing 0.5, its Z near 4.1):
   carom init --n 1000 --phi 0.5 --boundary periodic --seed 1 -o gas.txt
   carom run gas.txt 40 --rule elastic --boundary periodic --dump run.gsd --every 0.5 \
       --log run.csv --log-every 0.5 -o end.txt
@@ -97,6 +97,11 @@ void analyze_command(const AnalyzeArguments& args) {
   for (const std::string* path : {&args.output, &args.html}) {
     if (!path->empty() && *path != "-") check_writable(*path);
   }
+  if (!args.output.empty() && args.output == args.html) {
+    throw UsageError(args.output == "-"
+                         ? std::string("-o and --html cannot both write to standard output")
+                         : fmt::format("-o and --html name the same file, {}", args.output));
+  }
   AnalysisOptions options;
   options.from_time = option_number(args.from_time, "--equilibrate", options.from_time);
   options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);
@@ -104,10 +109,9 @@ void analyze_command(const AnalyzeArguments& args) {
   options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
   std::optional<LogTable> log;
   if (!args.log.empty()) log = read_log_table(args.log);
-  const std::vector<Frame> frames = read_trajectory_frames(args.trajectory);
   Analysis analysis;
   try {
-    analysis = analyze(frames, args.trajectory, options);
+    analysis = analyze(read_trajectory_frames(args.trajectory), args.trajectory, options);
   } catch (const std::invalid_argument& e) {
     throw UsageError(fmt::format("cannot analyse {}: {}", args.trajectory, e.what()));
   }
@@ -115,7 +119,8 @@ void analyze_command(const AnalyzeArguments& args) {
   stop_if_asked("nothing was written");
   for (const std::string& warning : analysis.warnings)
     std::cerr << "carom: note: " << warning << '\n';
-  if (args.output != "-") print_summary(std::cout, analysis);
+  // The summary keeps out of a result written to standard output.
+  if (args.output != "-" && args.html != "-") print_summary(std::cout, analysis);
   if (!args.output.empty()) {
     Output out(args.output);
     write_analysis_json(out.stream(), analysis);

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compares Z from the contact value of g(r) (carom analyze) with the collision virial of the same run.
+"""Compares Z from the contact value of g(r) (carom analyze) with the collision virial of a run.
 
 Regenerates the contact-theorem table in docs/validation.md:
     /usr/bin/python3 scripts/validate_contact.py [--carom build/carom] [--dim 2|3] [--seed 1]
@@ -23,6 +23,7 @@ import sys
 import tempfile
 import time
 
+sys.dont_write_bytecode = True  # no __pycache__ left in scripts/ by the import below
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from validate_eos import henderson, kolafa_labik_malijevsky  # noqa: E402
 
@@ -32,7 +33,9 @@ STATE_POINTS = [(2, 0.30, 4096), (2, 0.50, 4096), (2, 0.65, 4096),
 
 
 def measure(args, dim, n, eta, folder):
-    equilibrate = args.equilibrate if args.equilibrate is not None else (100.0 if dim == 2 else 20.0)
+    equilibrate = args.equilibrate
+    if equilibrate is None:
+        equilibrate = 100.0 if dim == 2 else 20.0
     name = f"{dim}d-{eta}"
     start = os.path.join(folder, f"start-{name}.txt")
     summary = os.path.join(folder, f"summary-{name}.json")
@@ -92,8 +95,9 @@ def main():
                   f"| {contact['Z']:.4f} | {z_virial:.4f} "
                   f"| {100 * (contact['Z'] / z_virial - 1):+.2f}% "
                   f"| {published:.4f} ({name}) | {seconds:.0f} s |", flush=True)
+            change = 100 * (halves[1] / halves[0] - 1)
             line = (f"{dim}D eta {eta:.2f}: virial Z over the first / second half of the window "
-                    f"{halves[0]:.4f} / {halves[1]:.4f} ({100 * (halves[1] / halves[0] - 1):+.2f}%)")
+                    f"{halves[0]:.4f} / {halves[1]:.4f} ({change:+.2f}%)")
             if psi6 is not None:
                 line += f"; mean global |psi6| {psi6:.3f}"
             diagnostics.append(line)

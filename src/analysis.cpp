@@ -45,9 +45,14 @@ class Cells {
     for (std::size_t i = n; i-- > 0;) {  // lists in increasing index order
       std::array<std::int64_t, D> at{};
       for (std::size_t k = 0; k < D; ++k) {
-        // Positions from a float32 file may sit a rounding outside [0, L).
-        at[k] = std::clamp(static_cast<std::int64_t>(std::floor(frame.position[i][k] / width_[k])),
-                           std::int64_t{0}, count_[k] - 1);
+        // A periodic position may be anywhere (a centred box, unwrapped coordinates): its cell
+        // is that of its image in [0, L). Between walls, a float32 rounding may put it just
+        // outside the box.
+        double x = frame.position[i][k];
+        if (frame.periodic) x -= frame.box[k] * std::floor(x / frame.box[k]);
+        const double cell = std::floor(x / width_[k]);
+        at[k] = static_cast<std::int64_t>(
+            std::clamp(std::isfinite(cell) ? cell : 0.0, 0.0, static_cast<double>(count_[k] - 1)));
       }
       cell_of_[i] = at;
       const std::size_t c = index(at);
@@ -232,6 +237,7 @@ TrajectoryShape shape_of(const Frame& frame) {
 Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& options) {
   if (frames.empty()) throw std::invalid_argument("g(r) needs at least one frame");
   const TrajectoryShape shape = shape_of(frames.front());
+  if (shape.particles < 2) throw std::invalid_argument("g(r) needs two particles or more");
   const double d = shape.mean_diameter;
   // Where pair centres can be: the whole box when periodic, the box less a diameter between walls.
   std::vector<double> window = shape.box;
@@ -250,12 +256,14 @@ Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& opti
         "g(r) reaches r = {:g} at most in this box (half its smallest side{}), not {:g}", most,
         shape.periodic ? "" : " less a diameter", r_max));
   }
-  const auto bins = static_cast<std::size_t>(std::floor(r_max / rdf.bin_width * (1.0 + 1e-12)));
-  if (bins < 1 || bins > 10'000'000) {
+  const double bin_count = std::floor(r_max / rdf.bin_width * (1.0 + 1e-12));
+  if (!(bin_count >= 1.0 && bin_count <= 1e7)) {
     throw std::invalid_argument(
-        fmt::format("a bin width of {:g} gives {} bins up to r = {:g} (1 to 10^7)", rdf.bin_width,
-                    bins, r_max));
+        fmt::format("a bin width of {:g} gives {:g} bins up to r = {:g} "
+                    "(1 to 10^7)",
+                    rdf.bin_width, bin_count, r_max));
   }
+  const auto bins = static_cast<std::size_t>(bin_count);
   rdf.r_max = static_cast<double>(bins) * rdf.bin_width;
   std::vector<double> histogram(bins, 0.0);
   for (const Frame& frame : frames) {
@@ -335,18 +343,22 @@ Msd mean_square_displacement(const std::vector<Frame>& frames) {
       if (frames[f].image.size() != n) {
         throw std::invalid_argument(fmt::format(
             "the MSD of a periodic trajectory needs image flags, and frame {} (t = {:g}) has none "
-            "(carom 1.2 and later write them in .gsd, .xyz and .lammpstrj dumps)",
+            "(carom 1.2 and later write them in .gsd and .xyz dumps; HOOMD in every frame of a "
+            "GSD file written with dynamic=['property', 'momentum'])",
             f, frames[f].time));
       }
     }
   }
   const double spacing =
       count > 1 ? (frames.back().time - first.time) / static_cast<double>(count - 1) : 0.0;
+  if (count > 1 && !(spacing > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "the MSD needs frames evenly spaced in time, and these go from t = {:g} to t = {:g}",
+        first.time, frames.back().time));
+  }
   for (std::size_t f = 0; f < count; ++f) {
     const double expected = first.time + static_cast<double>(f) * spacing;
-    if (std::abs(frames[f].time - expected) >
-            1e-6 * std::abs(spacing) + 1e-12 * std::abs(expected) ||
-        (count > 1 && !(spacing > 0.0))) {
+    if (std::abs(frames[f].time - expected) > 1e-6 * spacing + 1e-12 * std::abs(expected)) {
       throw std::invalid_argument(fmt::format(
           "the MSD needs frames evenly spaced in time, and frame {} is at t = {:g}, not {:g}", f,
           frames[f].time, expected));
@@ -363,15 +375,16 @@ Msd mean_square_displacement(const std::vector<Frame>& frames) {
       }
     }
   }
+  // Every lag up to 200 frames; beyond, 100 steps evenly spaced in log up to the longest.
+  constexpr std::size_t kEveryLag = 200;
   std::vector<std::size_t> lags;
-  if (count <= 201) {
-    for (std::size_t lag = 0; lag < count; ++lag) lags.push_back(lag);
-  } else {
-    lags.push_back(0);
-    const double top = std::log(static_cast<double>(count - 1));
-    for (int m = 0; m <= 100; ++m) {
-      const auto lag = static_cast<std::size_t>(std::llround(std::exp(top * m / 100.0)));
-      if (lag > lags.back()) lags.push_back(lag);
+  for (std::size_t lag = 0; lag < count && lag <= kEveryLag; ++lag) lags.push_back(lag);
+  if (count > kEveryLag + 1) {
+    const double from = std::log(static_cast<double>(kEveryLag));
+    const double to = std::log(static_cast<double>(count - 1));
+    for (int m = 1; m <= 100; ++m) {
+      const double lag = std::round(std::exp(from + (to - from) * m / 100.0));
+      if (lag > static_cast<double>(lags.back())) lags.push_back(static_cast<std::size_t>(lag));
     }
   }
   Msd msd;

@@ -13,22 +13,52 @@
 
 namespace carom {
 
-Analysis analyze(const std::vector<Frame>& all, const std::string& name,
-                 const AnalysisOptions& options) {
-  std::vector<Frame> frames;
-  for (const Frame& frame : all) {
-    if (frame.time >= options.from_time) frames.push_back(frame);
+namespace {
+
+// Whether g(r) counts pairs clearly closer than contact (bins wholly below 0.98 d): soft
+// particles, or a diameter the file does not give.
+bool overlapping(const Rdf& rdf, double diameter) {
+  for (std::size_t b = 0; b < rdf.r.size(); ++b) {
+    if (rdf.r[b] + 0.5 * rdf.bin_width <= 0.98 * diameter && rdf.g[b] > 0.0) return true;
   }
+  return false;
+}
+
+}  // namespace
+
+Analysis analyze(std::vector<Frame> frames, const std::string& name,
+                 const AnalysisOptions& options) {
+  if (frames.empty()) throw std::invalid_argument("the trajectory has no frames");
+  // Every frame must share the first one's box: g(r) and the MSD are normalised by it.
+  const Frame& first = frames.front();
+  for (std::size_t f = 1; f < frames.size(); ++f) {
+    const Frame& frame = frames[f];
+    bool same = frame.periodic == first.periodic && frame.dimension == first.dimension &&
+                frame.radius.size() == first.radius.size();
+    for (int k = 0; k < first.dimension; ++k) {
+      same =
+          same && frame.box[static_cast<std::size_t>(k)] == first.box[static_cast<std::size_t>(k)];
+    }
+    if (!same) {
+      throw std::invalid_argument(fmt::format(
+          "frame {} (t = {:g}) has another box than frame 0: carom analyze needs a fixed box", f,
+          frame.time));
+    }
+  }
+  const std::size_t in_file = frames.size();
+  const double last_time = frames.back().time;
+  // A frame written at the time asked for may carry it with a rounding (0.8999999999999999
+  // for 0.9): within a billionth of the time it counts as at it.
+  const double from = options.from_time - 1e-9 * std::max(1.0, std::abs(options.from_time));
+  std::erase_if(frames, [&](const Frame& frame) { return frame.time < from; });
   if (frames.empty()) {
-    throw std::invalid_argument(
-        all.empty() ? std::string("the trajectory has no frames")
-                    : fmt::format("no frame at or after t = {:g} (the last is at t = {:g})",
-                                  options.from_time, all.back().time));
+    throw std::invalid_argument(fmt::format(
+        "no frame at or after t = {:g} (the last is at t = {:g})", options.from_time, last_time));
   }
   Analysis analysis;
   analysis.trajectory = name;
   analysis.shape = shape_of(frames.front());
-  analysis.frames_in_file = all.size();
+  analysis.frames_in_file = in_file;
   for (const Frame& frame : frames) analysis.time.push_back(frame.time);
   const TrajectoryShape& shape = analysis.shape;
 
@@ -37,6 +67,10 @@ Analysis analyze(const std::vector<Frame>& all, const std::string& name,
   if (!shape.monodisperse) {
     analysis.warnings.emplace_back(
         "no contact value: the particles' diameters differ (g(r) mixes every pair of sizes)");
+  } else if (overlapping(analysis.rdf, shape.mean_diameter)) {
+    analysis.warnings.emplace_back(
+        "no contact value: pairs closer than a diameter (by more than 2 %) are counted, so these "
+        "are not hard particles of that diameter");
   } else if (!shape.periodic) {
     analysis.warnings.emplace_back(
         "no Z from the contact value: between walls the fluid is not uniform, so Z = 1 + 2^(D-1) "
@@ -145,17 +179,26 @@ nlohmann::json to_json(const Analysis& a) {
 
 }  // namespace
 
+// Text that is not UTF-8 (a file name in Latin-1, say) is written with replacement characters.
 void write_analysis_json(std::ostream& out, const Analysis& analysis) {
-  out << to_json(analysis).dump(1) << '\n';
+  out << to_json(analysis).dump(1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
 }
 
 void write_report_html(std::ostream& out, const Analysis& analysis) {
   constexpr std::string_view kSlot = "/*CAROM_DATA*/";
   const std::size_t slot = kReportHtml.find(kSlot);
-  // "</" would end the page's script early if a file name held "</script>".
-  std::string data = to_json(analysis).dump();
-  for (std::size_t at = 0; (at = data.find("</", at)) != std::string::npos; at += 3) {
-    data.replace(at, 2, "<\\/");
+  // No "<" reaches the page as such: a file name holding "</script>" or "<!--" would otherwise
+  // end or derail the page's script. JSON reads \u003c as "<".
+  const std::string json =
+      to_json(analysis).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::string data;
+  data.reserve(json.size());
+  for (const char c : json) {
+    if (c == '<') {
+      data += "\\u003c";
+    } else {
+      data += c;
+    }
   }
   out << kReportHtml.substr(0, slot) << data << kReportHtml.substr(slot + kSlot.size());
 }

@@ -54,6 +54,7 @@ enum Chunk : std::uint16_t {
   kBox,
   kDimensions,
   kStep,
+  kPeriodic,
   kTime,
   kN,
   kDiameter,
@@ -66,9 +67,13 @@ enum Chunk : std::uint16_t {
   kChunks
 };
 constexpr std::array<std::string_view, kChunks> kNames = {
-    "configuration/box",  "configuration/dimensions", "configuration/step", "log/time",
-    "particles/N",        "particles/diameter",       "particles/image",    "particles/mass",
-    "particles/position", "particles/typeid",         "particles/types",    "particles/velocity"};
+    "configuration/box",  "configuration/dimensions",
+    "configuration/step", "log/carom/periodic",
+    "log/time",           "particles/N",
+    "particles/diameter", "particles/image",
+    "particles/mass",     "particles/position",
+    "particles/typeid",   "particles/types",
+    "particles/velocity"};
 
 template <class T>
 void put(std::ostream& out, const T& value) {
@@ -160,6 +165,9 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
   chunk(kBox, kFloat, 6, 1, [&] { put(out, box); });
   chunk(kDimensions, kUint8, 1, 1, [&] { put(out, static_cast<std::uint8_t>(D)); });
   chunk(kStep, kUint64, 1, 1, [&] { put(out, index); });
+  // HOOMD's boxes are periodic; carom's may have walls, which its readers take from here.
+  chunk(kPeriodic, kUint8, 1, 1,
+        [&] { put(out, static_cast<std::uint8_t>(system.box.periodic() ? 1 : 0)); });
   chunk(kTime, kDouble, 1, 1, [&] { put(out, t); });
   chunk(kN, kUint32, 1, 1, [&] { put(out, n); });
   chunk(kDiameter, kFloat, n, 1, [&] { put(out, diameter); });
@@ -272,10 +280,12 @@ class GsdReader {
     std::vector<double> data;
     std::uint64_t rows = 0, columns = 0;
   };
-  std::optional<Values> values(const std::string& name, std::uint64_t frame) {
+  // `or_frame_zero` false: nullopt when the frame itself lacks the chunk.
+  std::optional<Values> values(const std::string& name, std::uint64_t frame,
+                               bool or_frame_zero = true) {
     const auto id = ids_.find(name);
     if (id == ids_.end()) return std::nullopt;
-    for (const std::uint64_t in_frame : {frame, std::uint64_t{0}}) {
+    for (const std::uint64_t in_frame : {frame, or_frame_zero ? std::uint64_t{0} : frame}) {
       // The entries are sorted by frame.
       const auto first = std::partition_point(
           entries_.begin(), entries_.end(), [&](const GsdEntry& e) { return e.frame < in_frame; });
@@ -346,13 +356,16 @@ class GsdReader {
 
 // The particles of frame `frame`: the count and every per-particle chunk carom uses, in the
 // schema's shapes (a missing chunk from frame 0, else HOOMD's default), every number checked.
+// Image flags are taken from frame 0 only when `images_from_frame_zero`: HOOMD writes them in
+// frame 0 alone unless asked, and frame 0's flags are not a later frame's (`has_image` false then).
 struct FrameChunks {
   std::uint64_t n = 0;
   std::vector<double> position, velocity, diameter, mass;
   std::vector<std::array<std::int32_t, 3>> image;
+  bool has_image = true;
 };
 
-FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
+FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_from_frame_zero) {
   const auto n_values = gsd.values("particles/N", frame);
   const double count = n_values && n_values->data.size() == 1 ? n_values->data[0] : 0.0;
   if (!(count >= 1.0 && count <= static_cast<double>(kMostElements)) ||
@@ -363,8 +376,8 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
   FrameChunks chunks;
   const auto n = chunks.n = static_cast<std::uint64_t>(count);
   const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
-                          bool required) {
-    std::optional<GsdReader::Values> v = gsd.values(name, frame);
+                          bool required, bool or_frame_zero = true) {
+    std::optional<GsdReader::Values> v = gsd.values(name, frame, or_frame_zero);
     if (!v) {
       if (required) gsd.fail(fmt::format("frame {} has no {}", frame, name));
       return std::vector<double>(n * columns, fallback);
@@ -372,12 +385,17 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
     if (v->rows != n || v->columns != columns) {
       gsd.fail(fmt::format("{} has {} x {} values for {} particles", name, v->rows, v->columns, n));
     }
-    // Every number as the classic reader checks one (finite, sensible magnitudes), before use.
+    // Every number as the classic reader checks one (finite, sensible magnitudes), before use;
+    // the message is made only for a number that fails.
     for (std::size_t i = 0; i < v->data.size(); ++i) {
       try {
-        check_number(v->data[i], fmt::format("{} of particle {}", name, i / columns));
-      } catch (const std::invalid_argument& e) {
-        gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
+        check_number(v->data[i], std::string());
+      } catch (const std::invalid_argument&) {
+        try {
+          check_number(v->data[i], fmt::format("{} of particle {}", name, i / columns));
+        } catch (const std::invalid_argument& e) {
+          gsd.fail(fmt::format("frame {}: {}", frame, e.what()));
+        }
       }
     }
     return std::move(v->data);
@@ -386,6 +404,8 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
   chunks.velocity = column("particles/velocity", 3, 0.0, false);
   chunks.diameter = column("particles/diameter", 1, 1.0, false);
   chunks.mass = column("particles/mass", 1, 1.0, false);
+  chunks.has_image =
+      images_from_frame_zero || frame == 0 || gsd.values("particles/image", frame, false);
   const std::vector<double> image = column("particles/image", 3, 0.0, false);
   chunks.image.resize(n);
   for (std::size_t i = 0; i < image.size(); ++i) {
@@ -398,8 +418,15 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame) {
   return chunks;
 }
 
-// The dimension and box of frame `frame`, which carom's boxes can be.
-std::pair<int, std::array<double, 3>> read_frame_box(GsdReader& gsd, std::uint64_t frame) {
+// The dimension and box of frame `frame`, which carom's boxes can be; periodic unless carom
+// wrote it for a box with walls (log/carom/periodic = 0).
+struct FrameBox {
+  int dimension = 3;
+  std::array<double, 3> size{};
+  bool periodic = true;
+};
+
+FrameBox read_frame_box(GsdReader& gsd, std::uint64_t frame) {
   const auto dimensions = gsd.values("configuration/dimensions", frame);
   const double dim = dimensions && dimensions->data.size() == 1 ? dimensions->data[0] : 3.0;
   if (dim != 2.0 && dim != 3.0) gsd.fail(fmt::format("{} dimensions", dim));
@@ -414,15 +441,19 @@ std::pair<int, std::array<double, 3>> read_frame_box(GsdReader& gsd, std::uint64
       gsd.fail(fmt::format("box side {} is {}: sides must be positive numbers", k, box[k]));
     }
   }
-  return {static_cast<int>(dim), {box[0], box[1], box[2]}};
+  const auto periodic = gsd.values("log/carom/periodic", frame);
+  return {static_cast<int>(dim),
+          {box[0], box[1], box[2]},
+          !(periodic && periodic->data.size() == 1 && periodic->data[0] == 0.0)};
 }
 
 template <std::size_t D>
-ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const std::array<double, 3>& box) {
-  const FrameChunks chunks = read_frame_chunks(gsd, frame);
+ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const FrameBox& frame_box) {
+  const FrameChunks chunks = read_frame_chunks(gsd, frame, true);
+  const std::array<double, 3>& box = frame_box.size;
   ClassicInput<D> input;
   System<D>& system = input.system;
-  system.box.boundary = Boundary::periodic;
+  system.box.boundary = frame_box.periodic ? Boundary::periodic : Boundary::walls;
   for (std::size_t k = 0; k < D; ++k) system.box.size[k] = box[k];
   for (std::uint64_t i = 0; i < chunks.n; ++i) {
     Particle<D> p;
@@ -456,8 +487,8 @@ AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint6
   if (k >= gsd.frames()) {
     gsd.fail(fmt::format("it has frames 0 to {}, not {}", gsd.frames() - 1, k));
   }
-  const auto [dimension, box] = read_frame_box(gsd, k);
-  if (dimension == 2) return start_from<2>(gsd, k, box);
+  const FrameBox box = read_frame_box(gsd, k);
+  if (box.dimension == 2) return start_from<2>(gsd, k, box);
   return start_from<3>(gsd, k, box);
 }
 
@@ -466,9 +497,10 @@ std::vector<Frame> read_gsd_frames(const std::string& path) {
   std::vector<Frame> frames;
   for (std::uint64_t k = 0; k < gsd.frames(); ++k) {
     Frame f;
-    std::array<double, 3> box{};
-    std::tie(f.dimension, box) = read_frame_box(gsd, k);
-    const FrameChunks chunks = read_frame_chunks(gsd, k);
+    const FrameBox frame_box = read_frame_box(gsd, k);
+    const std::array<double, 3>& box = frame_box.size;
+    f.dimension = frame_box.dimension;
+    const FrameChunks chunks = read_frame_chunks(gsd, k, false);
     if (!frames.empty() &&
         (chunks.n != frames.front().radius.size() || f.dimension != frames.front().dimension)) {
       gsd.fail(fmt::format("frame {} has {} particles in {}D, frame 0 {} in {}D", k, chunks.n,
@@ -481,7 +513,7 @@ std::vector<Frame> read_gsd_frames(const std::string& path) {
              : step && step->data.size() == 1 ? step->data[0]
                                               : static_cast<double>(k);
     if (!std::isfinite(f.time)) gsd.fail(fmt::format("frame {} has time {}", k, f.time));
-    f.periodic = true;
+    f.periodic = frame_box.periodic;
     for (std::size_t c = 0; c < d; ++c) f.box[c] = box[c];
     for (std::uint64_t i = 0; i < chunks.n; ++i) {
       Vec<3> x{}, v{};
@@ -495,9 +527,11 @@ std::vector<Frame> read_gsd_frames(const std::string& path) {
       f.position.push_back(x);
       f.velocity.push_back(v);
       f.radius.push_back(0.5 * chunks.diameter[i]);
-      std::array<std::int32_t, 3> flags = chunks.image[i];
-      for (std::size_t c = d; c < 3; ++c) flags[c] = 0;
-      f.image.push_back(flags);
+      if (chunks.has_image) {
+        std::array<std::int32_t, 3> flags = chunks.image[i];
+        for (std::size_t c = d; c < 3; ++c) flags[c] = 0;
+        f.image.push_back(flags);
+      }
     }
     f.collisions.assign(chunks.n, 0);
     frames.push_back(std::move(f));

@@ -83,6 +83,8 @@ struct Property {
 
 std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
   std::vector<Frame> frames;
+  std::vector<bool>
+      z_periodic_of_frame;  // each frame's pbc along z, checked once the dimension is known
   std::string line;
   std::vector<char> buffer(kMaxLineLength);
   std::size_t number = 0;
@@ -143,9 +145,25 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
         fail("the Lattice must be a rectangular box (Lx 0 0 0 Ly 0 0 0 Lz)");
       }
     }
+    // pbc="T T F" (periodic disks: carom writes z F) or all alike; a slab periodic in some
+    // directions only is not a box carom knows.
+    bool z_periodic = false;
     if (const auto pbc = fields.find("pbc"); pbc != fields.end()) {
-      f.periodic = !pbc->second.empty() && (pbc->second[0] == 'T' || pbc->second[0] == 't');
+      const std::vector<std::string> flags = words(pbc->second);
+      const auto is_true = [](const std::string& flag) {
+        return !flag.empty() && (flag[0] == 'T' || flag[0] == 't');
+      };
+      if (flags.size() != 3 || is_true(flags[0]) != is_true(flags[1])) {
+        fail(
+            fmt::format("pbc=\"{}\": carom's boxes are periodic along x and y alike "
+                        "(pbc=\"T T T\", \"T T F\" or \"F F F\")",
+                        pbc->second));
+      }
+      f.periodic = is_true(flags[0]);
+      z_periodic = is_true(flags[2]);
     }
+    // Without a Time, frames count in whole units, as GSD's steps do.
+    f.time = static_cast<double>(frames.size());
     if (const auto time = fields.find("Time"); time != fields.end()) {
       f.time = value(time->second, "Time");
     }
@@ -242,13 +260,21 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
         f.image.push_back(flags);
       }
     }
+    z_periodic_of_frame.push_back(z_periodic);
     frames.push_back(std::move(f));
   }
   if (frames.empty()) throw InputError(name, number, "no frames");
-  for (Frame& f : frames) {
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    Frame& f = frames[k];
     f.dimension = spheres ? 3 : 2;
     if (spheres && !(f.box[2] > 0.0)) {
       throw InputError(name, 0, "the file holds spheres, but a frame's Lattice has Lz = 0");
+    }
+    if (spheres && z_periodic_of_frame[k] != f.periodic) {
+      throw InputError(name, 0,
+                       fmt::format("frame {} holds spheres in a box periodic along some axes only "
+                                   "(pbc): carom's boxes are periodic along all three or none",
+                                   k));
     }
   }
   return frames;
@@ -258,6 +284,11 @@ std::vector<Frame> read_trajectory_frames(const std::string& path) {
   std::string lowered = path;
   for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (lowered.ends_with(".gsd")) return read_gsd_frames(path);
+  if (lowered.ends_with(".lammpstrj")) {
+    throw InputError(path, 0,
+                     "carom reads .gsd and .xyz trajectories back, not LAMMPS dumps: dump the run "
+                     "to FILE.gsd or FILE.xyz");
+  }
   std::ifstream in = open_input(path);
   return read_xyz_frames(in, path);
 }

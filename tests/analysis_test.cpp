@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "carom/classic_input.hpp"
+#include "carom/gsd.hpp"
 #include "carom/initial.hpp"
 #include "carom/simulation.hpp"
 #include "carom/trajectory.hpp"
@@ -164,10 +165,31 @@ TEST(Rdf, ContactIsABinEdgeByDefault) {
   EXPECT_DOUBLE_EQ(radial_distribution({small}).r_max, 3.0);  // half the smallest side
 }
 
+TEST(Rdf, PeriodicPositionsOutsideTheBoxCountAsTheirImages) {
+  // A centred box (HOOMD's), or unwrapped coordinates: the same pairs as in [0, L).
+  Frame f = ideal_gas(2, 400, {{20, 20, 1}}, true, 9), shifted = f;
+  for (std::size_t i = 0; i < f.position.size(); ++i) {
+    shifted.position[i][0] -= 10.0 + 20.0 * static_cast<double>(i % 3);
+    shifted.position[i][1] += 20.0 * static_cast<double>(i % 5);
+  }
+  const Rdf a = radial_distribution({f}, {0.1, 5.0}),
+            b = radial_distribution({shifted}, {0.1, 5.0});
+  for (std::size_t bin = 0; bin < a.g.size(); ++bin) {
+    // Shifted positions round differently: a pair at a bin's edge may change bins.
+    EXPECT_NEAR(a.g[bin], b.g[bin], 0.05 * a.g[bin] + 1e-3) << "bin " << bin;
+  }
+}
+
+TEST(Rdf, NeedsTwoParticles) {
+  EXPECT_THROW(radial_distribution({ideal_gas(2, 1, {{10, 10, 1}}, true, 3)}),
+               std::invalid_argument);
+}
+
 TEST(Rdf, ARangeBeyondHalfTheBoxIsRefused) {
   const Frame f = ideal_gas(2, 100, {{10, 10, 1}}, true, 3);
   EXPECT_THROW(radial_distribution({f}, {0.02, 6.0}), std::invalid_argument);
-  EXPECT_THROW(radial_distribution({f}, {1e-9, 5.0}), std::invalid_argument);  // 5e9 bins
+  EXPECT_THROW(radial_distribution({f}, {1e-9, 5.0}), std::invalid_argument);   // 5e9 bins
+  EXPECT_THROW(radial_distribution({f}, {1e-30, 5.0}), std::invalid_argument);  // 5e30 bins
   const Frame walled = ideal_gas(2, 100, {{10, 10, 1}}, false, 3);
   EXPECT_THROW(radial_distribution({walled}, {0.02, 4.6}), std::invalid_argument);
 }
@@ -229,16 +251,16 @@ TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
   EXPECT_THROW(mean_square_displacement(uneven), std::invalid_argument);
 }
 
-TEST(Msd, LongTrajectoriesUseLogSpacedLags) {
+TEST(Msd, EveryLagUpTo200FramesThenLogSpacedLags) {
   std::vector<Frame> frames(1000);
   for (std::size_t f = 0; f < frames.size(); ++f) {
     frames[f].time = static_cast<double>(f);
     frames[f].position = {{{0.01 * static_cast<double>(f), 0, 0}}};
   }
   const Msd msd = mean_square_displacement(frames);
-  EXPECT_GT(msd.t.size(), 50u);
-  EXPECT_LT(msd.t.size(), 102u);
-  EXPECT_EQ(msd.t.front(), 0.0);
+  ASSERT_GT(msd.t.size(), 250u);
+  EXPECT_LE(msd.t.size(), 301u);
+  for (std::size_t lag = 0; lag <= 200; ++lag) EXPECT_EQ(msd.t[lag], static_cast<double>(lag));
   EXPECT_EQ(msd.t.back(), 999.0);
   for (std::size_t m = 0; m < msd.t.size(); ++m) {
     EXPECT_NEAR(msd.msd[m], 1e-4 * msd.t[m] * msd.t[m], 1e-9);
@@ -354,6 +376,92 @@ TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
     }
   }
   std::filesystem::remove_all(folder);
+}
+
+TEST(TrajectoryReader, AGsdDumpOfAWalledRunIsReadWithWalls) {
+  const auto folder = std::filesystem::temp_directory_path() / "carom_walled_gsd_test";
+  std::filesystem::create_directories(folder);
+  InitialOptions init;
+  init.n = 30;
+  init.packing_fraction = 0.3;
+  const System<2> start = make_initial<2>(init);  // walls
+  const std::string path = (folder / "walls.gsd").string();
+  {
+    std::ofstream out(path, std::ios::binary);
+    Simulation<2> simulation(start, Settings{{Rule::elastic}});
+    simulation.add_observer(
+        std::make_shared<FrameWriter<2>>(out, trajectory_format_for<2>(path), 0.5));
+    simulation.run_until(2.0);
+  }
+  const std::vector<Frame> frames = read_gsd_frames(path);
+  ASSERT_EQ(frames.size(), 5u);
+  for (const Frame& f : frames) EXPECT_FALSE(f.periodic);
+  const AnyClassicInput again = read_gsd_start(path, 0);
+  EXPECT_EQ(std::get<ClassicInput<2>>(again).system.box.boundary, Boundary::walls);
+  // Walls: no Z from the contact value, said why.
+  const Analysis analysis = analyze(frames, "walls.gsd");
+  EXPECT_FALSE(analysis.contact);
+  EXPECT_NE(analysis.warnings.front().find("between walls"), std::string::npos);
+  std::filesystem::remove_all(folder);
+}
+
+TEST(Analyze, RefusesFramesOfDifferentBoxes) {
+  Frame big = ideal_gas(2, 50, {{40, 40, 1}}, true, 1),
+        small = ideal_gas(2, 50, {{20, 20, 1}}, true, 2);
+  small.time = 1.0;
+  EXPECT_THROW(analyze({big, small}, "npt.gsd"), std::invalid_argument);
+  Frame walls = big;
+  walls.periodic = false;
+  walls.time = 1.0;
+  EXPECT_THROW(analyze({big, walls}, "mixed.xyz"), std::invalid_argument);
+}
+
+TEST(Analyze, AFrameWrittenAtTheEquilibrationTimeWithARoundingCounts) {
+  std::vector<Frame> frames;
+  for (int f = 0; f < 4; ++f) {
+    frames.push_back(ideal_gas(2, 20, {{10, 10, 1}}, true, static_cast<std::uint32_t>(f)));
+    frames.back().time = 0.3 * f;  // 0.8999999999999999 for f = 3
+  }
+  AnalysisOptions options;
+  options.from_time = 0.9;
+  ASSERT_LT(frames[3].time, 0.9);
+  EXPECT_EQ(analyze(frames, "x.gsd", options).time.size(), 1u);
+  options.from_time = 0.6;
+  EXPECT_EQ(analyze(frames, "x.gsd", options).time.size(), 2u);
+}
+
+TEST(Analyze, OverlappingParticlesGetNoContactValue) {
+  // An ideal gas of particles of diameter 1 overlaps: not hard particles.
+  const Analysis analysis = analyze({ideal_gas(2, 400, {{20, 20, 1}}, true, 4)}, "soft.gsd");
+  EXPECT_FALSE(analysis.contact);
+  EXPECT_NE(analysis.warnings.front().find("not hard particles"), std::string::npos);
+}
+
+TEST(Analyze, AnyNameIsSafeInTheJsonAndThePage) {
+  Analysis analysis =
+      analyze({ideal_gas(2, 40, {{10, 10, 1}}, true, 4)}, "caf\xe9</script><!--<script>.gsd");
+  std::ostringstream json, html;
+  EXPECT_NO_THROW(write_analysis_json(json, analysis));
+  write_report_html(html, analysis);
+  const std::string page = html.str();
+  // The data holds no "<": the name's markup cannot end or derail the page's script.
+  const std::size_t at = page.find("caf");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_EQ(page.find("</script><!--", at), std::string::npos);
+  EXPECT_NE(page.find("\\u003c/script>\\u003c!--", at), std::string::npos);
+}
+
+TEST(TrajectoryReader, XyzWithoutTimeCountsFramesAndPbcMustBeABox) {
+  const std::string frame = "2\nLattice=\"4 0 0 0 4 0 0 0 1\" pbc=\"T T F\"\nH 1 1 0\nH 2 2 0\n";
+  std::istringstream two(frame + frame);
+  const std::vector<Frame> frames = read_xyz_frames(two, "t.xyz");
+  EXPECT_EQ(frames[0].time, 0.0);
+  EXPECT_EQ(frames[1].time, 1.0);
+  EXPECT_TRUE(frames[0].periodic);
+  std::istringstream slab("2\nLattice=\"4 0 0 0 4 0 0 0 1\" pbc=\"T F F\"\nH 1 1 0\nH 2 2 0\n");
+  EXPECT_THROW(read_xyz_frames(slab, "slab.xyz"), InputError);
+  std::istringstream spheres("2\nLattice=\"4 0 0 0 4 0 0 0 4\" pbc=\"T T F\"\nH 1 1 1\nH 2 2 2\n");
+  EXPECT_THROW(read_xyz_frames(spheres, "spheres.xyz"), InputError);
 }
 
 TEST(LogTable, ReadsACaromLogAndNamesTheLineOfAnError) {

@@ -970,10 +970,13 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
   // test watches the requests themselves).
   EXPECT_EQ(html.find("https:"), std::string::npos);
   EXPECT_EQ(html.find("src=\"http"), std::string::npos);
-  // -o - puts the JSON alone on standard output.
+  // -o - puts the JSON alone on standard output, --html - the page.
   const Result to_stdout = carom({"analyze", movie, "-o", "-"});
   ASSERT_EQ(to_stdout.exit_code, 0) << to_stdout.err;
   EXPECT_EQ(nlohmann::json::parse(to_stdout.out)["particles"], 200);
+  const Result page_to_stdout = carom({"analyze", movie, "--html", "-"});
+  ASSERT_EQ(page_to_stdout.exit_code, 0) << page_to_stdout.err;
+  EXPECT_EQ(page_to_stdout.out.rfind("<!", 0), 0u) << page_to_stdout.out.substr(0, 80);
 
   // What does not apply is left out, with the reason: the MSD of a periodic .xyz without
   // image flags.
@@ -998,15 +1001,109 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
       {{"analyze", movie.string(), "--equilibrate", "6"}, "no frame at or after t = 6"},
       {{"analyze", movie.string(), "--log", write("bad.csv", "time,Z\n1\n").string()},
        "bad.csv:2: expected 2 fields, found 1"},
-      {{"analyze", movie.string(), "-o", (dir_ / "no/such/folder.json").string()}, "no folder"}};
+      {{"analyze", movie.string(), "-o", (dir_ / "no/such/folder.json").string()}, "no folder"},
+      {{"analyze", write("run.lammpstrj", "ITEM: TIMESTEP\n0\n").string()}, "not LAMMPS dumps"},
+      {{"analyze", movie.string(), "-o", "-", "--html", "-"}, "cannot both write to standard"},
+      {{"analyze", movie.string(), "-o", (dir_ / "x").string(), "--html", (dir_ / "x").string()},
+       "name the same file"}};
   for (const auto& [args, message] : bad) {
     std::vector<std::string> with_output = args;
-    with_output.insert(with_output.end(), {"--html", (dir_ / "bad.html").string()});
+    if (std::find(args.begin(), args.end(), "--html") == args.end()) {
+      with_output.insert(with_output.end(), {"--html", (dir_ / "bad.html").string()});
+    }
     const Result r = carom(with_output);
     EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad.html"));
   }
+}
+
+TEST_F(Cli, CompressWritesAStartThatRunsAndRefusesWhatCannotBe) {
+  const fs::path start = dir_ / "gas.txt", dense = dir_ / "dense.txt", summary = dir_ / "s.json";
+  ASSERT_EQ(carom({"init", "--n", "300", "--phi", "0.3", "--polydispersity", "0.1", "--boundary",
+                   "periodic", "-o", start})
+                .exit_code,
+            0);
+  const Result ok = carom({"compress", start, "--phi", "0.75", "--boundary", "periodic", "-o",
+                           dense, "--summary", summary});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const nlohmann::json s = nlohmann::json::parse(read_file(summary));
+  EXPECT_EQ(s["status"], "reached_target");
+  EXPECT_NEAR(s["packing_fraction"].get<double>(), 0.75, 1e-13);
+  EXPECT_EQ(s["n"], 300);
+  EXPECT_GT(s["events"].get<std::uint64_t>(), 0u);
+  // The packing runs as it is, checked for overlaps as it goes.
+  const Result run = carom({"run", dense, "5", "--rule", "elastic", "--boundary", "periodic",
+                            "--check", "--summary", dir_ / "run.json", "-o", dir_ / "end.txt"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NEAR(nlohmann::json::parse(read_file(dir_ / "run.json"))["packing_fraction"].get<double>(),
+              0.75, 1e-13);
+  // Jammed disks between walls: a valid start too.
+  const fs::path walls = dir_ / "walls.txt", jammed = dir_ / "jammed.txt";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--polydispersity", "0.2", "-o", walls})
+                .exit_code,
+            0);
+  const Result jam =
+      carom({"compress", walls, "--jam", "--rate", "0.1", "-o", jammed, "--summary", summary});
+  ASSERT_EQ(jam.exit_code, 0) << jam.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(summary))["status"], "jammed");
+  EXPECT_EQ(
+      carom({"run", jammed, "1", "--rule", "elastic", "--check", "-o", dir_ / "e.txt"}).exit_code,
+      0);
+
+  // Unequal disks may pass the close packing of equal ones: a target they cannot reach ends
+  // jammed, exit 1, the jammed packing kept.
+  const Result short_of = carom({"compress", start, "--phi", "0.95", "--boundary", "periodic",
+                                 "--rate", "0.1", "-o", dir_ / "short.txt"});
+  EXPECT_EQ(short_of.exit_code, 1) << short_of.err;
+  EXPECT_NE(short_of.err.find("jammed at packing fraction"), std::string::npos) << short_of.err;
+  EXPECT_TRUE(fs::exists(dir_ / "short.txt"));
+
+  const fs::path mono = dir_ / "mono.txt";
+  ASSERT_EQ(
+      carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", mono}).exit_code,
+      0);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{"compress", mono.string(), "--phi", "0.95", "--boundary", "periodic"}, "close packing"},
+      {{"compress", start.string(), "--phi", "0.2", "--boundary", "periodic"}, "not above"},
+      {{"compress", start.string(), "--phi", "0.7", "--jam"}, "excludes"},
+      {{"compress", start.string(), "--boundary", "periodic"}, "give --phi TARGET or --jam"},
+      {{"compress", start.string(), "--jam", "--rate", "-1", "--boundary", "periodic"},
+       "growth rate must be a positive number"},
+      {{"compress", write("overlap.txt", "2\n0.5\n10 10\n5 5 1 0\n5.5 5 -1 0\n").string(), "--jam"},
+       "overlap"},
+      {{"compress", (dir_ / "missing.txt").string(), "--jam"}, "missing.txt"}};
+  for (const auto& [args, message] : bad) {
+    std::vector<std::string> with_output = args;
+    with_output.insert(with_output.end(), {"-o", (dir_ / "bad.txt").string()});
+    const Result r = carom(with_output);
+    EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir_ / "bad.txt"));
+  }
+}
+
+TEST_F(Cli, CtrlCKeepsThePackingACompressionHasReached) {
+  const fs::path start = dir_ / "gas.txt", out = dir_ / "so_far.txt", summary = dir_ / "s.json";
+  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "20000", "--phi", "0.3", "--boundary", "periodic",
+                   "-o", start})
+                .exit_code,
+            0);
+  const pid_t pid = spawn({"compress", start.string(), "--jam", "--rate", "0.001", "--boundary",
+                           "periodic", "-o", out.string(), "--summary", summary.string()});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(finish(pid), 130);
+  const std::string err = read_file(dir_ / "stderr");
+  EXPECT_NE(err.find("the packing so far"), std::string::npos) << err;
+  const nlohmann::json s = nlohmann::json::parse(read_file(summary));
+  EXPECT_EQ(s["status"], "interrupted");
+  EXPECT_GT(s["packing_fraction"].get<double>(), 0.3);
+  const Result run = carom({"run", out, "0.1", "--rule", "elastic", "--boundary", "periodic",
+                            "--check", "--summary", dir_ / "run.json", "-o", dir_ / "end.txt"});
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(dir_ / "run.json"))["packing_fraction"],
+            s["packing_fraction"]);
 }
 
 TEST_F(Cli, CheckedRunsFindNothingWrong) {

@@ -99,9 +99,10 @@ struct Analysis {
   std::vector<std::string> warnings;
 };
 
-// Analyses the frames of the trajectory named `name` from options.from_time on. Throws
-// std::invalid_argument when no frame is left, or for options the trajectory cannot have.
-Analysis analyze(const std::vector<Frame>& frames, const std::string& name,
+// Analyses the frames of the trajectory named `name` from options.from_time on (a frame within a
+// billionth of that time counts as at it). Throws std::invalid_argument when no frame is left,
+// when the frames do not share one box, or for options the trajectory cannot have.
+Analysis analyze(std::vector<Frame> frames, const std::string& name,
                  const AnalysisOptions& options = {});
 
 // The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,

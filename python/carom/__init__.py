@@ -34,7 +34,7 @@ from . import _carom
 from ._carom import InputError, JamError
 
 __version__ = _carom.__version__
-__all__ = ["Simulation", "read", "init", "resume", "analyze", "InputError", "JamError",
+__all__ = ["Simulation", "read", "init", "resume", "compress", "analyze", "InputError", "JamError",
            "__version__"]
 
 def _float_array(name, value, shape=None):
@@ -327,6 +327,25 @@ def init(n, phi, seed=1, dim=2, boundary="walls", rule="swap", box=None, aspect=
         _choice("placement", placement, ("auto", "random", "lattice")), _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES)))
+
+
+def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12):
+    """`carom compress` of sim's particles at sim.time: a new Simulation (sim's rule, restitution,
+    tc and engine; time 0) and a summary dict (status, packing_fraction, reduced_pressure, rate,
+    time, events). sim is left as it was.
+
+    Every radius grows as r(t) = r(0) (1 + rate t), size ratios kept, while the particles move and
+    collide (Lubachevsky-Stillinger); the velocities are rescaled to kT every N collisions. Give
+    phi (stop exactly at that packing fraction) or jam=True (grow until the reduced pressure
+    passes jam_pressure). Impossible requests (phi beyond close packing, overlapping particles)
+    raise ValueError; Ctrl-C raises KeyboardInterrupt.
+    """
+    if (phi is None) == (not _flag("jam", jam)):
+        raise ValueError("give phi (a packing fraction to stop at) or jam=True, not both")
+    core, summary = sim._core.compress(
+        None if phi is None else _number("phi", phi), _number("rate", rate), _number("kT", kT),
+        _number("jam_pressure", jam_pressure))
+    return Simulation._wrap(core), summary
 
 
 def resume(path):

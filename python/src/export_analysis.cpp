@@ -29,12 +29,16 @@ void export_analysis(py::module_& m) {
           options.from_time = equilibrate;
           options.rdf = {bin_width, r_max};
           options.contact_width = contact_width;
+          // What can fail at once does so before the work, as on the command line.
+          std::optional<LogTable> table;
+          if (log) table = read_log_table(*log);
+          std::optional<AtomicFile> page;
+          if (html) page.emplace(*html);
           Analysis analysis = analyze(read_trajectory_frames(trajectory), trajectory, options);
-          if (log) analysis.log = read_log_table(*log);
-          if (html) {
-            AtomicFile page(*html);
-            write_report_html(page.stream(), analysis);
-            page.commit();
+          analysis.log = std::move(table);
+          if (page) {
+            write_report_html(page->stream(), analysis);
+            page->commit();
           }
           std::ostringstream out;
           write_analysis_json(out, analysis);

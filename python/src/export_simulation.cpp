@@ -85,6 +85,18 @@ void export_simulation(py::module_& m) {
       .def_static("resume", &PythonSimulation::resume, "path"_a)
       .def("run", &PythonSimulation::run, "t"_a, "dump"_a, "every"_a, "collisions"_a)
       .def("collisions", &PythonSimulation::collisions)
+      .def(
+          "compress",
+          [](const PythonSimulation& self, std::optional<double> target, double rate,
+             double temperature, double jammed_pressure) {
+            CompressionSettings settings;
+            settings.target = target;
+            settings.rate = rate;
+            settings.temperature = temperature;
+            settings.jammed_pressure = jammed_pressure;
+            return self.compress(settings);
+          },
+          "phi"_a, "rate"_a, "kT"_a, "jam_pressure"_a)
       .def_property_readonly("time", &PythonSimulation::time)
       .def_property_readonly("events", &PythonSimulation::events)
       .def_property_readonly("n", &PythonSimulation::size)

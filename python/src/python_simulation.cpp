@@ -264,6 +264,47 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
   wall_seconds_ += elapsed();
 }
 
+std::pair<PythonSimulation, py::dict> PythonSimulation::compress(
+    const CompressionSettings& settings) const {
+  return std::visit(
+      [&](const auto& simulation) -> std::pair<PythonSimulation, py::dict> {
+        using Sim = std::remove_cvref_t<decltype(simulation)>;
+        constexpr std::size_t D = std::remove_cvref_t<decltype(simulation.state())>::dimension;
+        System<D> start = simulation.state();
+        start.particles = simulation.snapshot();
+        for (Particle<D>& p : start.particles) p.time = 0.0;
+        start.epoch = 0.0;
+        Compression<D> compression(std::move(start), settings);
+        const bool main_thread = py::module_::import("threading")
+                                     .attr("current_thread")()
+                                     .is(py::module_::import("threading").attr("main_thread")());
+        while (compression.status() == CompressionStatus::running) {
+          {
+            const InterruptHandler handler(main_thread);
+            py::gil_scoped_release release;
+            compression.run(compression.system().size());
+          }
+          if (main_thread && interrupt_signal.load() != 0) {
+            std::raise(SIGINT);
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+          }
+        }
+        py::dict summary;
+        summary["status"] =
+            compression.status() == CompressionStatus::jammed ? "jammed" : "reached_target";
+        summary["packing_fraction"] = compression.packing_fraction();
+        summary["reduced_pressure"] = compression.reduced_pressure();
+        summary["rate"] = settings.rate;
+        summary["time"] = compression.time();
+        summary["events"] = compression.events();
+        return {PythonSimulation(AnySimulation(std::in_place_type<Sim>, compression.system(),
+                                               simulation.settings()),
+                                 source_),
+                summary};
+      },
+      simulation_);
+}
+
 py::array PythonSimulation::collisions() {
   // A structured array: time (float64), i and j (int64; j < 0 is a wall label).
   py::list fields;

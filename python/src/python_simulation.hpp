@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "carom/compression.hpp"
 #include "carom/formats.hpp"
 #include "carom/initial.hpp"
 #include "carom/simulation.hpp"
@@ -56,6 +57,10 @@ class PythonSimulation {
   void run(double t, const std::optional<std::string>& dump, double every, bool collisions);
   // The collisions logged since the last drain, as a structured array (time, i, j).
   py::array collisions();
+  // A new simulation (the same settings, time 0) of this one's particles at time() compressed
+  // as carom compress does, and its summary; the GIL is released while it works, and
+  // Ctrl-C raises KeyboardInterrupt within a stretch of N events, leaving this one whole.
+  std::pair<PythonSimulation, py::dict> compress(const CompressionSettings& settings) const;
 
   double time() const;
   std::uint64_t events() const;

@@ -1,0 +1,81 @@
+"""carom.compress: the command line's `carom compress`, bit for bit, and packings checked for
+overlaps independently (numpy, every pair by minimum image)."""
+
+import numpy as np
+import pytest
+
+import carom
+
+
+def overlaps(sim):
+    """The largest overlap of any pair, relative to its contact distance (negative: none)."""
+    x, r, box = sim.positions, sim.radii, sim.box
+    i, j = np.triu_indices(sim.n, 1)
+    delta = x[i] - x[j]
+    if sim.boundary == "periodic":
+        delta -= box * np.rint(delta / box)
+    distance = np.sqrt(np.sum(delta ** 2, axis=1))
+    contact = r[i] + r[j]
+    return np.max((contact - distance) / contact)
+
+
+def outside_walls(sim):
+    """How far any particle reaches through a wall (negative: none)."""
+    if sim.boundary == "periodic":
+        return -1.0
+    x, r = sim.positions, sim.radii[:, None]
+    return max(np.max(r - x), np.max(x + r - sim.box))
+
+
+CASES = {
+    "2d-periodic-poly-phi": (dict(n=200, phi=0.3, polydispersity=0.1, boundary="periodic"),
+                             dict(phi=0.78)),
+    "2d-walls-jam": (dict(n=120, phi=0.3, polydispersity=0.2), dict(jam=True, rate=0.1)),
+    "3d-periodic-jam": (dict(dim=3, n=100, phi=0.3, boundary="periodic"), dict(jam=True, rate=0.1)),
+    "3d-walls-phi": (dict(dim=3, n=150, phi=0.2), dict(phi=0.5)),
+}
+
+
+@pytest.mark.parametrize("init,options", CASES.values(), ids=CASES.keys())
+def test_compress_equals_cli_compress_and_overlaps_nothing(cli, tmp_path, init, options):
+    sim = carom.init(rule="elastic", **init)
+    dense, summary = carom.compress(sim, **options)
+    assert sim.time == 0 and dense.time == 0 and dense.n == sim.n
+    if "phi" in options:
+        assert summary["status"] == "reached_target"
+        assert abs(summary["packing_fraction"] - options["phi"]) < 1e-13
+    else:
+        assert summary["status"] == "jammed" and summary["reduced_pressure"] > 1e12
+    # No overlap, checked without carom; size ratios kept.
+    assert overlaps(dense) < 1e-12
+    assert outside_walls(dense) < 1e-12
+    ratio = dense.radii / sim.radii
+    assert np.allclose(ratio, ratio[0], rtol=1e-13)
+    # The command line gives the same packing, bit for bit.
+    start, out = tmp_path / "start.txt", tmp_path / "out.txt"
+    args = ["--dim", init.get("dim", 2), "--n", init["n"], "--phi", init["phi"],
+            "--polydispersity", init.get("polydispersity", 0),
+            "--boundary", init.get("boundary", "walls")]
+    cli("init", *args, "-o", start)
+    flags = (["--phi", options["phi"]] if "phi" in options else ["--jam"]) + \
+        ["--rate", options.get("rate", 0.01)]
+    cli("compress", start, *flags, "--boundary", init.get("boundary", "walls"), "-o", out)
+    from_cli = carom.read(out, boundary=init.get("boundary", "walls"))
+    assert np.array_equal(from_cli.positions, dense.positions)
+    assert np.array_equal(from_cli.radii, dense.radii)
+    assert np.array_equal(from_cli.velocities, dense.velocities)
+    # It runs on.
+    dense.run(0.5)
+    assert dense.events > 0
+
+
+def test_compress_refuses_what_cannot_be_done():
+    sim = carom.init(n=100, phi=0.3, boundary="periodic")
+    with pytest.raises(ValueError, match="close packing"):
+        carom.compress(sim, phi=0.95)
+    with pytest.raises(ValueError, match="phi .* or jam=True"):
+        carom.compress(sim)
+    with pytest.raises(ValueError, match="phi .* or jam=True"):
+        carom.compress(sim, phi=0.5, jam=True)
+    with pytest.raises(ValueError, match="growth rate"):
+        carom.compress(sim, jam=True, rate=0)
