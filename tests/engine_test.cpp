@@ -275,6 +275,24 @@ TEST(CrossCheck, FastEqualsReferenceWhileGrowing) {
   }
 }
 
+// Regression guard for the growing image horizon: two nearly still disks in a periodic box of
+// two cells collide and leave at the speed of their growth, 400 times their own; they next meet
+// around the box, through the other image, at t = 1.83. Predictions must be renewed on the
+// horizon of the new speeds (the one of the start speeds is 150 time units long).
+TEST(CrossCheck, TheImageHorizonShrinksAsGrowthSpeedsParticlesUp) {
+  const System<2> system =
+      boxed({4.2, 4.2}, {disk({1.0, 2.1}, {0.001, 0}, 0.5), disk({2.0, 2.1}, {-0.001, 0}, 0.5)},
+            Boundary::periodic);
+  expect_same_runs(system, {Rule::elastic}, 2.0, 50, "two disks", 0, 0.4);
+  auto fast = make_engine(EngineKind::fast, system, {Rule::elastic}, Growth{0.4, 2.0});
+  const auto first = fast->step(2.0), second = fast->step(2.0);
+  ASSERT_TRUE(first && second);
+  EXPECT_EQ(first->time, 0.0);
+  // They leave at 2 x 0.4 + 0.002 and the contact distance grows at 0.4: 4.2 - 1 - 0.802 t = 1 +
+  // 0.4 t.
+  EXPECT_NEAR(second->time, 2.2 / 1.202, 1e-12);
+}
+
 System<2> periodic(System<2> system) {
   system.box.boundary = Boundary::periodic;
   return system;
