@@ -51,9 +51,12 @@ Event Engine<D>::apply(Event event) {
   ParticleRecord& ra = system_.records[event.first];
   if (event.is_wall()) {
     advance(a, t);
-    event.impulse = growing() ? growing_bounce(a, event.partner, system_.box, ra.mass, growth_.rate)
-                              : bounce(a, event.partner, system_.box, ra.mass);
-    if (growing()) fastest_ = std::max(fastest_, std::sqrt(norm2(a.velocity)) * (1.0 + 1e-9));
+    if (growing()) [[unlikely]] {
+      event.impulse = growing_bounce(a, event.partner, system_.box, ra.mass, growth_.rate);
+      fastest_ = std::max(fastest_, std::sqrt(norm2(a.velocity)) * (1.0 + 1e-9));
+    } else {
+      event.impulse = bounce(a, event.partner, system_.box, ra.mass);
+    }
     ++ra.wall_collisions;
   } else {
     const auto j = static_cast<std::size_t>(event.partner);
@@ -65,12 +68,15 @@ Event Engine<D>::apply(Event event) {
     event.elastic_by_tc = recent && rule_.restitution < 1.0;
     advance(a, t);
     advance(b, t);
-    event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule,
-                            event.elastic_by_tc ? 1.0 : rule_.restitution, ra.mass, rb.mass,
-                            (a.radius + b.radius) * growth_.rate);
-    if (growing()) {
+    const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
+    if (growing()) [[unlikely]] {
+      event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule, restitution, ra.mass,
+                              rb.mass, (a.radius + b.radius) * growth_.rate);
       const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
       fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
+    } else {
+      event.impulse =
+          collide(a, b, separation(a, b, system_.box), rule_.rule, restitution, ra.mass, rb.mass);
     }
     wrap(a.position, system_.box, ra.image);
     wrap(b.position, system_.box, rb.image);

@@ -70,6 +70,16 @@ void FastEngine<D>::shorten_horizon() {
 
 template <std::size_t D>
 void FastEngine<D>::predict(std::uint32_t i) {
+  if (this->growing()) [[unlikely]] {
+    predict_as<true>(i);
+  } else {
+    predict_as<false>(i);
+  }
+}
+
+template <std::size_t D>
+template <bool kGrowing>
+[[gnu::flatten]] void FastEngine<D>::predict_as(std::uint32_t i) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
   const bool periodic = this->system_.box.periodic();
@@ -85,8 +95,8 @@ void FastEngine<D>::predict(std::uint32_t i) {
   };
 
   const double rate = this->growth_.rate;
-  const WallHit hit = this->growing() ? growing_wall_hit(p, this->system_.box, rate)
-                                      : next_wall_hit(p, this->system_.box);
+  const WallHit hit =
+      kGrowing ? growing_wall_hit(p, this->system_.box, rate) : next_wall_hit(p, this->system_.box);
   if (hit.time != kNever) {
     consider({std::max(hit.time, clock_), i, hit.label}, {Kind::wall, hit.label, 0, 0});
   }
@@ -97,8 +107,8 @@ void FastEngine<D>::predict(std::uint32_t i) {
     const Vec<D> offset =
         periodic ? image_offset(here - position_at(particles[j], clock_), this->system_.box)
                  : Vec<D>{};
-    const double t = this->growing() ? growing_contact_time(p, particles[j], offset, rate)
-                                     : contact_time(p, particles[j], offset, best_key.time);
+    const double t = kGrowing ? growing_contact_time(p, particles[j], offset, rate)
+                              : contact_time(p, particles[j], offset, best_key.time);
     if (t == kNever) return;
     consider(pair_event(std::max(t, clock_), i, j),
              {Kind::pair, static_cast<std::int32_t>(j), 0, 0});

@@ -40,6 +40,9 @@ class FastEngine final : public Engine<D> {
 
   // Finds the earliest event of particle i from the current time and queues it.
   void predict(std::uint32_t i);
+  // The same for growing particles or not, chosen once per prediction rather than per partner.
+  template <bool kGrowing>
+  void predict_as(std::uint32_t i);
   // Starts fetching what processing an event of particle i will read first.
   void fetch_ahead(std::uint32_t i) const;
   // Predicts every particle afresh (at the start and at every renewal horizon).
