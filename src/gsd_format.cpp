@@ -260,8 +260,11 @@ class GsdReader {
     for (const GsdEntry& e : all) {
       if (e.location == 0) break;
       const std::uint64_t element = e.type < kTypeSize.size() ? kTypeSize[e.type] : 0;
+      // Every frame has a chunk of its own (its step, at least), so frame numbers stay below the
+      // number of entries: a corrupt huge one would otherwise make up endless empty frames.
       if (element == 0 || e.m == 0 || e.id >= count_ || e.location < 0 ||
-          (!entries_.empty() && e.frame < entries_.back().frame) || e.n > kMostElements ||
+          (!entries_.empty() && e.frame < entries_.back().frame) || e.frame >= capacity ||
+          e.n > kMostElements ||
           e.m > kMostElements / std::max<std::uint64_t>(e.n, 1) ||
           static_cast<std::uint64_t>(e.location) > size_ ||
           e.n * e.m * element > size_ - static_cast<std::uint64_t>(e.location)) {
