@@ -16,6 +16,9 @@ command line's results bit for bit::
     print(sim.observables()["compressibility_factor"])
     sim.save("run.ckpt")                                   # `carom run --resume run.ckpt` reads it
 
+    dense, summary = carom.compress(sim, phi=0.7)          # `carom compress`: growing disks
+    result = carom.analyze("movie.xyz", equilibrate=50)    # `carom analyze`: g(r), MSD, psi6
+
 Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the module is built for.
 Bad arguments raise ``ValueError`` with the command line's messages; a broken file raises
 ``carom.InputError`` (a ``ValueError``) naming the file and line; a run that cannot go on (jammed
