@@ -3,13 +3,14 @@
 
 Regenerates the compression table in docs/validation.md:
     /usr/bin/python3 scripts/validate_compress.py [--carom build/carom] [--quick] [--jobs 1]
+(the default takes about 14 minutes on 2 cores; --rates, --seeds, --slow-rates ... to vary)
 Three systems, each grown with `carom compress --jam` (Z = PV/NkT past 1e12) in a periodic box
 from a random start (random sequential addition, kT = 1):
   * 3D equal spheres, N = 1000 (--n3), at several growth rates (--rates) and seeds (--seeds), from
     phi = 0.2: phi_J against Skoge, Donev, Stillinger and Torquato, PRE 74, 041127 (2006);
   * 2D 50:50 bidisperse disks, size ratio 1.4, N = 1000 (--n2), from phi = 0.3 with every other
     radius shrunk by 1/1.4: phi_J against O'Hern, Silbert, Liu and Nagel, PRE 68, 011306 (2003);
-  * 3D equal spheres compressed slowly (--slow-rate, --slow-n), which crystallise.
+  * 3D equal spheres, N = 500 (--slow-n), compressed slowly (--slow-rates): they crystallise.
 Every packing is read back and checked independently with numpy: the largest overlap over every
 pair (minimum image), and for spheres the global Steinhardt bond order Q6 over the bonds shorter
 than 1.2 contact distances (FCC 0.575, HCP 0.485, an amorphous packing of N = 1000 a few 0.01).
@@ -63,7 +64,7 @@ def largest_overlap(radii, i, j, distance):
 def q6_global(radii, i, j, delta, distance):
     """Global Steinhardt Q6 over the bonds shorter than Q6_CUTOFF contact distances, and the mean
     number of such neighbours. By the addition theorem sum_m |<Y6m>|^2 = 13 / (4 pi) <P6(u.u')>
-    over pairs of bonds, so Q6^2 = mean over bond pairs of P6(cos angle) (no spherical harmonics)."""
+    over pairs of bonds, so Q6^2 = the mean over bond pairs of P6(cos angle): no harmonics."""
     bond = distance < Q6_CUTOFF * (radii[i] + radii[j])
     units = delta[bond] / distance[bond][:, None]
     total = 0.0
@@ -114,7 +115,6 @@ def compress(carom, folder, label, dim, n, phi, seed, rate, bidisperse=False):
         s = json.load(f)
     s["seconds"] = seconds
     s.update(analyse(out))
-    s["start_q6"] = analyse(start).get("q6")
     return s
 
 
@@ -131,27 +131,33 @@ def row(name, n, rate, runs, reference):
           flush=True)
 
 
+def numbers(text, kind=float):
+    return [kind(v) for v in text.split(",") if v.strip()]
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--carom", default="build/carom")
-    parser.add_argument("--seeds", type=int, default=3, help="seeds per 3D rate (1, 2, ...)")
-    parser.add_argument("--n3", type=int, default=1000, help="spheres, rate scan")
-    parser.add_argument("--rates", default="0.1,0.03,0.01,0.003", help="3D growth rates")
+    parser.add_argument("--n3", type=int, default=1000, help="spheres of the rate scan")
+    parser.add_argument("--rates", default="0.1,0.03,0.01", help="3D growth rates ('' skips)")
+    parser.add_argument("--seeds", default="1,2,3", help="seeds of every 3D rate")
     parser.add_argument("--n2", type=int, default=1000, help="bidisperse disks")
-    parser.add_argument("--rates2", default="0.1,0.01", help="2D growth rates")
-    parser.add_argument("--seeds2", type=int, default=3, help="seeds per 2D rate")
-    parser.add_argument("--slow-n", type=int, default=500, help="spheres, slow compression")
-    parser.add_argument("--slow-rate", type=float, default=0.001, help="0 skips it")
-    parser.add_argument("--slow-seeds", type=int, default=2)
+    parser.add_argument("--rates2", default="0.1,0.01", help="2D growth rates ('' skips)")
+    parser.add_argument("--seeds2", default="1,2,3", help="seeds of every 2D rate")
+    parser.add_argument("--slow-n", type=int, default=500, help="spheres of the slow compressions")
+    parser.add_argument("--slow-rates", default="0.001,0.0003", help="('' skips)")
+    parser.add_argument("--slow-seeds", default="1", help="seeds of every slow rate")
     parser.add_argument("--jobs", type=int, default=1, help="compressions run at once")
     parser.add_argument("--quick", action="store_true",
-                        help="one seed, rates 0.1 and 0.01, no slow compression (about a minute)")
+                        help="seed 1, 3D rates 0.1 and 0.01, 2D 0.1, no slow compression (~1 min)")
     args = parser.parse_args()
-    rates = [float(r) for r in args.rates.split(",")]
-    rates2 = [float(r) for r in args.rates2.split(",")]
+    rates, rates2, slow_rates = (numbers(args.rates), numbers(args.rates2),
+                                 numbers(args.slow_rates))
+    seeds, seeds2, slow_seeds = (numbers(args.seeds, int), numbers(args.seeds2, int),
+                                 numbers(args.slow_seeds, int))
     if args.quick:
-        args.seeds, args.seeds2, args.slow_rate = 1, 1, 0
-        rates, rates2 = [0.1, 0.01], [0.1]
+        seeds = seeds2 = [1]
+        rates, rates2, slow_rates = [0.1, 0.01], [0.1], []
     began = time.monotonic()
     with tempfile.TemporaryDirectory() as folder:
         # The Q6 code on a perfect FCC lattice (N = 4 5^3 fills the periodic cube): 0.5745.
@@ -160,21 +166,21 @@ def main():
                         "--lattice", "--boundary", "periodic", "-o", fcc], check=True)
         check = analyse(fcc)
         print(f"Q6 of carom init's FCC lattice (N = 500, phi = 0.74): {check['q6']:.4f} "
-              f"({check['neighbours']:.2f} neighbours; exact 0.5745, 12)\n")
+              f"({check['neighbours']:.2f} neighbours; exact 0.5745, 12)\n", flush=True)
 
         jobs = []  # (group key, label, dim, n, phi, seed, rate, bidisperse)
         for rate in rates:
-            for seed in range(1, args.seeds + 1):
+            for seed in seeds:
                 jobs.append((("3D", args.n3, rate), f"3d-{rate}-{seed}", 3, args.n3, 0.2, seed,
                              rate, False))
         for rate in rates2:
-            for seed in range(1, args.seeds2 + 1):
+            for seed in seeds2:
                 jobs.append((("2D", args.n2, rate), f"2d-{rate}-{seed}", 2, args.n2, 0.3, seed,
                              rate, True))
-        if args.slow_rate > 0:
-            for seed in range(1, args.slow_seeds + 1):
-                jobs.append((("3D slow", args.slow_n, args.slow_rate), f"slow-{seed}", 3,
-                             args.slow_n, 0.2, seed, args.slow_rate, False))
+        for rate in slow_rates:
+            for seed in slow_seeds:
+                jobs.append((("3D slow", args.slow_n, rate), f"slow-{rate}-{seed}", 3,
+                             args.slow_n, 0.2, seed, rate, False))
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
             futures = [(key, pool.submit(compress, args.carom, folder, *rest))
                        for key, *rest in jobs]
@@ -192,17 +198,15 @@ def main():
     for key, runs in results.items():
         row(names[key[0]], key[1], key[2], runs, references[key[0]])
     everything = [s for runs in results.values() for s in runs]
+    spheres = [(k, r) for k, r in results.items() if k[0] != "2D"]
     print()
-    print(f"{len(everything)} packings, every one 'jammed': "
-          f"{all(s['status'] == 'jammed' for s in everything)}; packing fraction of the file vs "
+    print(f"{len(everything)} packings, status 'jammed': "
+          f"{sum(s['status'] == 'jammed' for s in everything)}; packing fraction of the file vs "
           f"the summary, largest difference "
           f"{max(abs(s['phi_file'] - s['packing_fraction']) for s in everything):.1e}; "
-          f"Q6 of the random starts at most "
-          f"{max((s['start_q6'] for s in everything if s['start_q6'] is not None), default=0):.3f}; "
-          f"mean neighbours within {Q6_CUTOFF} d, 3D: "
-          + ", ".join(f"{k[2]:g}{' slow' if k[0] == '3D slow' else ''}: "
-                      f"{statistics.mean(s['neighbours'] for s in r):.2f}"
-                      for k, r in results.items() if k[0] != "2D")
+          f"mean neighbours within {Q6_CUTOFF} contact distances (3D, by rate): "
+          + ", ".join(f"{k[2]:g}: {statistics.mean(s['neighbours'] for s in r):.2f}"
+                      for k, r in spheres)
           + f"; total {time.monotonic() - began:.0f} s")
 
 
