@@ -129,14 +129,7 @@ void compress(const CompressArguments& args, System<D> start) {
   const Compression<D>& c = *compression;
   // The packing so far is a valid start, whatever stopped the compression: it is kept.
   const System<D>& system = c.system();
-  double sum = 0.0;
-  bool equal = true;
-  for (const Particle<D>& p : system.particles) {
-    sum += p.radius;
-    equal = equal && p.radius == system.particles.front().radius;
-  }
-  write_classic(out.stream(), system,
-                equal ? system.particles.front().radius : sum / static_cast<double>(system.size()));
+  write_classic(out.stream(), system);
   const int signal = stop_signal().load();
   if (summary) {
     const double seconds =

@@ -81,13 +81,8 @@ void write_initial(const InitialOptions& o, const std::string& path) {
   } catch (const InitialError& e) {
     throw UsageError(e.what());
   }
-  // The file's R is the mean radius; particles that differ carry their own.
-  double sum = 0.0;
-  for (const Particle<D>& p : system.particles) sum += p.radius;
-  const double mean = o.polydispersity == 0.0 ? system.particles.front().radius
-                                              : sum / static_cast<double>(system.size());
   Output out(path);
-  write_classic(out.stream(), system, mean);
+  write_classic(out.stream(), system);
   out.commit();
 }
 

@@ -120,15 +120,17 @@ void Compression<D>::stretch() {
   const auto n = static_cast<std::uint64_t>(system_.size());
   auto engine =
       make_engine(settings_.engine, system_, CollisionRule{Rule::elastic}, Growth{rate, length});
+  // A stretch is N events (at least 100), unless it reaches its length first.
+  const std::uint64_t budget = std::max<std::uint64_t>(n, 100);
   double virial = 0.0, stop = length;
   std::uint64_t done = 0;
-  for (; done < std::max<std::uint64_t>(n, 100); ++done) {
+  for (; done < budget; ++done) {
     const std::optional<Event> event = engine->step(length);
     if (!event) break;
     if (!event->is_wall()) virial += event->impulse;
     stop = event->time;
   }
-  const bool whole = done < std::max<std::uint64_t>(n, 100);
+  const bool whole = done < budget;
   if (whole) stop = length;
   // Every particle at the end of the stretch, at its grown radius.
   system_ = engine->system();
@@ -146,7 +148,6 @@ void Compression<D>::stretch() {
   }
   time_ = reached ? target_time_ : start + stop;
   events_ += done;
-  ++stretches_;
   // Z from the collision virial over the stretch, at its mean temperature; then back to the
   // temperature asked for.
   const double temperature = kinetic_temperature(system_);

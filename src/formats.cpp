@@ -202,6 +202,18 @@ void write_classic(std::ostream& out, const System<D>& system, double radius) {
   }
 }
 
+template <std::size_t D>
+void write_classic(std::ostream& out, const System<D>& system) {
+  const double first = system.particles.front().radius;
+  double sum = 0.0;
+  bool equal = true;
+  for (const Particle<D>& p : system.particles) {
+    sum += p.radius;
+    equal = equal && p.radius == first;
+  }
+  write_classic(out, system, equal ? first : sum / static_cast<double>(system.size()));
+}
+
 std::string describe(const Event& event) {
   if (event.is_wall()) {
     return fmt::format("Collision: particle {} with wall {} ({})", event.first, event.partner,
@@ -265,7 +277,8 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
   template void write_json(std::ostream&, const Simulation<D>&, const RunReport&, bool);      \
   template class TraceWriter<D>;                                                              \
   template class EventLogWriter<D>;                                                           \
-  template void write_classic(std::ostream&, const System<D>&, double);
+  template void write_classic(std::ostream&, const System<D>&, double);                       \
+  template void write_classic(std::ostream&, const System<D>&);
 CAROM_FORMATS(2)
 CAROM_FORMATS(3)
 #undef CAROM_FORMATS

@@ -264,8 +264,7 @@ class GsdReader {
       // number of entries: a corrupt huge one would otherwise make up endless empty frames.
       if (element == 0 || e.m == 0 || e.id >= count_ || e.location < 0 ||
           (!entries_.empty() && e.frame < entries_.back().frame) || e.frame >= capacity ||
-          e.n > kMostElements ||
-          e.m > kMostElements / std::max<std::uint64_t>(e.n, 1) ||
+          e.n > kMostElements || e.m > kMostElements / std::max<std::uint64_t>(e.n, 1) ||
           static_cast<std::uint64_t>(e.location) > size_ ||
           e.n * e.m * element > size_ - static_cast<std::uint64_t>(e.location)) {
         fail(fmt::format("index entry {} is corrupt", entries_.size()));
@@ -283,27 +282,21 @@ class GsdReader {
     std::vector<double> data;
     std::uint64_t rows = 0, columns = 0;
   };
-  // `or_frame_zero` false: nullopt when the frame itself lacks the chunk.
-  std::optional<Values> values(const std::string& name, std::uint64_t frame,
-                               bool or_frame_zero = true) {
-    const auto id = ids_.find(name);
-    if (id == ids_.end()) return std::nullopt;
-    for (const std::uint64_t in_frame : {frame, or_frame_zero ? std::uint64_t{0} : frame}) {
-      // The entries are sorted by frame.
-      const auto first = std::partition_point(
-          entries_.begin(), entries_.end(), [&](const GsdEntry& e) { return e.frame < in_frame; });
-      for (auto it = first; it != entries_.end() && it->frame == in_frame; ++it) {
-        const GsdEntry& e = *it;
-        if (e.id != id->second) continue;
-        const std::uint64_t element = kTypeSize[e.type];
-        std::vector<char> raw(e.n * e.m * element);
-        read_at(static_cast<std::uint64_t>(e.location), raw.data(), raw.size(), name);
-        Values v{std::vector<double>(e.n * e.m), e.n, e.m};
-        for (std::size_t i = 0; i < v.data.size(); ++i) v.data[i] = element_at(raw, i, e.type);
-        return v;
-      }
-    }
-    return std::nullopt;
+  std::optional<Values> values(const std::string& name, std::uint64_t frame) {
+    const GsdEntry* e = entry(name, frame);
+    if (e == nullptr) e = entry(name, 0);
+    if (e == nullptr) return std::nullopt;
+    const std::uint64_t element = kTypeSize[e->type];
+    std::vector<char> raw(e->n * e->m * element);
+    read_at(static_cast<std::uint64_t>(e->location), raw.data(), raw.size(), name);
+    Values v{std::vector<double>(e->n * e->m), e->n, e->m};
+    for (std::size_t i = 0; i < v.data.size(); ++i) v.data[i] = element_at(raw, i, e->type);
+    return v;
+  }
+
+  // Whether `frame` itself holds chunk `name` (without frame 0's fallback); reads only the index.
+  bool has(const std::string& name, std::uint64_t frame) const {
+    return entry(name, frame) != nullptr;
   }
 
   [[noreturn]] void fail(const std::string& what) const {
@@ -312,6 +305,19 @@ class GsdReader {
 
  private:
   using GsdEntry = typename GsdFormat<2>::Entry;
+
+  // The index entry of chunk `name` in `frame` itself, or nullptr.
+  const GsdEntry* entry(const std::string& name, std::uint64_t frame) const {
+    const auto id = ids_.find(name);
+    if (id == ids_.end()) return nullptr;
+    // The entries are sorted by frame.
+    const auto first = std::partition_point(entries_.begin(), entries_.end(),
+                                            [&](const GsdEntry& e) { return e.frame < frame; });
+    for (auto it = first; it != entries_.end() && it->frame == frame; ++it) {
+      if (it->id == id->second) return &*it;
+    }
+    return nullptr;
+  }
 
   void read_at(std::uint64_t offset, char* data, std::uint64_t bytes, const std::string& what) {
     if (offset > size_ || bytes > size_ - offset) fail(what + " runs past the end of the file");
@@ -379,8 +385,8 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_f
   FrameChunks chunks;
   const auto n = chunks.n = static_cast<std::uint64_t>(count);
   const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
-                          bool required, bool or_frame_zero = true) {
-    std::optional<GsdReader::Values> v = gsd.values(name, frame, or_frame_zero);
+                          bool required) {
+    std::optional<GsdReader::Values> v = gsd.values(name, frame);
     if (!v) {
       if (required) gsd.fail(fmt::format("frame {} has no {}", frame, name));
       return std::vector<double>(n * columns, fallback);
@@ -407,8 +413,7 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_f
   chunks.velocity = column("particles/velocity", 3, 0.0, false);
   chunks.diameter = column("particles/diameter", 1, 1.0, false);
   chunks.mass = column("particles/mass", 1, 1.0, false);
-  chunks.has_image =
-      images_from_frame_zero || frame == 0 || gsd.values("particles/image", frame, false);
+  chunks.has_image = images_from_frame_zero || frame == 0 || gsd.has("particles/image", frame);
   const std::vector<double> image = column("particles/image", 3, 0.0, false);
   chunks.image.resize(n);
   for (std::size_t i = 0; i < image.size(); ++i) {

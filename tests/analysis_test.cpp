@@ -335,6 +335,16 @@ TEST(Psi6, IsForDisksAndNeedsSevenOfThem) {
   EXPECT_NO_THROW(local_psi6(ideal_gas(2, 7, {{5, 5, 1}}, true, 1)));
 }
 
+// An elastic run of `start` to `end` with a frame every `every` written to `path` (its ending
+// names the format).
+void dump_run(const System<2>& start, const std::string& path, double every, double end) {
+  std::ofstream out(path, std::ios::binary);
+  Simulation<2> simulation(start, Settings{{Rule::elastic}});
+  simulation.add_observer(
+      std::make_shared<FrameWriter<2>>(out, trajectory_format_for<2>(path), every));
+  simulation.run_until(end);
+}
+
 // A short run of disks dumped as .gsd and .xyz: the frames read back agree.
 TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
   const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_test";
@@ -347,13 +357,7 @@ TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
   std::vector<std::string> paths;
   for (const char* ending : {".gsd", ".xyz"}) {
     const std::string path = (folder / (std::string("run") + ending)).string();
-    std::ofstream out(path, std::ios::binary);
-    Settings settings;
-    settings.rule.rule = Rule::elastic;
-    Simulation<2> simulation(start, settings);
-    simulation.add_observer(
-        std::make_shared<FrameWriter<2>>(out, trajectory_format_for<2>(path), 0.25));
-    simulation.run_until(5.0);
+    dump_run(start, path, 0.25, 5.0);
     paths.push_back(path);
   }
   const std::vector<Frame> gsd = read_trajectory_frames(paths[0]);
@@ -386,13 +390,7 @@ TEST(TrajectoryReader, AGsdDumpOfAWalledRunIsReadWithWalls) {
   init.packing_fraction = 0.3;
   const System<2> start = make_initial<2>(init);  // walls
   const std::string path = (folder / "walls.gsd").string();
-  {
-    std::ofstream out(path, std::ios::binary);
-    Simulation<2> simulation(start, Settings{{Rule::elastic}});
-    simulation.add_observer(
-        std::make_shared<FrameWriter<2>>(out, trajectory_format_for<2>(path), 0.5));
-    simulation.run_until(2.0);
-  }
+  dump_run(start, path, 0.5, 2.0);
   const std::vector<Frame> frames = read_gsd_frames(path);
   ASSERT_EQ(frames.size(), 5u);
   for (const Frame& f : frames) EXPECT_FALSE(f.periodic);

@@ -66,7 +66,6 @@ class Compression {
   // Z = PV / NkT over the last stretch, from the collision virial; 0 before any.
   double reduced_pressure() const { return reduced_pressure_; }
   std::uint64_t events() const { return events_; }
-  std::uint64_t stretches() const { return stretches_; }
 
  private:
   // Runs one stretch from the current state.
@@ -81,7 +80,7 @@ class Compression {
   double target_time_ = 0.0;  // when the target is reached (infinite when jamming)
   double time_ = 0.0;
   double reduced_pressure_ = 0.0;
-  std::uint64_t events_ = 0, stretches_ = 0;
+  std::uint64_t events_ = 0;
   CompressionStatus status_ = CompressionStatus::running;
 };
 
