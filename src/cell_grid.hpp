@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "carom/physics.hpp"
@@ -59,6 +60,16 @@ class CellGrid {
         offset += (static_cast<std::int64_t>(rest % 3) - 1) * stride_[k];
       }
       inner_block_[c] = static_cast<std::int32_t>(offset);
+    }
+    // The layers ahead of such a cell: along one axis one cell on, along the others -1, 0, +1.
+    for (std::size_t axis = 0; axis < D; ++axis) {
+      for (const bool upward : {false, true}) {
+        std::size_t count = 0;
+        for (std::size_t c = 0; c < kBlock; ++c) {
+          const auto step = static_cast<std::int64_t>(c / power_of_three(axis) % 3) - 1;
+          if (step == (upward ? 1 : -1)) inner_layer_[2 * axis + upward][count++] = inner_block_[c];
+        }
+      }
     }
   }
 
@@ -112,10 +123,38 @@ class CellGrid {
 
   template <class LookAhead, class Visit>
   void for_each_near(std::uint32_t cell, LookAhead&& look_ahead, Visit&& visit) const {
+    std::array<std::uint32_t, kBlock> cells;
+    visit_cells(cells, block(cell, cells), look_ahead, visit);
+  }
+
+  // The same for the particles of layer(cell, axis, upward) only.
+  template <class LookAhead, class Visit>
+  void for_each_in_layer(std::uint32_t cell, std::size_t axis, bool upward, LookAhead&& look_ahead,
+                         Visit&& visit) const {
+    std::array<std::uint32_t, kBlock> cells;
+    visit_cells(cells, layer(cell, axis, upward, cells), look_ahead, visit);
+  }
+
+  // Starts fetching what for_each_near(cell) will read first, for an event a few steps away.
+  void prefetch_near(std::uint32_t cell) const {
+    std::array<std::uint32_t, kBlock> cells;
+    const std::size_t count = block(cell, cells);
+    for (std::size_t c = 0; c < count; ++c) __builtin_prefetch(&head_[cells[c]]);
+  }
+
+  // The cell next to `cell` along `axis`, up or down (wrapping around a periodic box).
+  std::uint32_t adjacent(std::uint32_t cell, std::size_t axis, bool upward) const {
+    const std::uint32_t at = (cell / stride_[axis]) % count_[axis], n = count_[axis];
+    if (upward) return at + 1 < n ? cell + stride_[axis] : cell - (n - 1) * stride_[axis];
+    return at > 0 ? cell - stride_[axis] : cell + (n - 1) * stride_[axis];
+  }
+
+ private:
+  template <class LookAhead, class Visit>
+  void visit_cells(std::array<std::uint32_t, kBlock>& heads, std::size_t cells,
+                   LookAhead&& look_ahead, Visit&& visit) const {
     // First every list's head, then the lists: the heads are loaded side by side rather than each
     // after the last list's walk (at a million particles each is a cache miss).
-    std::array<std::uint32_t, kBlock> heads;
-    const std::size_t cells = block(cell, heads);
     for (std::size_t c = 0; c < cells; ++c) {
       heads[c] = head_[heads[c]];
       if (heads[c] != kNone) {
@@ -128,16 +167,12 @@ class CellGrid {
     }
   }
 
-  // Starts fetching what for_each_near(cell) will read first, for an event a few steps away.
-  void prefetch_near(std::uint32_t cell) const {
-    std::array<std::uint32_t, kBlock> cells;
-    const std::size_t count = block(cell, cells);
-    for (std::size_t c = 0; c < count; ++c) __builtin_prefetch(&head_[cells[c]]);
-  }
-
+ public:
   struct Crossing {
     double delay = kNever;  // time from now until the particle leaves its cell
     std::uint32_t cell = kNone;
+    std::uint8_t axis = 0;  // the cell is adjacent(from, axis, upward)
+    bool upward = false;
   };
 
   // When a particle of `cell`, now at `position` and moving with `velocity`, enters another cell,
@@ -161,21 +196,24 @@ class CellGrid {
       }
       const double half = 0.5 * width_[k];
       double delay = kNever;
-      std::uint32_t target = kNone;
       if (v > 0.0 && (box_.periodic() || at[k] + 1 < n)) {
         delay = (half - offset) / v;
-        target = cell + (at[k] + 1 < n ? stride_[k] : -(n - 1) * stride_[k]);
       } else if (v < 0.0 && (box_.periodic() || at[k] > 0)) {
         delay = (offset + half) / -v;
-        target = cell - (at[k] > 0 ? stride_[k] : -(n - 1) * stride_[k]);
       }
       delay = std::max(delay, 0.0);
-      if (delay < first.delay) first = {delay, target};
+      if (delay < first.delay) {
+        first = {delay, adjacent(cell, k, v > 0.0), static_cast<std::uint8_t>(k), v > 0.0};
+      }
     }
     return first;
   }
 
  private:
+  static constexpr std::size_t power_of_three(std::size_t k) {
+    return k == 0 ? 1 : 3 * power_of_three(k - 1);
+  }
+
   static double most_cells(std::size_t particles) {
     return std::min(2.0 * static_cast<double>(particles) + 16.0, 0x1p31);
   }
@@ -190,20 +228,44 @@ class CellGrid {
   // a periodic box (all of them, once each, when the axis has fewer than three cells), clipped by
   // walls. Returns how many.
   std::size_t block(std::uint32_t cell, std::array<std::uint32_t, kBlock>& out) const {
+    return block(cell, out, D, false);
+  }
+
+  // The same restricted to the cells one further along `axis` (up or down) than `cell`: the cells
+  // around `cell` that were not around the cell it was entered from. None beyond a wall, and none
+  // on a periodic axis of fewer than three cells (all of them were around it already).
+  std::size_t layer(std::uint32_t cell, std::size_t axis, bool upward,
+                    std::array<std::uint32_t, kBlock>& out) const {
+    return block(cell, out, axis, upward);
+  }
+
+  // The cells around `cell` (or, for an axis below D, the layer ahead along it; see layer()).
+  std::size_t block(std::uint32_t cell, std::array<std::uint32_t, kBlock>& out, std::size_t axis,
+                    bool upward) const {
     const std::array<std::uint32_t, D> at = coordinates(cell);
     bool inner = true;
     for (std::size_t k = 0; k < D; ++k) inner = inner && at[k] >= 1 && at[k] + 2 <= count_[k];
     if (inner) {  // most cells: no wrapping, no clipping
-      for (std::size_t c = 0; c < kBlock; ++c) {
-        out[c] = static_cast<std::uint32_t>(static_cast<std::int64_t>(cell) + inner_block_[c]);
+      const auto offsets = axis == D
+                               ? std::span<const std::int32_t>(inner_block_)
+                               : std::span<const std::int32_t>(inner_layer_[2 * axis + upward]);
+      for (std::size_t c = 0; c < offsets.size(); ++c) {
+        out[c] = static_cast<std::uint32_t>(static_cast<std::int64_t>(cell) + offsets[c]);
       }
-      return kBlock;
+      return offsets.size();
     }
     std::array<std::array<std::uint32_t, 3>, D> along{};
     std::array<std::uint32_t, D> size{};
     for (std::size_t k = 0; k < D; ++k) {
       const std::uint32_t n = count_[k];
-      if (box_.periodic() && n < 3) {
+      if (k == axis) {
+        if (box_.periodic() && n >= 3) {
+          along[k][size[k]++] = upward ? (at[k] + 1) % n : (at[k] + n - 1) % n;
+        } else if (!box_.periodic() && (upward ? at[k] + 1 < n : at[k] > 0)) {
+          along[k][size[k]++] = upward ? at[k] + 1 : at[k] - 1;
+        }
+        if (size[k] == 0) return 0;
+      } else if (box_.periodic() && n < 3) {
         for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c;
       } else if (box_.periodic()) {
         along[k] = {(at[k] + n - 1) % n, at[k], (at[k] + 1) % n};
@@ -245,6 +307,7 @@ class CellGrid {
   std::array<std::uint32_t, D> stride_{};
   Vec<D> width_;
   std::array<std::int32_t, kBlock> inner_block_{};
+  std::array<std::array<std::int32_t, kBlock / 3>, 2 * D> inner_layer_{};
   std::vector<std::uint32_t> head_;
   std::vector<std::uint32_t> next_, prev_, cell_of_;
 };

@@ -9,7 +9,7 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Gro
     : Engine<D>(std::move(system), rule, growth),
       grid_(this->system_.box, 2.0 * this->largest_reach(), this->system_.particles.size()),
       queue_(static_cast<std::uint32_t>(this->system_.particles.size() + 1)),
-      pending_(this->system_.particles.size() + 1),
+      pending_(this->system_.particles.size()),
       clock_(this->now_),
       horizon_slot_(static_cast<std::uint32_t>(this->system_.particles.size())) {
   const auto& particles = this->system_.particles;
@@ -52,7 +52,6 @@ template <std::size_t D>
 void FastEngine<D>::schedule_horizon() {
   if (horizon_ == kNever) return;
   if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
-  pending_[horizon_slot_] = {Kind::horizon, 0, 0, 0};
   renewal_ = clock_ + horizon_;
   queue_.update(horizon_slot_, {renewal_, kNoEvent.order});  // after every event then
 }
@@ -69,60 +68,79 @@ void FastEngine<D>::shorten_horizon() {
 }
 
 template <std::size_t D>
-void FastEngine<D>::predict(std::uint32_t i) {
+void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_upward) {
   if (this->growing()) [[unlikely]] {
-    predict_as<true>(i);
+    predict_as<true>(i, layer_axis, layer_upward);
   } else {
-    predict_as<false>(i);
+    predict_as<false>(i, layer_axis, layer_upward);
+  }
+}
+
+template <std::size_t D>
+EventKey FastEngine<D>::collision_key(std::uint32_t i) const {
+  const Pending& pending = pending_[i];
+  switch (pending.kind) {
+    case Kind::wall:
+      return key_of<D>({pending.time, i, pending.partner});
+    case Kind::pair:
+      return key_of<D>(pair_event(pending.time, i, static_cast<std::uint32_t>(pending.partner)));
+    default:
+      return kNoEvent;
   }
 }
 
 template <std::size_t D>
 template <bool kGrowing>
-[[gnu::flatten]] void FastEngine<D>::predict_as(std::uint32_t i) {
+[[gnu::flatten]] void FastEngine<D>::predict_as(std::uint32_t i, std::size_t layer_axis,
+                                                bool layer_upward) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
-  const bool periodic = this->system_.box.periodic();
+  const Box<D> box = this->system_.box;  // a copy, which the loop below can keep in registers
+  const bool periodic = box.periodic();
+  const double rate = this->growth_.rate;
   const Vec<D> here = position_at(p, clock_);
   Pending best;
   EventKey best_key = kNoEvent;
-  const auto consider = [&](const Event& candidate, const Pending& meaning) {
-    const EventKey key = key_of<D>(candidate);
-    if (key < best_key) {
-      best_key = key;
-      best = meaning;
+  if (layer_axis < D) {
+    best = pending_[i];
+    best_key = collision_key(i);
+  } else {
+    const WallHit hit = kGrowing ? growing_wall_hit(p, box, rate) : next_wall_hit(p, box);
+    if (hit.time != kNever) {
+      best_key = key_of<D>({std::max(hit.time, clock_), i, hit.label});
+      best = {best_key.time, 0, hit.label, Kind::wall};
     }
-  };
-
-  const double rate = this->growth_.rate;
-  const WallHit hit =
-      kGrowing ? growing_wall_hit(p, this->system_.box, rate) : next_wall_hit(p, this->system_.box);
-  if (hit.time != kNever) {
-    consider({std::max(hit.time, clock_), i, hit.label}, {Kind::wall, hit.label, 0, 0});
   }
-  const auto prefetch = [&](std::uint32_t j) { __builtin_prefetch(&particles[j]); };
-  grid_.for_each_near(grid_.cell_of(i), prefetch, [&](std::uint32_t j) {
+  bool new_partner = false;
+  const auto consider = [&](std::uint32_t j) {
     if (j == i) return;
     // The image seen now (as Engine::image), with this particle's position computed once.
     const Vec<D> offset =
-        periodic ? image_offset(here - position_at(particles[j], clock_), this->system_.box)
-                 : Vec<D>{};
+        periodic ? image_offset(here - position_at(particles[j], clock_), box) : Vec<D>{};
     const double t = kGrowing ? growing_contact_time(p, particles[j], offset, rate)
                               : contact_time(p, particles[j], offset, best_key.time);
     if (t == kNever) return;
-    consider(pair_event(std::max(t, clock_), i, j),
-             {Kind::pair, static_cast<std::int32_t>(j), 0, 0});
-  });
-  // The winner's version only: the counters are cold data, apart from the state.
-  if (best.kind == Kind::pair) best.partner_version = this->system_.records[best.partner].version();
-  const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
-  if (crossing.delay != kNever) {
-    // Ordered after every collision of particle i at the same time: crossing changes no physics.
-    const EventKey key{clock_ + crossing.delay, (std::uint64_t{i} << 32) | 0xFFFFFFFFu};
+    const EventKey key = key_of<D>(pair_event(std::max(t, clock_), i, j));
     if (key < best_key) {
       best_key = key;
-      best = {Kind::crossing, 0, crossing.cell, 0};
+      best = {key.time, 0, static_cast<std::int32_t>(j), Kind::pair};
+      new_partner = true;
     }
+  };
+  const auto prefetch = [&](std::uint32_t j) { __builtin_prefetch(&particles[j]); };
+  if (layer_axis < D) {
+    grid_.for_each_in_layer(grid_.cell_of(i), layer_axis, layer_upward, prefetch, consider);
+  } else {
+    grid_.for_each_near(grid_.cell_of(i), prefetch, consider);
+  }
+  // The winner's version only: the counters are cold data, apart from the state.
+  if (new_partner) best.partner_version = this->system_.records[best.partner].version();
+  const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
+  if (crossing.delay != kNever) {
+    best.crossing_axis = crossing.axis;
+    best.crossing_upward = crossing.upward;
+    const EventKey key{clock_ + crossing.delay, crossing_order(i)};
+    if (key < best_key) best_key = key;
   }
   pending_[i] = best;
   queue_.update(i, best_key);
@@ -154,42 +172,40 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
       if (pending_[s].kind == Kind::pair)
         fetch_ahead(static_cast<std::uint32_t>(pending_[s].partner));
     });
-    const double t = queue_.top_key().time;
-    if (!this->due_by(t, end_time)) return std::nullopt;
-    const Pending pending = pending_[i];
-    switch (pending.kind) {
-      case Kind::none:
-        return std::nullopt;
-      case Kind::horizon:
-        clock_ = t;
-        predict_all();
-        break;
-      case Kind::crossing:
-        clock_ = t;
-        grid_.move(i, pending.cell);
-        predict(i);
-        break;
-      case Kind::wall: {
-        clock_ = t;
-        const Event event = this->apply({t, i, pending.partner});
-        predict(i);
-        if (this->growing()) shorten_horizon();
-        return event;
-      }
-      case Kind::pair: {
-        const auto j = static_cast<std::uint32_t>(pending.partner);
-        if (records[j].version() != pending.partner_version) {
-          predict(i);  // the partner has collided since: this event will not happen
-          break;
-        }
-        clock_ = t;
-        const Event event = this->apply(pair_event(t, i, j));
-        predict(i);
-        predict(j);
-        if (this->growing()) shorten_horizon();
-        return event;
-      }
+    const EventKey key = queue_.top_key();
+    const double t = key.time;
+    if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
+    if (i == horizon_slot_) {
+      clock_ = t;
+      predict_all();
+      continue;
     }
+    const Pending pending = pending_[i];
+    if (key.order == crossing_order(i)) {
+      clock_ = t;
+      const std::size_t axis = pending.crossing_axis;
+      grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, pending.crossing_upward));
+      predict(i, axis, pending.crossing_upward);
+      continue;
+    }
+    if (pending.kind == Kind::wall) {
+      clock_ = t;
+      const Event event = this->apply({t, i, pending.partner});
+      predict(i);
+      if (this->growing()) shorten_horizon();
+      return event;
+    }
+    const auto j = static_cast<std::uint32_t>(pending.partner);
+    if (records[j].version() != pending.partner_version) {
+      predict(i);  // the partner has collided since: this event will not happen
+      continue;
+    }
+    clock_ = t;
+    const Event event = this->apply(pair_event(t, i, j));
+    predict(i);
+    predict(j);
+    if (this->growing()) shorten_horizon();
+    return event;
   }
 }
 

@@ -70,11 +70,62 @@ TEST(CellGrid, CrossingLeadsToTheNextCellInTheDirectionOfMotion) {
   const auto right = grid.next_crossing(cell, Vec2{{3, 3}}, Vec2{{1, 0.1}});
   EXPECT_DOUBLE_EQ(right.delay, 2.0);
   EXPECT_EQ(right.cell, grid.locate(Vec2{{5.5, 3}}));
+  EXPECT_EQ(right.axis, 0u);
+  EXPECT_TRUE(right.upward);
+  EXPECT_EQ(grid.adjacent(cell, right.axis, right.upward), right.cell);
   const auto down = grid.next_crossing(cell, Vec2{{3, 3}}, Vec2{{0, -1}});
   EXPECT_DOUBLE_EQ(down.delay, 0.5);
   EXPECT_EQ(down.cell, grid.locate(Vec2{{3, 2}}));
+  EXPECT_EQ(down.axis, 1u);
+  EXPECT_FALSE(down.upward);
   // Past the boundary by round-off: cross at once, never with a negative delay.
   EXPECT_EQ(grid.next_crossing(cell, Vec2{{5.0 + 1e-15, 3}}, Vec2{{1, 0}}).delay, 0.0);
+}
+
+// After a crossing from A into B, the fast engine predicts only against the layer of cells ahead
+// of B: together with those around A (predicted before), they must cover every cell around B.
+template <std::size_t D>
+void expect_layers_cover_the_new_cells(const Box<D>& box, double width) {
+  CellGrid<D> grid(box, width, 1000);
+  const auto cells = static_cast<std::uint32_t>(grid.cell_count());
+  for (std::uint32_t c = 0; c < cells; ++c) grid.insert(c, c);  // particle c in cell c
+  const auto collect = [](auto&& walk) {
+    std::set<std::uint32_t> found;
+    walk([&](std::uint32_t j) { EXPECT_TRUE(found.insert(j).second) << "visited twice: " << j; });
+    return found;
+  };
+  const auto no_look_ahead = [](std::uint32_t) {};
+  for (std::uint32_t from = 0; from < cells; ++from) {
+    const auto around_from = collect([&](auto visit) { grid.for_each_near(from, visit); });
+    for (std::size_t axis = 0; axis < D; ++axis) {
+      for (const bool upward : {false, true}) {
+        const std::uint32_t n = grid.cells_along(axis);
+        std::uint32_t stride = 1;
+        for (std::size_t k = 0; k < axis; ++k) stride *= grid.cells_along(k);
+        const std::uint32_t at = from / stride % n;
+        if (!box.periodic() && (upward ? at + 1 == n : at == 0)) continue;  // a wall: no crossing
+        const std::uint32_t to = grid.adjacent(from, axis, upward);
+        const auto around_to = collect([&](auto visit) { grid.for_each_near(to, visit); });
+        const auto layer = collect(
+            [&](auto visit) { grid.for_each_in_layer(to, axis, upward, no_look_ahead, visit); });
+        for (const std::uint32_t c : around_to) {
+          EXPECT_TRUE(around_from.count(c) || layer.count(c))
+              << "cell " << c << " around " << to << " (from " << from << ", axis " << axis
+              << (upward ? " up" : " down") << ") is in no layer";
+        }
+        for (const std::uint32_t c : layer) EXPECT_TRUE(around_to.count(c)) << c;
+      }
+    }
+  }
+}
+
+TEST(CellGrid, TheLayerAheadOfACrossingCoversTheCellsItBringsWithinReach) {
+  for (const double side : {1.0, 2.0, 3.0, 4.0, 5.0, 7.0}) {
+    for (const Boundary boundary : {Boundary::walls, Boundary::periodic}) {
+      expect_layers_cover_the_new_cells(Box<2>{Vec2{{side, 6.0}}, boundary}, 1.0);
+      expect_layers_cover_the_new_cells(Box<3>{Vec<3>{{side, 4.0, 3.0}}, boundary}, 1.0);
+    }
+  }
 }
 
 TEST(CellGrid, NoCrossingThroughTheBoxWalls) {

@@ -131,6 +131,38 @@ TEST(ContactTime, IsSymmetricBitForBit) {
   EXPECT_EQ(contact_time(a, b), contact_time(b, a));
 }
 
+// contact_time moves only the particle with the earlier stored time (the other's position at its
+// own time is its stored position): the same times, bit for bit, as moving both, which the
+// engines' histories were made with. Integer-valued times and positions give exact zeros too.
+TEST(ContactTime, MovingOnlyTheEarlierParticleChangesNoTime) {
+  std::mt19937_64 rng(20261122);
+  std::uniform_real_distribution<double> uniform(-3.0, 3.0);
+  std::uniform_int_distribution<int> small(-2, 2);
+  const auto both_moved = [](const Particle<2>& a, const Particle<2>& b, const Vec2& offset) {
+    const double t0 = std::max(a.time, b.time);
+    const Vec2 r = position_at(a, t0) - position_at(b, t0) - offset;
+    const Vec2 v = a.velocity - b.velocity;
+    const double rv = dot(r, v);
+    if (!(rv < 0.0)) return kNever;
+    const double sigma = a.radius + b.radius, c = norm2(r) - sigma * sigma;
+    if (c <= 0.0) return t0;
+    const double discriminant = rv * rv - norm2(v) * c;
+    return discriminant < 0.0 ? kNever : t0 + c / (-rv + std::sqrt(discriminant));
+  };
+  int collide = 0;
+  for (int trial = 0; trial < 200000; ++trial) {
+    const bool exact = trial % 2 == 0;
+    const auto value = [&] { return exact ? double(small(rng)) : uniform(rng); };
+    const Particle<2> a{{{value(), value()}}, {{value(), value()}}, value(), 0.5};
+    const Particle<2> b{{{value(), value()}}, {{value(), value()}}, value(), 0.25};
+    const Vec2 offset{{trial % 3 == 0 ? 10.0 : 0.0, 0.0}};
+    const double expected = both_moved(a, b, offset);
+    collide += expected != kNever;
+    ASSERT_EQ(contact_time(a, b, offset), expected) << trial;
+  }
+  EXPECT_GT(collide, 5000);  // many pairs collide, and the early exits are exercised too
+}
+
 TEST(ContactTime, NoCancellationForAlmostTouchingFastPairs) {
   // A gap of 1e-12 closed at speed 1e6: the naive (-b - sqrt(d)) / a form loses every digit.
   const Particle<2> a = disk(0, 0, 1e6, 0);

@@ -131,8 +131,12 @@ void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& imag
 template <std::size_t D>
 constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const Vec<D>& offset,
                               double limit = kNever) {
+  // The later particle's own position is position_at(p, p.time) exactly (x + v 0 = x, but for
+  // the sign of a zero, which no result below depends on): only the earlier one is moved.
   const double t0 = std::max(a.time, b.time);
-  const Vec<D> r = position_at(a, t0) - position_at(b, t0) - offset;
+  const Vec<D> r =
+      (a.time < b.time ? position_at(a, t0) - b.position : a.position - position_at(b, t0)) -
+      offset;
   const Vec<D> v = a.velocity - b.velocity;
   const double rv = dot(r, v);
   if (!(rv < 0.0)) return kNever;

@@ -41,9 +41,12 @@ constexpr double dot(const Vec<D>& a, const Vec<D>& b) {
   return s;
 }
 
+// The same as dot(a, a), bit for bit (squares are never -0, so the sum needs no 0.0 to start).
 template <std::size_t D>
 constexpr double norm2(const Vec<D>& a) {
-  return dot(a, a);
+  double s = a[0] * a[0];
+  for (std::size_t k = 1; k < D; ++k) s += a[k] * a[k];
+  return s;
 }
 
 using Vec2 = Vec<2>;
