@@ -2,6 +2,7 @@
 """carom's benchmark: collisions per second, instructions per collision and bytes per particle.
 
 Usage: python3 bench/run_bench.py [--carom build/carom] [--name NAME] [--quick] [--no-callgrind]
+                                  [--versus OLD/carom]
 Runs the real command line on `carom init` systems (elastic rule, periodic box, monodisperse,
 kT = 1, seed 1), disks at packing fractions 0.3, 0.5 and 0.7 (N = 10^3..10^6) and spheres
 (N = 10^4..10^6) at 0.3 and 0.45: each configuration in its own process, whose peak resident
@@ -11,8 +12,11 @@ timed (this machine has no hardware counters): callgrind runs the same start twi
 lengths, and the difference of the instruction counts over the difference of the collisions
 leaves out reading, setting up and writing (N = 10^4). The seed's algorithm (--engine reference:
 every pair predicted again after every event) is timed at N = 2000, for the speedup. Each row is
-compared with bench/results/baseline.json (carom 1.1 on the same kind of machine). Prints a
-Markdown table and writes it as json to bench/results/NAME.json (not tracked by git).
+compared with bench/results/baseline.json (an earlier carom on the same kind of machine), or,
+with --versus, with another carom binary run side by side: each row alternately by both, the
+better of two runs each, so that the ratio holds on a machine whose speed drifts by the hour
+(instructions per collision are then counted for both too). Prints a Markdown table and writes
+it as json to bench/results/NAME.json (not tracked by git).
 """
 import argparse
 import datetime
@@ -112,6 +116,8 @@ def main():
     parser.add_argument("--quick", action="store_true", help="N up to 10^5 only")
     parser.add_argument("--no-callgrind", action="store_true",
                         help="skip counting instructions (valgrind is slow)")
+    parser.add_argument("--versus", metavar="OLD_CAROM",
+                        help="compare with this carom binary, run side by side, row by row")
     args = parser.parse_args()
     callgrind = not args.no_callgrind and shutil.which("valgrind") is not None
     baseline = baseline_rates()
@@ -124,32 +130,48 @@ def main():
         print(f"N = 2000, eta = 0.5: reference {reference['collisions_per_second']:.4g}/s, "
               f"fast {fast_2000['collisions_per_second']:.4g}/s: speedup {speedup:.0f}x",
               flush=True)
-        print("| particles | N | eta | collisions/s | vs baseline | instructions/collision "
+        versus = "vs " + os.path.basename(args.versus) \
+            if args.versus else "vs baseline"
+        print(f"| particles | N | eta | collisions/s | {versus} | instructions/collision "
               "| bytes/particle | collisions | seconds | rate / rate(N=10^4) |")
         print("|---|---|---|---|---|---|---|---|---|---|")
         base = {}
         cases = [(2, eta, n) for eta in (0.3, 0.5, 0.7) for n in sizes]
         cases += [(3, eta, n) for eta in (0.3, 0.45) for n in sizes if n >= 10**4]
         for dim, eta, n in cases:
-            row = measure(args.carom, folder, n, eta, min(50 * n, 4_000_000), dim=dim)
+            collisions = min(50 * n, 4_000_000)
+            if args.versus:
+                runs = [(measure(args.carom, folder, n, eta, collisions, dim=dim),
+                         measure(args.versus, folder, n, eta, collisions, dim=dim))
+                        for _ in range(2)]
+                row = max((new for new, _ in runs), key=lambda r: r["collisions_per_second"])
+                then = max(old["collisions_per_second"] for _, old in runs)
+            else:
+                row = measure(args.carom, folder, n, eta, collisions, dim=dim)
+                then = baseline.get((dim, n, eta))
             if n == 10**4:
                 base[dim, eta] = row["collisions_per_second"]
             ratio = (row["collisions_per_second"] / base[dim, eta]) if (dim, eta) in base else None
             row["rate_over_n10000"] = ratio
-            then = baseline.get((dim, n, eta))
             row["rate_over_baseline"] = row["collisions_per_second"] / then if then else None
             counted = callgrind and n == 10**4 and (dim, eta) in ((2, 0.5), (2, 0.7), (3, 0.45))
             row["instructions_per_collision"] = (
                 instructions_per_collision(args.carom, folder, n, eta, dim) if counted else None)
+            row["baseline_instructions_per_collision"] = (
+                instructions_per_collision(args.versus, folder, n, eta, dim)
+                if counted and args.versus else None)
             rows.append(row)
+            counts = shown(row["instructions_per_collision"], ",.0f")
+            if row["baseline_instructions_per_collision"]:
+                counts += f" ({row['baseline_instructions_per_collision']:,.0f})"
             print(f"| {'disks' if dim == 2 else 'spheres'} | {n} | {eta} "
                   f"| {row['collisions_per_second']:.4g} | {shown(row['rate_over_baseline'], '.2f')} "
-                  f"| {shown(row['instructions_per_collision'], ',.0f')} "
+                  f"| {counts} "
                   f"| {row['bytes_per_particle']:.0f} | {row['collisions']} | {row['seconds']:.2f} "
                   f"| {shown(ratio, '.2f')} |", flush=True)
     result = {"name": args.name, "date": datetime.datetime.now().isoformat(timespec="seconds"),
               "machine": platform.node(), "cpu_count": os.cpu_count(),
-              "reference_n2000": reference, "fast_n2000": fast_2000,
+              "versus": args.versus, "reference_n2000": reference, "fast_n2000": fast_2000,
               "speedup_over_reference_n2000": speedup, "runs": rows}
     path = os.path.join(HERE, "results", f"{args.name}.json")
     os.makedirs(os.path.dirname(path), exist_ok=True)

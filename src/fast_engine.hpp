@@ -1,11 +1,13 @@
 // The production engine: a cell grid limits predictions to nearby particles, each particle holds
-// exactly one pending event (its earliest collision, wall hit or cell crossing) in an event
-// calendar, and an event against a partner that has collided since is detected by the partner's
-// version and predicted again lazily. An event costs O(1) on average: the particles in 3^D cells
-// and a bucket of the calendar.
+// exactly one pending event (its earliest collision or wall hit, or its next cell crossing if that
+// comes first) in an event calendar, and an event against a partner that has collided since is
+// detected by the partner's version and predicted again lazily. An event costs O(1) on average:
+// the particles in 3^D cells (after a crossing, the 3^(D-1) cells it brings within reach) and a
+// bucket of the calendar.
 //
 // Why no collision is missed: two particles about to touch are in the same or adjacent cells, and
-// the later of them to change cell or velocity predicted their contact then. In a periodic box
+// the later of them to change cell or velocity predicted their contact then (a crossing needs only
+// the new layer of cells: the rest were around the old cell, their pairs predicted already). In a periodic box
 // with at least five cells along each axis, adjacent particles are at most two cells, 2/5 of the
 // box, apart, so the nearest image at prediction time is the one they touch through. (With four,
 // two particles on the far edges of adjacent cells are exactly half a box apart and the nearest
