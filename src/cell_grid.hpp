@@ -149,25 +149,6 @@ class CellGrid {
     return at > 0 ? cell - stride_[axis] : cell + (n - 1) * stride_[axis];
   }
 
- private:
-  template <class LookAhead, class Visit>
-  void visit_cells(std::array<std::uint32_t, kBlock>& heads, std::size_t cells,
-                   LookAhead&& look_ahead, Visit&& visit) const {
-    // First every list's head, then the lists: the heads are loaded side by side rather than each
-    // after the last list's walk (at a million particles each is a cache miss).
-    for (std::size_t c = 0; c < cells; ++c) {
-      heads[c] = head_[heads[c]];
-      if (heads[c] != kNone) {
-        __builtin_prefetch(&next_[heads[c]]);
-        look_ahead(heads[c]);
-      }
-    }
-    for (std::size_t c = 0; c < cells; ++c) {
-      for (std::uint32_t j = heads[c]; j != kNone; j = next_[j]) visit(j);
-    }
-  }
-
- public:
   struct Crossing {
     double delay = kNever;  // time from now until the particle leaves its cell
     std::uint32_t cell = kNone;
@@ -222,6 +203,23 @@ class CellGrid {
     std::array<std::uint32_t, D> at{};
     for (std::size_t k = 0; k < D; ++k) at[k] = (cell / stride_[k]) % count_[k];
     return at;
+  }
+
+  template <class LookAhead, class Visit>
+  void visit_cells(std::array<std::uint32_t, kBlock>& heads, std::size_t cells,
+                   LookAhead&& look_ahead, Visit&& visit) const {
+    // First every list's head, then the lists: the heads are loaded side by side rather than each
+    // after the last list's walk (at a million particles each is a cache miss).
+    for (std::size_t c = 0; c < cells; ++c) {
+      heads[c] = head_[heads[c]];
+      if (heads[c] != kNone) {
+        __builtin_prefetch(&next_[heads[c]]);
+        look_ahead(heads[c]);
+      }
+    }
+    for (std::size_t c = 0; c < cells; ++c) {
+      for (std::uint32_t j = heads[c]; j != kNone; j = next_[j]) visit(j);
+    }
   }
 
   // The cells around `cell`, its own included, each once: per axis at - 1 .. at + 1, wrapped in

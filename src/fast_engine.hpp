@@ -7,11 +7,11 @@
 //
 // Why no collision is missed: two particles about to touch are in the same or adjacent cells, and
 // the later of them to change cell or velocity predicted their contact then (a crossing needs only
-// the new layer of cells: the rest were around the old cell, their pairs predicted already). In a periodic box
-// with at least five cells along each axis, adjacent particles are at most two cells, 2/5 of the
-// box, apart, so the nearest image at prediction time is the one they touch through. (With four,
-// two particles on the far edges of adjacent cells are exactly half a box apart and the nearest
-// image is ambiguous: the fuzzer found that.)
+// the new layer of cells: the rest were around the old cell, their pairs predicted already). In a
+// periodic box with at least five cells along each axis, adjacent particles are at most two cells,
+// 2/5 of the box, apart, so the nearest image at prediction time is the one they touch through.
+// (With four, two particles on the far edges of adjacent cells are exactly half a box apart and the
+// nearest image is ambiguous: the fuzzer found that.)
 #pragma once
 
 #include <cstdint>
