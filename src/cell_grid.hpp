@@ -151,8 +151,7 @@ class CellGrid {
 
   struct Crossing {
     double delay = kNever;  // time from now until the particle leaves its cell
-    std::uint32_t cell = kNone;
-    std::uint8_t axis = 0;  // the cell is adjacent(from, axis, upward)
+    std::uint8_t axis = 0;  // into adjacent(cell, axis, upward)
     bool upward = false;
   };
 
@@ -184,7 +183,7 @@ class CellGrid {
       }
       delay = std::max(delay, 0.0);
       if (delay < first.delay) {
-        first = {delay, adjacent(cell, k, v > 0.0), static_cast<std::uint8_t>(k), v > 0.0};
+        first = {delay, static_cast<std::uint8_t>(k), v > 0.0};
       }
     }
     return first;
