@@ -1,12 +1,15 @@
 #include "fast_engine.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
 
 namespace carom {
 
 template <std::size_t D>
 FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Growth& growth)
     : Engine<D>(std::move(system), rule, growth),
+      wide_(cpu_has_avx2()),
       grid_(this->system_.box, 2.0 * this->largest_reach(), this->system_.particles.size()),
       queue_(static_cast<std::uint32_t>(this->system_.particles.size() + 1)),
       pending_(this->system_.particles.size()),
@@ -70,10 +73,100 @@ void FastEngine<D>::shorten_horizon() {
 template <std::size_t D>
 void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_upward) {
   if (this->growing()) [[unlikely]] {
-    predict_as<true>(i, layer_axis, layer_upward);
+    predict_growing(i, layer_axis, layer_upward);
+  } else if (wide_) {
+    predict_wide(i, layer_axis, layer_upward);
   } else {
-    predict_as<false>(i, layer_axis, layer_upward);
+    predict_narrow(i, layer_axis, layer_upward);
   }
+}
+
+namespace {
+
+// How a prediction finds wall hits and the contacts of a batch of candidates (see
+// contact_batch.hpp): three policies, one prediction.
+struct NarrowContacts {
+  template <std::size_t D>
+  static WallHit wall_hit(const Particle<D>& p, const Box<D>& box) {
+    return next_wall_hit(p, box);
+  }
+  template <std::size_t D>
+  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
+                           const Box<D>& box, const Particle<D>* particles,
+                           const std::uint32_t* candidates, std::size_t count, double limit,
+                           double* times) const {
+    return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times);
+  }
+};
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+struct WideContacts : NarrowContacts {
+  template <std::size_t D>
+  [[gnu::target("avx2")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
+                                                   double clock, const Box<D>& box,
+                                                   const Particle<D>* particles,
+                                                   const std::uint32_t* candidates,
+                                                   std::size_t count, double limit,
+                                                   double* times) const {
+    return contact_avx2::contact_times(a, here, clock, box, particles, candidates, count, limit,
+                                       times);
+  }
+};
+#endif
+
+struct GrowingContacts {
+  double rate;
+  template <std::size_t D>
+  WallHit wall_hit(const Particle<D>& p, const Box<D>& box) const {
+    return growing_wall_hit(p, box, rate);
+  }
+  template <std::size_t D>
+  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
+                           const Box<D>& box, const Particle<D>* particles,
+                           const std::uint32_t* candidates, std::size_t count, double limit,
+                           double* times) const {
+    std::uint64_t soon = 0;
+    for (std::size_t n = 0; n < count; ++n) {
+      const Particle<D>& b = particles[candidates[n]];
+      // Unlike the fixed-size contact, a growing particle overlaps itself: skipped.
+      if (&b == &a) {
+        times[n] = kNever;
+        continue;
+      }
+      const Vec<D> offset =
+          box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
+      times[n] = growing_contact_time(a, b, offset, rate);
+      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
+    }
+    return soon;
+  }
+};
+
+}  // namespace
+
+template <std::size_t D>
+[[gnu::flatten]] void FastEngine<D>::predict_narrow(std::uint32_t i, std::size_t layer_axis,
+                                                    bool layer_upward) {
+  predict_with(i, layer_axis, layer_upward, NarrowContacts{});
+}
+
+template <std::size_t D>
+#ifdef CAROM_HAVE_AVX2_KERNEL
+[[gnu::flatten, gnu::target("avx2")]] void FastEngine<D>::predict_wide(std::uint32_t i,
+                                                                      std::size_t layer_axis,
+                                                                      bool layer_upward) {
+  predict_with(i, layer_axis, layer_upward, WideContacts{});
+}
+#else
+void FastEngine<D>::predict_wide(std::uint32_t i, std::size_t layer_axis, bool layer_upward) {
+  predict_narrow(i, layer_axis, layer_upward);
+}
+#endif
+
+template <std::size_t D>
+[[gnu::flatten]] void FastEngine<D>::predict_growing(std::uint32_t i, std::size_t layer_axis,
+                                                     bool layer_upward) {
+  predict_with(i, layer_axis, layer_upward, GrowingContacts{this->growth_.rate});
 }
 
 template <std::size_t D>
@@ -90,14 +183,12 @@ EventKey FastEngine<D>::collision_key(std::uint32_t i) const {
 }
 
 template <std::size_t D>
-template <bool kGrowing>
-[[gnu::flatten]] void FastEngine<D>::predict_as(std::uint32_t i, std::size_t layer_axis,
-                                                bool layer_upward) {
+template <class Contacts>
+void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool layer_upward,
+                                 const Contacts& contacts) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
   const Box<D> box = this->system_.box;  // a copy, which the loop below can keep in registers
-  const bool periodic = box.periodic();
-  const double rate = this->growth_.rate;
   const Vec<D> here = position_at(p, clock_);
   Pending best;
   EventKey best_key = kNoEvent;
@@ -105,34 +196,46 @@ template <bool kGrowing>
     best = pending_[i];
     best_key = collision_key(i);
   } else {
-    const WallHit hit = kGrowing ? growing_wall_hit(p, box, rate) : next_wall_hit(p, box);
+    const WallHit hit = contacts.wall_hit(p, box);
     if (hit.time != kNever) {
       best_key = key_of<D>({std::max(hit.time, clock_), i, hit.label});
       best = {best_key.time, 0, hit.label, Kind::wall};
     }
   }
+  // The candidates go to the contact kernel in batches. The particle itself, among them or
+  // padding a batch to a multiple of four, is never a contact of its own.
+  std::array<std::uint32_t, kMostContacts> batch;
+  std::array<double, kMostContacts> times;
+  std::size_t size = 0;
   bool new_partner = false;
-  const auto consider = [&](std::uint32_t j) {
-    if (j == i) return;
-    // The image seen now (as Engine::image), with this particle's position computed once.
-    const Vec<D> offset =
-        periodic ? image_offset(here - position_at(particles[j], clock_), box) : Vec<D>{};
-    const double t = kGrowing ? growing_contact_time(p, particles[j], offset, rate)
-                              : contact_time(p, particles[j], offset, best_key.time);
-    if (t == kNever) return;
-    const EventKey key = key_of<D>(pair_event(std::max(t, clock_), i, j));
-    if (key < best_key) {
-      best_key = key;
-      best = {key.time, 0, static_cast<std::int32_t>(j), Kind::pair};
-      new_partner = true;
+  const auto flush = [&] {
+    while (size % 4 != 0) batch[size++] = i;
+    // Only candidates touching no later than the best so far come back: one test settles the
+    // rest, most of them.
+    for (std::uint64_t soon = contacts(p, here, clock_, box, particles.data(), batch.data(), size,
+                                       best_key.time, times.data());
+         soon != 0; soon &= soon - 1) {
+      const auto n = static_cast<std::size_t>(std::countr_zero(soon));
+      const EventKey key = key_of<D>(pair_event(std::max(times[n], clock_), i, batch[n]));
+      if (key < best_key) {
+        best_key = key;
+        best = {key.time, 0, static_cast<std::int32_t>(batch[n]), Kind::pair};
+        new_partner = true;
+      }
     }
+    size = 0;
+  };
+  const auto gather = [&](std::uint32_t j) {
+    batch[size++] = j;
+    if (size == kMostContacts) flush();
   };
   const auto prefetch = [&](std::uint32_t j) { __builtin_prefetch(&particles[j]); };
   if (layer_axis < D) {
-    grid_.for_each_in_layer(grid_.cell_of(i), layer_axis, layer_upward, prefetch, consider);
+    grid_.for_each_in_layer(grid_.cell_of(i), layer_axis, layer_upward, prefetch, gather);
   } else {
-    grid_.for_each_near(grid_.cell_of(i), prefetch, consider);
+    grid_.for_each_near(grid_.cell_of(i), prefetch, gather);
   }
+  if (size > 0) flush();
   // The winner's version only: the counters are cold data, apart from the state.
   if (new_partner) best.partner_version = this->system_.records[best.partner].version();
   const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);

@@ -19,6 +19,7 @@
 
 #include "carom/engine.hpp"
 #include "cell_grid.hpp"
+#include "contact_batch.hpp"
 #include "event_calendar.hpp"
 
 namespace carom {
@@ -56,9 +57,14 @@ class FastEngine final : public Engine<D> {
   // the crossing brought within reach, the earlier prediction standing for the rest.
   void predict(std::uint32_t i) { predict(i, D, false); }
   void predict(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
-  // The same for growing particles or not, chosen once per prediction rather than per partner.
-  template <bool kGrowing>
-  void predict_as(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  // The same with one of the contact kernels (contact_batch.hpp), or for growing particles: the
+  // choice is made once per prediction, and each compiles to one flat loop.
+  void predict_narrow(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  void predict_wide(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  void predict_growing(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  template <class Contacts>
+  void predict_with(std::uint32_t i, std::size_t layer_axis, bool layer_upward,
+                    const Contacts& contacts);
   // Starts fetching what processing an event of particle i will read first.
   void fetch_ahead(std::uint32_t i) const;
   // Predicts every particle afresh (at the start and at every renewal horizon).
@@ -68,6 +74,7 @@ class FastEngine final : public Engine<D> {
   // With growth, after an event: brings that renewal forward if the particles sped up.
   void shorten_horizon();
 
+  bool wide_;  // the CPU has AVX2: predictions use the four-wide contact kernel
   CellGrid<D> grid_;
   EventCalendar queue_;
   std::vector<Pending> pending_;

@@ -1,0 +1,217 @@
+// The contact times of one particle with a batch of candidates: the fast engine's inner loop.
+//
+// Each result is exactly contact_time(a, b, offset) (physics.hpp), `offset` being the image of b
+// that a sees at `clock` (as Engine::image), bit for bit: the reference engine computes the same
+// numbers pair by pair. A CPU with AVX2 computes four candidates at a time, with the same
+// operations in the same order on each lane (no fused multiply-add: the library is built with
+// -ffp-contract=off and the kernel's target does not include FMA), and without the branches on
+// approach, contact and discriminant that a scalar loop mispredicts about every other candidate.
+// Other CPUs take the scalar loop; tests/contact_batch_test.cpp checks that both agree.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define CAROM_HAVE_AVX2_KERNEL 1
+#include <immintrin.h>
+#endif
+
+#include <type_traits>
+
+#include "carom/physics.hpp"
+#include "carom/system.hpp"
+
+namespace carom {
+
+// times[n] = contact_time(a, particles[candidates[n]], image offset at `clock`), for n < count
+// (at most kMostContacts). `here` is position_at(a, clock); clock is not before any particle's
+// stored time. A candidate that is `a` itself gets kNever (they are not approaching), so callers
+// may pad a batch with it. Returns the set of n whose contact is finite and no later than
+// `limit`, as bits: most candidates are receding or touch later than the best found so far, and
+// the caller need not look at them.
+inline constexpr std::size_t kMostContacts = 64;
+
+template <std::size_t D>
+std::uint64_t contact_times_scalar(const Particle<D>& a, const Vec<D>& here, double clock,
+                                   const Box<D>& box, const Particle<D>* particles,
+                                   const std::uint32_t* candidates, std::size_t count, double limit,
+                                   double* times) {
+  std::uint64_t soon = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    const Particle<D>& b = particles[candidates[n]];
+    const Vec<D> offset =
+        box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
+    times[n] = contact_time(a, b, offset);
+    if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
+  }
+  return soon;
+}
+
+// Four candidates at a time on a CPU with AVX2 (the tail of a batch that is not a multiple of four
+// goes through the scalar loop).
+template <std::size_t D>
+std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here, double clock,
+                                 const Box<D>& box, const Particle<D>* particles,
+                                 const std::uint32_t* candidates, std::size_t count, double limit,
+                                 double* times);
+
+// Whether this CPU runs contact_times_avx2 (otherwise it is the scalar loop).
+bool cpu_has_avx2();
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+// The four-wide loop itself, for callers compiled for AVX2 (a function with
+// [[gnu::target("avx2")]]) to inline: `count` must be a multiple of four.
+namespace contact_avx2 {
+
+// A particle read as doubles: position, velocity, time, radius, with nothing in between.
+template <std::size_t D>
+inline const double* raw(const Particle<D>& p) {
+  static_assert(std::is_standard_layout_v<Particle<D>>);
+  static_assert(offsetof(Particle<D>, velocity) == D * sizeof(double));
+  static_assert(offsetof(Particle<D>, time) == 2 * D * sizeof(double));
+  static_assert(offsetof(Particle<D>, radius) == (2 * D + 1) * sizeof(double));
+  return reinterpret_cast<const double*>(&p);
+}
+
+// Four candidates' states as lanes: coordinate k of the positions in x[k], and so on.
+template <std::size_t D>
+struct Lanes {
+  __m256d x[D], v[D], time, radius;
+};
+
+// Rows [a b c d] of four particles become four columns (a0 a1 a2 a3), ... .
+[[gnu::target("avx2")]] inline void transpose(__m256d& r0, __m256d& r1, __m256d& r2, __m256d& r3) {
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  r0 = _mm256_permute2f128_pd(t0, t2, 0x20);
+  r1 = _mm256_permute2f128_pd(t1, t3, 0x20);
+  r2 = _mm256_permute2f128_pd(t0, t2, 0x31);
+  r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+[[gnu::target("avx2")]] inline Lanes<3> load(const Particle<3>* particles, const std::uint32_t* c) {
+  const double* p0 = raw(particles[c[0]]);
+  const double* p1 = raw(particles[c[1]]);
+  const double* p2 = raw(particles[c[2]]);
+  const double* p3 = raw(particles[c[3]]);
+  // [x y z vx] and [vy vz t radius]
+  __m256d a0 = _mm256_loadu_pd(p0), a1 = _mm256_loadu_pd(p1), a2 = _mm256_loadu_pd(p2),
+          a3 = _mm256_loadu_pd(p3);
+  __m256d b0 = _mm256_loadu_pd(p0 + 4), b1 = _mm256_loadu_pd(p1 + 4), b2 = _mm256_loadu_pd(p2 + 4),
+          b3 = _mm256_loadu_pd(p3 + 4);
+  transpose(a0, a1, a2, a3);
+  transpose(b0, b1, b2, b3);
+  return {{a0, a1, a2}, {a3, b0, b1}, b2, b3};
+}
+
+[[gnu::target("avx2")]] inline Lanes<2> load(const Particle<2>* particles, const std::uint32_t* c) {
+  const double* p0 = raw(particles[c[0]]);
+  const double* p1 = raw(particles[c[1]]);
+  const double* p2 = raw(particles[c[2]]);
+  const double* p3 = raw(particles[c[3]]);
+  // [x y vx vy] and [t radius]
+  __m256d a0 = _mm256_loadu_pd(p0), a1 = _mm256_loadu_pd(p1), a2 = _mm256_loadu_pd(p2),
+          a3 = _mm256_loadu_pd(p3);
+  transpose(a0, a1, a2, a3);
+  const __m256d b02 = _mm256_set_m128d(_mm_loadu_pd(p2 + 4), _mm_loadu_pd(p0 + 4));
+  const __m256d b13 = _mm256_set_m128d(_mm_loadu_pd(p3 + 4), _mm_loadu_pd(p1 + 4));
+  return {{a0, a1}, {a2, a3}, _mm256_unpacklo_pd(b02, b13), _mm256_unpackhi_pd(b02, b13)};
+}
+
+// The sums of dot() and norm2() in their order. dot() starts from 0.0, which can only turn a -0
+// into +0: no result depends on the sign of a zero relative velocity.
+template <std::size_t D>
+[[gnu::target("avx2")]] inline __m256d dot(const __m256d (&a)[D], const __m256d (&b)[D]) {
+  __m256d s = _mm256_mul_pd(a[0], b[0]);
+  for (std::size_t k = 1; k < D; ++k) s = _mm256_add_pd(s, _mm256_mul_pd(a[k], b[k]));
+  return s;
+}
+
+template <std::size_t D>
+[[gnu::target("avx2")]] inline std::uint64_t contact_times(
+    const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
+    const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
+    double* times) {
+  const bool periodic = box.periodic();
+  // After a collision (most predictions) a's state is at the clock: the separation seen for the
+  // image is the contact time's own (contact_time moves only the earlier particle, to a's time).
+  const bool a_now = a.time == clock;
+  const __m256d now = _mm256_set1_pd(clock), zero = _mm256_setzero_pd();
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
+  __m256d at[D], a_v[D], half[D];
+  for (std::size_t k = 0; k < D; ++k) {
+    at[k] = _mm256_set1_pd(here[k]);
+    a_v[k] = _mm256_set1_pd(a.velocity[k]);
+    half[k] = _mm256_set1_pd(0.5 * box.size[k]);
+  }
+  std::uint64_t soon = 0;
+  for (std::size_t n = 0; n < count; n += 4) {
+    const Lanes<D> b = load(particles, candidates + n);
+    // The separation at the clock, for the image (image_offset), as position_at computes it.
+    const __m256d since = _mm256_sub_pd(now, b.time);
+    __m256d r[D], offset[D];
+    for (std::size_t k = 0; k < D; ++k) {
+      r[k] = _mm256_sub_pd(at[k], _mm256_add_pd(b.x[k], _mm256_mul_pd(b.v[k], since)));
+    }
+    bool shifted = false;
+    if (periodic) {
+      __m256d inside[D];
+      for (std::size_t k = 0; k < D; ++k) {
+        inside[k] = _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ);
+      }
+      __m256d all = inside[0];
+      for (std::size_t k = 1; k < D; ++k) all = _mm256_and_pd(all, inside[k]);
+      if (_mm256_movemask_pd(all) != 0xF) [[unlikely]] {  // some pair is seen across the box
+        shifted = true;
+        for (std::size_t k = 0; k < D; ++k) {
+          const __m256d side = _mm256_set1_pd(box.size[k]);
+          const __m256d sides = _mm256_round_pd(_mm256_div_pd(r[k], side),
+                                                _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+          offset[k] = _mm256_blendv_pd(_mm256_mul_pd(side, sides), zero, inside[k]);
+        }
+      }
+    }
+    // The separation at the later of the two stored times, less the offset.
+    __m256d t0 = now;
+    if (!a_now) {
+      const __m256d a_time = _mm256_set1_pd(a.time);
+      t0 = _mm256_max_pd(b.time, a_time);
+      const __m256d a_dt = _mm256_sub_pd(t0, a_time), b_dt = _mm256_sub_pd(t0, b.time);
+      for (std::size_t k = 0; k < D; ++k) {
+        const __m256d a_x = _mm256_add_pd(_mm256_set1_pd(a.position[k]), _mm256_mul_pd(a_v[k], a_dt));
+        r[k] = _mm256_sub_pd(a_x, _mm256_add_pd(b.x[k], _mm256_mul_pd(b.v[k], b_dt)));
+      }
+    }
+    if (shifted) {
+      for (std::size_t k = 0; k < D; ++k) r[k] = _mm256_sub_pd(r[k], offset[k]);
+    }
+    __m256d v[D];
+    for (std::size_t k = 0; k < D; ++k) v[k] = _mm256_sub_pd(a_v[k], b.v[k]);
+    const __m256d rv = dot<D>(r, v);
+    const __m256d approaching = _mm256_cmp_pd(rv, zero, _CMP_LT_OQ);
+    const __m256d sigma = _mm256_add_pd(_mm256_set1_pd(a.radius), b.radius);
+    const __m256d c = _mm256_sub_pd(dot<D>(r, r), _mm256_mul_pd(sigma, sigma));
+    const __m256d touching = _mm256_cmp_pd(c, zero, _CMP_LE_OQ);
+    const __m256d discriminant =
+        _mm256_sub_pd(_mm256_mul_pd(rv, rv), _mm256_mul_pd(dot<D>(v, v), c));
+    // -rv + sqrt(discriminant), as sqrt(discriminant) - rv: the same sum.
+    const __m256d root = _mm256_add_pd(
+        t0, _mm256_div_pd(c, _mm256_sub_pd(_mm256_sqrt_pd(discriminant), rv)));
+    const __m256d real = _mm256_cmp_pd(discriminant, zero, _CMP_NLT_UQ);
+    const __m256d never = _mm256_set1_pd(kNever);
+    __m256d t = _mm256_blendv_pd(never, root, real);
+    t = _mm256_blendv_pd(t, t0, touching);
+    t = _mm256_blendv_pd(never, t, approaching);
+    _mm256_storeu_pd(times + n, t);
+    const __m256d wanted = _mm256_and_pd(_mm256_cmp_pd(t, _mm256_set1_pd(limit), _CMP_LE_OQ),
+                                         _mm256_cmp_pd(t, never, _CMP_NEQ_OQ));
+    soon |= static_cast<std::uint64_t>(_mm256_movemask_pd(wanted)) << n;
+  }
+  return soon;
+}
+
+}  // namespace contact_avx2
+#endif
+
+}  // namespace carom
