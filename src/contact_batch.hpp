@@ -48,6 +48,21 @@ std::uint64_t contact_times_scalar(const Particle<D>& a, const Vec<D>& here, dou
   return soon;
 }
 
+// Which of `count` candidates (at most kMostContacts) have their point within `reach` of `centre`
+// (through the nearest image in a periodic box), as bits: a neighbour list's test.
+template <std::size_t D>
+std::uint64_t near_points_scalar(const Vec<D>& centre, const Vec<D>* points,
+                                 const std::uint32_t* candidates, std::size_t count,
+                                 const Box<D>& box, double reach) {
+  std::uint64_t near = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    Vec<D> apart = centre - points[candidates[n]];
+    if (box.periodic()) apart -= image_offset(apart, box);
+    if (norm2(apart) <= reach * reach) near |= std::uint64_t{1} << n;
+  }
+  return near;
+}
+
 // Four candidates at a time on a CPU with AVX2 (the tail of a batch that is not a multiple of four
 // goes through the scalar loop).
 template <std::size_t D>
@@ -209,6 +224,52 @@ template <std::size_t D>
     soon |= static_cast<std::uint64_t>(_mm256_movemask_pd(wanted)) << n;
   }
   return soon;
+}
+
+// near_points_scalar four at a time (`count` a multiple of four); `points` must be readable one
+// double past its last point.
+template <std::size_t D>
+[[gnu::target("avx2")]] inline std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
+                                                         const std::uint32_t* candidates,
+                                                         std::size_t count, const Box<D>& box,
+                                                         double reach) {
+  static_assert(sizeof(Vec<D>) == D * sizeof(double));
+  const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
+  const __m256d reach2 = _mm256_set1_pd(reach * reach);
+  std::uint64_t near = 0;
+  for (std::size_t n = 0; n < count; n += 4) {
+    const double* p[4];
+    for (std::size_t l = 0; l < 4; ++l) p[l] = points[candidates[n + l]].c.data();
+    __m256d x[D];
+    if constexpr (D == 3) {
+      __m256d r0 = _mm256_loadu_pd(p[0]), r1 = _mm256_loadu_pd(p[1]), r2 = _mm256_loadu_pd(p[2]),
+              r3 = _mm256_loadu_pd(p[3]);
+      transpose(r0, r1, r2, r3);
+      x[0] = r0, x[1] = r1, x[2] = r2;
+    } else {
+      const __m256d a02 = _mm256_set_m128d(_mm_loadu_pd(p[2]), _mm_loadu_pd(p[0]));
+      const __m256d a13 = _mm256_set_m128d(_mm_loadu_pd(p[3]), _mm_loadu_pd(p[1]));
+      x[0] = _mm256_unpacklo_pd(a02, a13), x[1] = _mm256_unpackhi_pd(a02, a13);
+    }
+    __m256d apart[D];
+    for (std::size_t k = 0; k < D; ++k) apart[k] = _mm256_sub_pd(_mm256_set1_pd(centre[k]), x[k]);
+    if (box.periodic()) {
+      for (std::size_t k = 0; k < D; ++k) {
+        const __m256d inside = _mm256_cmp_pd(_mm256_and_pd(apart[k], magnitude),
+                                             _mm256_set1_pd(0.5 * box.size[k]), _CMP_LE_OQ);
+        if (_mm256_movemask_pd(inside) != 0xF) [[unlikely]] {
+          const __m256d side = _mm256_set1_pd(box.size[k]);
+          const __m256d sides = _mm256_round_pd(_mm256_div_pd(apart[k], side),
+                                                _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+          apart[k] = _mm256_sub_pd(
+              apart[k], _mm256_blendv_pd(_mm256_mul_pd(side, sides), _mm256_setzero_pd(), inside));
+        }
+      }
+    }
+    const __m256d within = _mm256_cmp_pd(dot<D>(apart, apart), reach2, _CMP_LE_OQ);
+    near |= static_cast<std::uint64_t>(_mm256_movemask_pd(within)) << n;
+  }
+  return near;
 }
 
 }  // namespace contact_avx2

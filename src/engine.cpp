@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "fast_engine.hpp"
+#include "list_engine.hpp"
 #include "reference_engine.hpp"
 
 namespace carom {
@@ -129,6 +130,11 @@ std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const 
                                        const Growth& growth) {
   if (kind == EngineKind::reference) {
     return std::make_unique<ReferenceEngine<D>>(std::move(system), rule, growth);
+  }
+  // Spheres have some 26 candidates in the 27 cells around them at packing 0.45 and about 12
+  // in a list; disks 8 in 9 cells and 5 in a list, which does not pay for making lists.
+  if (D == 3 && ListEngine<D>::suits(system, growth)) {
+    return std::make_unique<ListEngine<D>>(std::move(system), rule);
   }
   return std::make_unique<FastEngine<D>>(std::move(system), rule, growth);
 }

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 
 namespace carom {
 
@@ -81,68 +80,6 @@ void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_
   }
 }
 
-namespace {
-
-// How a prediction finds wall hits and the contacts of a batch of candidates (see
-// contact_batch.hpp): three policies, one prediction.
-struct NarrowContacts {
-  template <std::size_t D>
-  static WallHit wall_hit(const Particle<D>& p, const Box<D>& box) {
-    return next_wall_hit(p, box);
-  }
-  template <std::size_t D>
-  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
-                           const Box<D>& box, const Particle<D>* particles,
-                           const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times) const {
-    return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times);
-  }
-};
-
-#ifdef CAROM_HAVE_AVX2_KERNEL
-struct WideContacts : NarrowContacts {
-  template <std::size_t D>
-  [[gnu::target("avx2")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
-                                                   double clock, const Box<D>& box,
-                                                   const Particle<D>* particles,
-                                                   const std::uint32_t* candidates,
-                                                   std::size_t count, double limit,
-                                                   double* times) const {
-    return contact_avx2::contact_times(a, here, clock, box, particles, candidates, count, limit,
-                                       times);
-  }
-};
-#endif
-
-struct GrowingContacts {
-  double rate;
-  template <std::size_t D>
-  WallHit wall_hit(const Particle<D>& p, const Box<D>& box) const {
-    return growing_wall_hit(p, box, rate);
-  }
-  template <std::size_t D>
-  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
-                           const Box<D>& box, const Particle<D>* particles,
-                           const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times) const {
-    std::uint64_t soon = 0;
-    for (std::size_t n = 0; n < count; ++n) {
-      const Particle<D>& b = particles[candidates[n]];
-      // Unlike the fixed-size contact, a growing particle overlaps itself: skipped.
-      if (&b == &a) {
-        times[n] = kNever;
-        continue;
-      }
-      const Vec<D> offset =
-          box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
-      times[n] = growing_contact_time(a, b, offset, rate);
-      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
-    }
-    return soon;
-  }
-};
-
-}  // namespace
 
 template <std::size_t D>
 [[gnu::flatten]] void FastEngine<D>::predict_narrow(std::uint32_t i, std::size_t layer_axis,
@@ -170,19 +107,6 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-EventKey FastEngine<D>::collision_key(std::uint32_t i) const {
-  const Pending& pending = pending_[i];
-  switch (pending.kind) {
-    case Kind::wall:
-      return key_of<D>({pending.time, i, pending.partner});
-    case Kind::pair:
-      return key_of<D>(pair_event(pending.time, i, static_cast<std::uint32_t>(pending.partner)));
-    default:
-      return kNoEvent;
-  }
-}
-
-template <std::size_t D>
 template <class Contacts>
 void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool layer_upward,
                                  const Contacts& contacts) {
@@ -190,39 +114,20 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
   const Particle<D>& p = particles[i];
   const Box<D> box = this->system_.box;  // a copy, which the loop below can keep in registers
   const Vec<D> here = position_at(p, clock_);
-  Pending best;
-  EventKey best_key = kNoEvent;
+  EarliestEvent<D> earliest;
   if (layer_axis < D) {
-    best = pending_[i];
-    best_key = collision_key(i);
+    earliest.pending = pending_[i];
+    earliest.key = collision_key<D>(pending_[i], i);
   } else {
-    const WallHit hit = contacts.wall_hit(p, box);
-    if (hit.time != kNever) {
-      best_key = key_of<D>({std::max(hit.time, clock_), i, hit.label});
-      best = {best_key.time, 0, hit.label, Kind::wall};
-    }
+    earliest.start_with_wall(contacts, p, box, i, clock_);
   }
   // The candidates go to the contact kernel in batches. The particle itself, among them or
   // padding a batch to a multiple of four, is never a contact of its own.
   std::array<std::uint32_t, kMostContacts> batch;
-  std::array<double, kMostContacts> times;
   std::size_t size = 0;
-  bool new_partner = false;
   const auto flush = [&] {
     while (size % 4 != 0) batch[size++] = i;
-    // Only candidates touching no later than the best so far come back: one test settles the
-    // rest, most of them.
-    for (std::uint64_t soon = contacts(p, here, clock_, box, particles.data(), batch.data(), size,
-                                       best_key.time, times.data());
-         soon != 0; soon &= soon - 1) {
-      const auto n = static_cast<std::size_t>(std::countr_zero(soon));
-      const EventKey key = key_of<D>(pair_event(std::max(times[n], clock_), i, batch[n]));
-      if (key < best_key) {
-        best_key = key;
-        best = {key.time, 0, static_cast<std::int32_t>(batch[n]), Kind::pair};
-        new_partner = true;
-      }
-    }
+    earliest.try_batch(contacts, p, here, clock_, box, particles.data(), i, batch.data(), size);
     size = 0;
   };
   const auto gather = [&](std::uint32_t j) {
@@ -236,13 +141,14 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
     grid_.for_each_near(grid_.cell_of(i), prefetch, gather);
   }
   if (size > 0) flush();
-  // The winner's version only: the counters are cold data, apart from the state.
-  if (new_partner) best.partner_version = this->system_.records[best.partner].version();
+  earliest.read_partner_version(this->system_.records);
+  Pending best = earliest.pending;
+  EventKey best_key = earliest.key;
   const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     best.crossing_axis = crossing.axis;
     best.crossing_upward = crossing.upward;
-    const EventKey key{clock_ + crossing.delay, crossing_order(i)};
+    const EventKey key{clock_ + crossing.delay, after_collisions(i)};
     if (key < best_key) best_key = key;
   }
   pending_[i] = best;
@@ -272,7 +178,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         return;
       }
       grid_.prefetch_near(grid_.cell_of(s));
-      if (pending_[s].kind == Kind::pair)
+      if (pending_[s].kind == PendingKind::pair)
         fetch_ahead(static_cast<std::uint32_t>(pending_[s].partner));
     });
     const EventKey key = queue_.top_key();
@@ -284,14 +190,14 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
       continue;
     }
     const Pending pending = pending_[i];
-    if (key.order == crossing_order(i)) {
+    if (key.order == after_collisions(i)) {
       clock_ = t;
       const std::size_t axis = pending.crossing_axis;
       grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, pending.crossing_upward));
       predict(i, axis, pending.crossing_upward);
       continue;
     }
-    if (pending.kind == Kind::wall) {
+    if (pending.kind == PendingKind::wall) {
       clock_ = t;
       const Event event = this->apply({t, i, pending.partner});
       predict(i);

@@ -19,7 +19,7 @@
 
 #include "carom/engine.hpp"
 #include "cell_grid.hpp"
-#include "contact_batch.hpp"
+#include "prediction.hpp"
 #include "event_calendar.hpp"
 
 namespace carom {
@@ -32,26 +32,6 @@ class FastEngine final : public Engine<D> {
 
  private:
   void rebased(double shift) override;
-  enum class Kind : std::uint8_t { none, wall, pair };
-  // A particle's earliest collision, and the way out of its cell. The queue holds the collision or
-  // the crossing, whichever comes first (told apart by the crossing's order, crossing_order), so
-  // that after a crossing the collision is still known and only the particles of the cells that
-  // have come within reach need predicting.
-  struct Pending {
-    double time = kNever;               // of the collision
-    std::uint64_t partner_version = 0;  // for a pair: the partner's version when predicted
-    std::int32_t partner = 0;           // wall label or particle index
-    Kind kind = Kind::none;
-    std::uint8_t crossing_axis = 0;  // the crossing: into grid_.adjacent(cell, axis, upward)
-    bool crossing_upward = false;
-  };
-  // Ordered after every collision of particle i at the same time: crossing changes no physics.
-  static constexpr std::uint64_t crossing_order(std::uint32_t i) {
-    return (std::uint64_t{i} << 32) | 0xFFFFFFFFu;
-  }
-  // The key of particle i's pending collision (kNoEvent for none).
-  EventKey collision_key(std::uint32_t i) const;
-
   // Finds the earliest event of particle i from the current time and queues it: against every
   // particle in the cells around it, or after a crossing only against those in the layer of cells
   // the crossing brought within reach, the earlier prediction standing for the rest.

@@ -10,7 +10,10 @@
 
 #include "carom/classic_input.hpp"
 #include "carom/formats.hpp"
+#include "carom/initial.hpp"
 #include "carom/overlap.hpp"
+#include "fast_engine.hpp"
+#include "list_engine.hpp"
 #include "test_systems.hpp"
 
 namespace carom {
@@ -146,13 +149,30 @@ TEST(Engine, ATouchingApproachingPairCollidesAtOnce) {
 // move to a new epoch after every `rebase_every`-th event, as a Simulation does every so often.
 //
 // With growth (a growing engine is never rebased) the radii grow until the end time.
+//
+// `fast` names the engine checked: the one make_engine picks, or the cell or the list engine.
+enum class Checked { fast, cells, lists };
+
+template <std::size_t D>
+std::unique_ptr<Engine<D>> checked_engine(Checked checked, const System<D>& system,
+                                          const CollisionRule& rule, const Growth& growth) {
+  switch (checked) {
+    case Checked::cells:
+      return std::make_unique<FastEngine<D>>(system, rule, growth);
+    case Checked::lists:
+      return std::make_unique<ListEngine<D>>(system, rule);
+    default:
+      return make_engine(EngineKind::fast, system, rule, growth);
+  }
+}
+
 template <std::size_t D>
 void expect_same_runs(const System<D>& system, const CollisionRule& rule, double end_time,
                       int max_events, const std::string& label, int rebase_every = 37,
-                      double growth_rate = 0.0) {
+                      double growth_rate = 0.0, Checked checked = Checked::fast) {
   const Growth growth{growth_rate, end_time};
   if (growth_rate != 0.0) rebase_every = max_events + 1;
-  auto fast = make_engine(EngineKind::fast, system, rule, growth);
+  auto fast = checked_engine(checked, system, rule, growth);
   auto reference = make_engine(EngineKind::reference, system, rule, growth);
   double last = 0.0;
   int events = 0;
@@ -390,6 +410,152 @@ TEST(CrossCheck, FastEqualsReferenceAtFiveHundredDisks) {
 TEST(CrossCheck, FastEqualsReferenceOnAssignmentCases) {
   for (const char* name : {"normal.txt", "particles1.txt", "particles_only.txt"}) {
     expect_same_runs(case_system(name), {Rule::swap}, 1000.0, 100000, name);
+  }
+}
+
+// The neighbour-list engine on dense starts, where make_engine chooses it for spheres; disks run
+// through it here too (make_engine keeps them in cells), as do walls, mixtures up to the size
+// ratio of two and every rule.
+template <std::size_t D>
+void check_lists_against_reference(std::uint64_t seed, int trials, int events) {
+  pcg32 rng(seed);
+  int checked_trials = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    InitialOptions options;
+    options.n = 20 + rng() % (D == 2 ? 200 : 150);
+    options.packing_fraction =
+        D == 2 ? uniform(rng, 0.25, 0.8) : uniform(rng, 0.2, trial % 4 == 0 ? 0.7 : 0.5);
+    options.polydispersity = trial % 3 == 0 ? uniform(rng, 0.0, 0.15) : 0.0;
+    options.boundary = trial % 2 == 0 ? Boundary::periodic : Boundary::walls;
+    options.seed = rng();
+    System<D> system;
+    try {
+      system = make_initial<D>(options);
+    } catch (const InitialError&) {
+      continue;  // a random placement that jammed: another trial
+    }
+    const CollisionRule rule = trial % 5 == 0   ? CollisionRule{Rule::elastic, 0.8, 1e-3}
+                               : trial % 7 == 0 ? CollisionRule{Rule::swap}
+                                                : CollisionRule{Rule::elastic};
+    const std::string label = std::to_string(D) + "D lists trial " + std::to_string(trial) +
+                              " (N = " + std::to_string(options.n) + ", phi " +
+                              std::to_string(options.packing_fraction) +
+                              (options.boundary == Boundary::periodic ? ", periodic)" : ", walls)");
+    if (!ListEngine<D>::suits(system, {})) continue;  // a periodic box too small for lists
+    // An inelastic gas cools and its collisions spread out in time, which the reference engine
+    // (windows of the image horizon, all pairs each) pays dearly for: fewer events then.
+    const int checked = rule.restitution < 1.0 ? events / 5 : events;
+    expect_same_runs(system, rule, 1e9, checked, label, 37 + trial % 200, 0.0, Checked::lists);
+    ++checked_trials;
+  }
+  EXPECT_GE(checked_trials, trials / 2);
+}
+
+TEST(CrossCheck, ListsEqualReferenceForDenseSpheres) {
+  check_lists_against_reference<3>(20261123, 40, 2000);
+}
+
+TEST(CrossCheck, ListsEqualReferenceForDenseDisks) {
+  check_lists_against_reference<2>(20261124, 40, 2000);
+}
+
+TEST(CrossCheck, ListsEqualReferenceOnTouchingSphereLatticesWithTies) {
+  pcg32 rng(81);
+  for (int trial = 0; trial < 20; ++trial) {
+    const double gap = trial % 3 == 0 ? 0.0 : uniform(rng, 0.01, 0.2);
+    System<3> system =
+        carom::testing::cubic_lattice<3>(rng, 4 + rng() % 3, 0.5, gap, trial % 2 == 0);
+    if (trial % 4 >= 2) system.box.boundary = Boundary::periodic;
+    if (!ListEngine<3>::suits(system, {})) continue;
+    const CollisionRule rule{trial % 2 == 0 ? Rule::swap : Rule::elastic};
+    expect_same_runs(system, rule, 20.0, 1500, "sphere lattice, lists " + std::to_string(trial),
+                     37, 0.0, Checked::lists);
+  }
+}
+
+TEST(CrossCheck, CellsEqualReferenceForDenseSpheres) {
+  // make_engine gives dense spheres lists: the cell engine is checked on them here.
+  pcg32 rng(82);
+  InitialOptions options;
+  options.n = 200;
+  options.packing_fraction = 0.45;
+  options.boundary = Boundary::periodic;
+  expect_same_runs(make_initial<3>(options), {Rule::elastic}, 1e9, 3000, "cells, spheres 0.45",
+                   37, 0.0, Checked::cells);
+}
+
+TEST(ListEngine, ServesDenseSystemsOfSimilarSizesThatDoNotGrow) {
+  InitialOptions options;
+  options.n = 500;
+  options.packing_fraction = 0.45;
+  options.boundary = Boundary::periodic;
+  const System<3> dense = make_initial<3>(options);
+  EXPECT_TRUE(ListEngine<3>::suits(dense, {}));
+  EXPECT_FALSE(ListEngine<3>::suits(dense, Growth{0.01, 1.0}));
+  System<3> mixed = dense;
+  mixed.particles[0].radius = 0.2;  // the largest more than twice the smallest
+  EXPECT_FALSE(ListEngine<3>::suits(mixed, {}));
+  options.packing_fraction = 0.1;
+  EXPECT_FALSE(ListEngine<3>::suits(make_initial<3>(options), {}));
+  options.n = 20;  // a box of side 3.6: the lists' reach of 3 diameters is more than half of it
+  options.packing_fraction = 0.45;
+  EXPECT_FALSE(ListEngine<3>::suits(make_initial<3>(options), {}));
+}
+
+TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
+  InitialOptions options;
+  options.n = 400;
+  options.packing_fraction = 0.5;
+  options.boundary = Boundary::periodic;
+  ListEngine<3> engine(make_initial<3>(options), {Rule::elastic});
+  for (int e = 0; e < 20000; ++e) ASSERT_TRUE(engine.step(kNever));
+  const System<3>& system = engine.system();
+  const double shell = ListEngine<3>::kSkin * 0.5, reach = 2.0 * (0.5 + shell);
+  const auto n = static_cast<std::uint32_t>(system.size());
+  std::size_t pairs = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t* list = engine.list(i);
+    const std::uint32_t size = engine.list_size(i);
+    // No particle has left its shell.
+    const Vec<3> moved = position_at(system.particles[i], engine.stored_time()) -
+                         engine.shell_centre(i);
+    EXPECT_LE(std::sqrt(norm2(moved)), shell * (1 + 1e-9)) << "particle " << i;
+    for (std::uint32_t j = 0; j < n; ++j) {
+      if (j == i) continue;
+      Vec<3> apart = engine.shell_centre(i) - engine.shell_centre(j);
+      apart -= image_offset(apart, system.box);
+      const bool listed = std::find(list, list + size, j) != list + size;
+      const std::uint32_t* other = engine.list(j);
+      EXPECT_EQ(listed, std::find(other, other + engine.list_size(j), i) !=
+                            other + engine.list_size(j))
+          << i << " and " << j;
+      if (norm2(apart) < reach * reach * (1 - 1e-6)) {
+        EXPECT_TRUE(listed) << j << " within reach of " << i;
+        ++pairs;
+      }
+    }
+  }
+  EXPECT_GT(pairs, 10u * n);  // about 13 neighbours each at this density
+}
+
+TEST(ShellExitDelay, EndsOnTheShellWithoutCancellation) {
+  EXPECT_EQ(shell_exit_delay(Vec<3>{{0, 0, 0}}, Vec<3>{{0, 0, 0}}, 0.25), kNever);
+  EXPECT_EQ(shell_exit_delay(Vec<3>{{0.3, 0, 0}}, Vec<3>{{1, 0, 0}}, 0.25), 0.0);
+  EXPECT_DOUBLE_EQ(shell_exit_delay(Vec<3>{{0, 0, 0}}, Vec<3>{{2, 0, 0}}, 0.25), 0.125);
+  EXPECT_DOUBLE_EQ(shell_exit_delay(Vec<3>{{0.2, 0, 0}}, Vec<3>{{-1, 0, 0}}, 0.25), 0.45);
+  EXPECT_DOUBLE_EQ(shell_exit_delay(Vec<3>{{0.2, 0, 0}}, Vec<3>{{1, 0, 0}}, 0.25), 0.05);
+  // Moving outward from near the shell: the root -b + sqrt(b^2 - v^2 c) would cancel.
+  const double delay = shell_exit_delay(Vec<2>{{0.25 - 1e-12, 0}}, Vec<2>{{1e6, 0}}, 0.25);
+  EXPECT_NEAR(delay, 1e-18, 1e-21);
+  pcg32 rng(3);
+  for (int trial = 0; trial < 10000; ++trial) {
+    Vec<3> offset, velocity;
+    for (std::size_t k = 0; k < 3; ++k) {
+      offset[k] = uniform(rng, -0.14, 0.14);
+      velocity[k] = uniform(rng, -3, 3);
+    }
+    const double t = shell_exit_delay(offset, velocity, 0.25);
+    EXPECT_NEAR(std::sqrt(norm2(offset + velocity * t)), 0.25, 1e-14);
   }
 }
 

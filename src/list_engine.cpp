@@ -1,0 +1,276 @@
+#include "list_engine.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+
+#include "carom/observables.hpp"
+
+namespace carom {
+
+namespace {
+
+// Shells' centres may be this much (relatively) further apart than the reach and still be
+// neighbours: far more than the round-off in the positions and times that place a particle in
+// its shell.
+constexpr double kReachMargin = 1e-8;
+
+}  // namespace
+
+template <std::size_t D>
+bool ListEngine<D>::suits(const System<D>& system, const Growth& growth) {
+  if (growth.rate != 0.0 || system.size() == 0) return false;
+  double smallest = kNever;
+  for (const Particle<D>& p : system.particles) smallest = std::min(smallest, p.radius);
+  const double largest = largest_radius(system);
+  if (!(smallest > 0.0) || largest > 2.0 * smallest) return false;
+  // In a dilute system the cells hold few candidates and a list would be made again after every
+  // few collisions: cells serve it better.
+  if (!(packing_fraction(system) >= kLeastPacking)) return false;
+  if (system.box.periodic()) {
+    // Neighbours are at most 2 R (1 + 2 skin) apart: within half a box, one image of each.
+    const double apart = 2.0 * largest * (1.0 + 2.0 * kSkin) * (1.0 + kReachMargin);
+    for (std::size_t k = 0; k < D; ++k) {
+      if (!(system.box.size[k] > 2.0 * apart)) return false;
+    }
+  }
+  return true;
+}
+
+template <std::size_t D>
+ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule)
+    : Engine<D>(std::move(system), rule, Growth{}),
+      shell_(ListEngine<D>::kSkin * largest_radius(this->system_)),
+      reach_(2.0 * (largest_radius(this->system_) + shell_) * (1.0 + kReachMargin)),
+      grid_(this->system_.box, reach_, this->system_.size()),
+      queue_(static_cast<std::uint32_t>(this->system_.size())),
+      pending_(this->system_.size()),
+      centre_(this->system_.size() + 1),  // one more, which near_points may read
+      size_(this->system_.size(), 0),
+      wide_(cpu_has_avx2()) {
+  const auto n = static_cast<std::uint32_t>(this->system_.size());
+  slots_.resize(slot(n));
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::fill_n(&slots_[slot(i)], capacity_, i);
+    grid_.insert(i, grid_.locate(position_at(this->system_.particles[i], this->now_)));
+  }
+  make_all_lists();
+}
+
+template <std::size_t D>
+void ListEngine<D>::rebased(double) {
+  queue_ = EventCalendar(static_cast<std::uint32_t>(this->system_.size()));
+  make_all_lists();
+}
+
+template <std::size_t D>
+void ListEngine<D>::make_all_lists() {
+  const auto& particles = this->system_.particles;
+  const auto n = static_cast<std::uint32_t>(particles.size());
+  clock_ = this->now_;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::fill_n(&slots_[slot(i)], size_[i], i);
+    size_[i] = 0;
+    centre_[i] = position_at(particles[i], clock_);
+    const std::uint32_t cell = grid_.locate(centre_[i]);
+    if (cell != grid_.cell_of(i)) grid_.move(i, cell);
+  }
+  const Box<D>& box = this->system_.box;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
+      if (j > i && near_points_scalar(centre_[i], centre_.data(), &j, 1, box, reach_) != 0) {
+        add(i, j);
+        add(j, i);
+      }
+    });
+  }
+  for (std::uint32_t i = 0; i < n; ++i) predict(i);
+}
+
+template <std::size_t D>
+template <class Contacts>
+void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
+  for (std::uint32_t k = 0; k < size_[i]; ++k) remove(slots_[slot(i) + k], i);
+  std::fill_n(&slots_[slot(i)], size_[i], i);
+  size_[i] = 0;
+  const Vec<D> centre = position_at(this->system_.particles[i], clock_);
+  centre_[i] = centre;
+  const std::uint32_t cell = grid_.locate(centre);
+  if (cell != grid_.cell_of(i)) grid_.move(i, cell);
+  // The candidates in batches, padded by the particle itself, which is no neighbour of its own.
+  const Box<D> box = this->system_.box;
+  std::array<std::uint32_t, kMostContacts> batch;
+  std::size_t size = 0;
+  const auto flush = [&] {
+    while (size % 4 != 0) batch[size++] = i;
+    for (std::uint64_t near =
+             contacts.near_points(centre, centre_.data(), batch.data(), size, box, reach_);
+         near != 0; near &= near - 1) {
+      const std::uint32_t j = batch[static_cast<std::size_t>(std::countr_zero(near))];
+      if (j != i) {
+        add(i, j);
+        add(j, i);
+      }
+    }
+    size = 0;
+  };
+  grid_.for_each_near(cell, [&](std::uint32_t j) {
+    batch[size++] = j;
+    if (size == kMostContacts) flush();
+  });
+  if (size > 0) flush();
+}
+
+template <std::size_t D>
+void ListEngine<D>::add(std::uint32_t i, std::uint32_t j) {
+  if (size_[i] == capacity_) widen();
+  slots_[slot(i) + size_[i]++] = j;
+}
+
+template <std::size_t D>
+void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j) {
+  std::uint32_t* list = &slots_[slot(i)];
+  const std::uint32_t last = --size_[i];
+  std::uint32_t k = 0;
+  while (list[k] != j) ++k;
+  list[k] = list[last];
+  list[last] = i;
+}
+
+template <std::size_t D>
+void ListEngine<D>::widen() {
+  const std::uint32_t capacity = (capacity_ + std::max<std::uint32_t>(8, capacity_ / 2) + 3) & ~3u;
+  const auto n = static_cast<std::uint32_t>(size_.size());
+  std::vector<std::uint32_t> slots(std::size_t{n} * capacity);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::uint32_t* to = &slots[std::size_t{i} * capacity];
+    std::copy_n(&slots_[slot(i)], size_[i], to);
+    std::fill(to + size_[i], to + capacity, i);
+  }
+  slots_ = std::move(slots);
+  capacity_ = capacity;
+}
+
+template <std::size_t D>
+void ListEngine<D>::predict(std::uint32_t i) {
+  if (wide_) {
+    predict_wide(i);
+  } else {
+    predict_narrow(i);
+  }
+}
+
+template <std::size_t D>
+void ListEngine<D>::renew(std::uint32_t i) {
+  if (wide_) {
+    renew_wide(i);
+  } else {
+    renew_narrow(i);
+  }
+}
+
+template <std::size_t D>
+[[gnu::flatten]] void ListEngine<D>::predict_narrow(std::uint32_t i) {
+  predict_with(i, NarrowContacts{});
+}
+
+template <std::size_t D>
+[[gnu::flatten]] void ListEngine<D>::renew_narrow(std::uint32_t i) {
+  make_list_with(i, NarrowContacts{});
+  predict_with(i, NarrowContacts{});
+}
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+template <std::size_t D>
+[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::predict_wide(std::uint32_t i) {
+  predict_with(i, WideContacts{});
+}
+
+template <std::size_t D>
+[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::renew_wide(std::uint32_t i) {
+  make_list_with(i, WideContacts{});
+  predict_with(i, WideContacts{});
+}
+#else
+template <std::size_t D>
+void ListEngine<D>::predict_wide(std::uint32_t i) {
+  predict_narrow(i);
+}
+
+template <std::size_t D>
+void ListEngine<D>::renew_wide(std::uint32_t i) {
+  renew_narrow(i);
+}
+#endif
+
+template <std::size_t D>
+template <class Contacts>
+void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
+  const auto& particles = this->system_.particles;
+  const Particle<D>& p = particles[i];
+  const Box<D> box = this->system_.box;
+  const Vec<D> here = position_at(p, clock_);
+  EarliestEvent<D> earliest;
+  earliest.start_with_wall(contacts, p, box, i, clock_);
+  // The list in fours: its own padding is the particle itself, never a contact of its own.
+  const std::uint32_t* list = &slots_[slot(i)];
+  const std::size_t count = (std::size_t{size_[i]} + 3) & ~std::size_t{3};
+  for (std::size_t from = 0; from < count; from += kMostContacts) {
+    earliest.try_batch(contacts, p, here, clock_, box, particles.data(), i, list + from,
+                       std::min(count - from, kMostContacts));
+  }
+  earliest.read_partner_version(this->system_.records);
+  EventKey key = earliest.key;
+  const double exit = shell_exit_delay(here - centre_[i], p.velocity, shell_);
+  if (exit != kNever) {
+    // A renewal the time cannot resolve would come again at the same instant forever.
+    if (exit > 0.0 && clock_ + exit == clock_) this->throw_too_fast(clock_);
+    key = std::min(key, EventKey{clock_ + exit, after_collisions(i)});
+  }
+  pending_[i] = earliest.pending;
+  queue_.update(i, key);
+}
+
+template <std::size_t D>
+std::optional<Event> ListEngine<D>::step(double end_time) {
+  const auto& particles = this->system_.particles;
+  const auto& records = this->system_.records;
+  while (true) {
+    // Events a few steps away are known: what they will read is fetched while these are handled.
+    const std::uint32_t i = queue_.top([&](std::uint32_t s, int distance) {
+      __builtin_prefetch(&particles[s]);
+      __builtin_prefetch(&slots_[slot(s)]);
+      if (distance == 2) __builtin_prefetch(&pending_[s]);
+    });
+    const EventKey key = queue_.top_key();
+    const double t = key.time;
+    if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
+    if (key.order == after_collisions(i)) {  // leaving its shell
+      clock_ = t;
+      renew(i);
+      continue;
+    }
+    const Pending pending = pending_[i];
+    if (pending.kind == PendingKind::wall) {
+      clock_ = t;
+      const Event event = this->apply({t, i, pending.partner});
+      predict(i);
+      return event;
+    }
+    const auto j = static_cast<std::uint32_t>(pending.partner);
+    if (records[j].version() != pending.partner_version) {
+      predict(i);  // the partner has collided since: this event will not happen
+      continue;
+    }
+    clock_ = t;
+    const Event event = this->apply(pair_event(t, i, j));
+    predict(i);
+    predict(j);
+    return event;
+  }
+}
+
+template class ListEngine<2>;
+template class ListEngine<3>;
+
+}  // namespace carom

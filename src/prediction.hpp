@@ -1,0 +1,173 @@
+// What the calendar engines (cells: fast_engine.hpp, neighbour lists: list_engine.hpp) share
+// about predicting one particle's next collision: what they keep of it, how they find wall hits
+// and contacts (one policy per contact kernel), and how a batch of contact times picks the
+// earliest event.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+
+#include "carom/event.hpp"
+#include "carom/physics.hpp"
+#include "carom/system.hpp"
+#include "contact_batch.hpp"
+
+namespace carom {
+
+enum class PendingKind : std::uint8_t { none, wall, pair };
+
+// A particle's earliest collision, as predicted, and (for the cell engine) the way out of its
+// cell. The calendar holds the collision or the engine's own event for the particle (a cell
+// crossing, a neighbour list's renewal), whichever comes first, told apart by the event's order
+// (after_collisions).
+struct Pending {
+  double time = kNever;               // of the collision
+  std::uint64_t partner_version = 0;  // for a pair: the partner's version when predicted
+  std::int32_t partner = 0;           // wall label or particle index
+  PendingKind kind = PendingKind::none;
+  std::uint8_t crossing_axis = 0;  // cell engine: the crossing is into adjacent(cell, axis, upward)
+  bool crossing_upward = false;
+};
+
+// The order of an engine's own event for particle i (a cell crossing, a neighbour list renewal):
+// after every collision of particle i at the same time, since it changes no physics.
+constexpr std::uint64_t after_collisions(std::uint32_t i) {
+  return (std::uint64_t{i} << 32) | 0xFFFFFFFFu;
+}
+
+// The calendar key of particle i's pending collision (kNoEvent for none).
+template <std::size_t D>
+EventKey collision_key(const Pending& pending, std::uint32_t i) {
+  switch (pending.kind) {
+    case PendingKind::wall:
+      return key_of<D>({pending.time, i, pending.partner});
+    case PendingKind::pair:
+      return key_of<D>(pair_event(pending.time, i, static_cast<std::uint32_t>(pending.partner)));
+    default:
+      return kNoEvent;
+  }
+}
+
+// The scalar contact kernel and plain wall hits.
+struct NarrowContacts {
+  template <std::size_t D>
+  static WallHit wall_hit(const Particle<D>& p, const Box<D>& box) {
+    return next_wall_hit(p, box);
+  }
+  template <std::size_t D>
+  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
+                           const Box<D>& box, const Particle<D>* particles,
+                           const std::uint32_t* candidates, std::size_t count, double limit,
+                           double* times) const {
+    return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times);
+  }
+  template <std::size_t D>
+  std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
+                            const std::uint32_t* candidates, std::size_t count, const Box<D>& box,
+                            double reach) const {
+    return near_points_scalar(centre, points, candidates, count, box, reach);
+  }
+};
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+// The four-wide kernel, for predictions compiled for AVX2 (which inline it).
+struct WideContacts : NarrowContacts {
+  template <std::size_t D>
+  [[gnu::target("avx2")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
+                                                   double clock, const Box<D>& box,
+                                                   const Particle<D>* particles,
+                                                   const std::uint32_t* candidates,
+                                                   std::size_t count, double limit,
+                                                   double* times) const {
+    return contact_avx2::contact_times(a, here, clock, box, particles, candidates, count, limit,
+                                       times);
+  }
+  template <std::size_t D>
+  [[gnu::target("avx2")]] std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
+                                                    const std::uint32_t* candidates,
+                                                    std::size_t count, const Box<D>& box,
+                                                    double reach) const {
+    return contact_avx2::near_points(centre, points, candidates, count, box, reach);
+  }
+};
+#endif
+
+// Growing particles (see Growth): their own wall hits and contacts, one candidate at a time.
+struct GrowingContacts {
+  double rate;
+  template <std::size_t D>
+  WallHit wall_hit(const Particle<D>& p, const Box<D>& box) const {
+    return growing_wall_hit(p, box, rate);
+  }
+  template <std::size_t D>
+  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
+                           const Box<D>& box, const Particle<D>* particles,
+                           const std::uint32_t* candidates, std::size_t count, double limit,
+                           double* times) const {
+    std::uint64_t soon = 0;
+    for (std::size_t n = 0; n < count; ++n) {
+      const Particle<D>& b = particles[candidates[n]];
+      // Unlike the fixed-size contact, a growing particle overlaps itself: skipped.
+      if (&b == &a) {
+        times[n] = kNever;
+        continue;
+      }
+      const Vec<D> offset =
+          box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
+      times[n] = growing_contact_time(a, b, offset, rate);
+      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
+    }
+    return soon;
+  }
+};
+
+// The earliest event of particle i so far (its key and what it is) while batches of candidates
+// are tried against it.
+template <std::size_t D>
+struct EarliestEvent {
+  EventKey key = kNoEvent;
+  Pending pending;
+  bool new_partner = false;  // a pair found here: its partner's version is still to be read
+
+  // Starts from the particle's wall hit, if any.
+  template <class Contacts>
+  void start_with_wall(const Contacts& contacts, const Particle<D>& p, const Box<D>& box,
+                       std::uint32_t i, double clock) {
+    const WallHit hit = contacts.wall_hit(p, box);
+    if (hit.time != kNever) {
+      key = key_of<D>({std::max(hit.time, clock), i, hit.label});
+      pending = {key.time, 0, hit.label, PendingKind::wall};
+    }
+  }
+
+  // Tries `count` candidates (at most kMostContacts, a multiple of four; the particle itself may
+  // be among them) against particle i, seen at `here` at `clock`.
+  template <class Contacts>
+  void try_batch(const Contacts& contacts, const Particle<D>& p, const Vec<D>& here, double clock,
+                 const Box<D>& box, const Particle<D>* particles, std::uint32_t i,
+                 const std::uint32_t* candidates, std::size_t count) {
+    std::array<double, kMostContacts> times;
+    // Only candidates touching no later than the best so far come back: one test settles the
+    // rest, most of them.
+    for (std::uint64_t soon = contacts(p, here, clock, box, particles, candidates, count, key.time,
+                                       times.data());
+         soon != 0; soon &= soon - 1) {
+      const auto n = static_cast<std::size_t>(std::countr_zero(soon));
+      const EventKey candidate = key_of<D>(pair_event(std::max(times[n], clock), i, candidates[n]));
+      if (candidate < key) {
+        key = candidate;
+        pending = {key.time, 0, static_cast<std::int32_t>(candidates[n]), PendingKind::pair};
+        new_partner = true;
+      }
+    }
+  }
+
+  // The winner's version only: the counters are cold data, apart from the state.
+  void read_partner_version(const std::vector<ParticleRecord>& records) {
+    if (new_partner) pending.partner_version = records[pending.partner].version();
+  }
+};
+
+}  // namespace carom
