@@ -50,6 +50,7 @@ class CellGrid {
     for (std::size_t k = 0; k < D; ++k) {
       width_[k] = box.size[k] / count_[k];
       stride_[k] = static_cast<std::uint32_t>(stride);
+      inverse_stride_[k] = stride_[k] > 1 ? ~std::uint64_t{0} / stride_[k] + 1 : 0;
       stride *= count_[k];
     }
     head_.assign(static_cast<std::size_t>(total), kNone);
@@ -144,7 +145,7 @@ class CellGrid {
 
   // The cell next to `cell` along `axis`, up or down (wrapping around a periodic box).
   std::uint32_t adjacent(std::uint32_t cell, std::size_t axis, bool upward) const {
-    const std::uint32_t at = (cell / stride_[axis]) % count_[axis], n = count_[axis];
+    const std::uint32_t at = coordinate(cell, axis), n = count_[axis];
     if (upward) return at + 1 < n ? cell + stride_[axis] : cell - (n - 1) * stride_[axis];
     return at > 0 ? cell - stride_[axis] : cell + (n - 1) * stride_[axis];
   }
@@ -198,10 +199,32 @@ class CellGrid {
     return std::min(2.0 * static_cast<double>(particles) + 16.0, 0x1p31);
   }
 
+  // The cell's place along each axis. Divisions by the grid's constant strides are done as
+  // multiplications (Lemire, Kaser and Kurz, "Faster remainder by direct computation", 2019:
+  // exact for every 32-bit numerator and divisor), which cost a tenth of a division.
   std::array<std::uint32_t, D> coordinates(std::uint32_t cell) const {
     std::array<std::uint32_t, D> at{};
-    for (std::size_t k = 0; k < D; ++k) at[k] = (cell / stride_[k]) % count_[k];
+    std::uint32_t rest = cell;
+    for (std::size_t k = D; k-- > 1;) {
+      at[k] = divide(rest, k);
+      rest -= at[k] * stride_[k];
+    }
+    at[0] = rest;
     return at;
+  }
+
+  // coordinates(cell)[axis] alone.
+  std::uint32_t coordinate(std::uint32_t cell, std::size_t axis) const {
+    const std::uint32_t along = divide(cell, axis);
+    return axis + 1 < D ? along - divide(cell, axis + 1) * count_[axis] : along;
+  }
+
+  // n / stride_[axis]. (A stride of 1, the first axis's or that of an axis after single cells,
+  // has no 64-bit inverse.)
+  std::uint32_t divide(std::uint32_t n, std::size_t axis) const {
+    __extension__ using Wide = unsigned __int128;
+    if (stride_[axis] == 1) return n;
+    return static_cast<std::uint32_t>((static_cast<Wide>(inverse_stride_[axis]) * n) >> 64);
   }
 
   template <class LookAhead, class Visit>
@@ -257,7 +280,7 @@ class CellGrid {
       const std::uint32_t n = count_[k];
       if (k == axis) {
         if (box_.periodic() && n >= 3) {
-          along[k][size[k]++] = upward ? (at[k] + 1) % n : (at[k] + n - 1) % n;
+          along[k][size[k]++] = upward ? (at[k] + 1 == n ? 0 : at[k] + 1) : (at[k] == 0 ? n - 1 : at[k] - 1);
         } else if (!box_.periodic() && (upward ? at[k] + 1 < n : at[k] > 0)) {
           along[k][size[k]++] = upward ? at[k] + 1 : at[k] - 1;
         }
@@ -265,7 +288,7 @@ class CellGrid {
       } else if (box_.periodic() && n < 3) {
         for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c;
       } else if (box_.periodic()) {
-        along[k] = {(at[k] + n - 1) % n, at[k], (at[k] + 1) % n};
+        along[k] = {at[k] == 0 ? n - 1 : at[k] - 1, at[k], at[k] + 1 == n ? 0 : at[k] + 1};
         size[k] = 3;
       } else {
         for (std::uint32_t c = at[k] > 0 ? at[k] - 1 : 0; c <= std::min(at[k] + 1, n - 1); ++c) {
@@ -273,20 +296,20 @@ class CellGrid {
         }
       }
     }
-    std::size_t count = 0;
-    std::array<std::uint32_t, D> pick{};
-    while (true) {
-      std::uint32_t index = 0;
-      for (std::size_t k = 0; k < D; ++k) index += along[k][pick[k]] * stride_[k];
-      out[count++] = index;
-      std::size_t k = 0;
-      while (k < D && pick[k] + 1 == size[k]) {
-        pick[k] = 0;
-        ++k;
-      }
-      if (k == D) return count;
-      ++pick[k];
+    // Every combination, the first axis fastest.
+    for (std::size_t k = 0; k < D; ++k) {
+      for (std::uint32_t c = 0; c < size[k]; ++c) along[k][c] *= stride_[k];
     }
+    static_assert(D == 2 || D == 3);
+    std::size_t count = 0;
+    const std::uint32_t layers = D == 3 ? size[D - 1] : 1;
+    for (std::uint32_t z = 0; z < layers; ++z) {
+      const std::uint32_t plane = D == 3 ? along[D - 1][z] : 0;
+      for (std::uint32_t y = 0; y < size[1]; ++y) {
+        for (std::uint32_t x = 0; x < size[0]; ++x) out[count++] = plane + along[1][y] + along[0][x];
+      }
+    }
+    return count;
   }
 
   void remove(std::uint32_t particle) {
@@ -302,6 +325,7 @@ class CellGrid {
   Box<D> box_;
   std::array<std::uint32_t, D> count_{};
   std::array<std::uint32_t, D> stride_{};
+  std::array<std::uint64_t, D> inverse_stride_{};  // see divide()
   Vec<D> width_;
   std::array<std::int32_t, kBlock> inner_block_{};
   std::array<std::array<std::int32_t, kBlock / 3>, 2 * D> inner_layer_{};

@@ -236,6 +236,12 @@ template <std::size_t D>
   static_assert(sizeof(Vec<D>) == D * sizeof(double));
   const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
   const __m256d reach2 = _mm256_set1_pd(reach * reach);
+  const bool periodic = box.periodic();
+  __m256d at[D], half[D];
+  for (std::size_t k = 0; k < D; ++k) {
+    at[k] = _mm256_set1_pd(centre[k]);
+    half[k] = _mm256_set1_pd(0.5 * box.size[k]);
+  }
   std::uint64_t near = 0;
   for (std::size_t n = 0; n < count; n += 4) {
     const double* p[4];
@@ -252,17 +258,21 @@ template <std::size_t D>
       x[0] = _mm256_unpacklo_pd(a02, a13), x[1] = _mm256_unpackhi_pd(a02, a13);
     }
     __m256d apart[D];
-    for (std::size_t k = 0; k < D; ++k) apart[k] = _mm256_sub_pd(_mm256_set1_pd(centre[k]), x[k]);
-    if (box.periodic()) {
+    for (std::size_t k = 0; k < D; ++k) apart[k] = _mm256_sub_pd(at[k], x[k]);
+    if (periodic) {
+      __m256d inside[D];
       for (std::size_t k = 0; k < D; ++k) {
-        const __m256d inside = _mm256_cmp_pd(_mm256_and_pd(apart[k], magnitude),
-                                             _mm256_set1_pd(0.5 * box.size[k]), _CMP_LE_OQ);
-        if (_mm256_movemask_pd(inside) != 0xF) [[unlikely]] {
+        inside[k] = _mm256_cmp_pd(_mm256_and_pd(apart[k], magnitude), half[k], _CMP_LE_OQ);
+      }
+      __m256d all = inside[0];
+      for (std::size_t k = 1; k < D; ++k) all = _mm256_and_pd(all, inside[k]);
+      if (_mm256_movemask_pd(all) != 0xF) [[unlikely]] {
+        for (std::size_t k = 0; k < D; ++k) {
           const __m256d side = _mm256_set1_pd(box.size[k]);
           const __m256d sides = _mm256_round_pd(_mm256_div_pd(apart[k], side),
                                                 _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-          apart[k] = _mm256_sub_pd(
-              apart[k], _mm256_blendv_pd(_mm256_mul_pd(side, sides), _mm256_setzero_pd(), inside));
+          apart[k] = _mm256_sub_pd(apart[k], _mm256_blendv_pd(_mm256_mul_pd(side, sides),
+                                                              _mm256_setzero_pd(), inside[k]));
         }
       }
     }

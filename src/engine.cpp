@@ -131,9 +131,9 @@ std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const 
   if (kind == EngineKind::reference) {
     return std::make_unique<ReferenceEngine<D>>(std::move(system), rule, growth);
   }
-  // Spheres have some 26 candidates in the 27 cells around them at packing 0.45 and about 12
-  // in a list; disks 8 in 9 cells and 5 in a list, which does not pay for making lists.
-  if (D == 3 && ListEngine<D>::suits(system, growth)) {
+  // Dense systems: a sphere at packing 0.45 has some 26 candidates in the 27 cells around it and
+  // about 13 in its list (see ListEngine::suits for when lists pay).
+  if (ListEngine<D>::suits(system, growth)) {
     return std::make_unique<ListEngine<D>>(std::move(system), rule);
   }
   return std::make_unique<FastEngine<D>>(std::move(system), rule, growth);

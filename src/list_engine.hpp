@@ -42,12 +42,16 @@ double shell_exit_delay(const Vec<D>& offset, const Vec<D>& velocity, double rad
 template <std::size_t D>
 class ListEngine final : public Engine<D> {
  public:
-  // Shells `kSkin` largest radii thick: at packing 0.45 a sphere leaves its shell after about ten
-  // collisions and its list holds about 13 others (measured: 0.4 and 0.6 cost more instructions
-  // a collision, 0.3 much more).
-  static constexpr double kSkin = 0.5;
-  // Lists serve systems at least this densely packed (see suits()).
-  static constexpr double kLeastPacking = 0.2;
+  // Shells `kSkin` largest radii thick. Measured (instructions a collision, N = 10^4): spheres
+  // at packing 0.45 cost least from 0.5 to 0.6 (0.4 and 0.8 cost 5 % more, 0.3 15 %), a sphere
+  // then leaving its shell every ten collisions or so with about 13 neighbours; disks at 0.5 and
+  // 0.7 from 0.7 to 1.2.
+  static constexpr double kSkin = D == 2 ? 0.9 : 0.5;
+  // Lists serve systems at least this densely packed (see suits()): below, a particle leaves its
+  // shell every few collisions and the cells' candidates are few. Measured crossovers: spheres
+  // near 0.3 (cells 5,860 and lists 5,980 instructions a collision; 5,870 and 9,100 at 0.2),
+  // disks near 0.4 (cells 3,600 and lists 4,500 at 0.3; 3,180 and 2,730 at 0.5).
+  static constexpr double kLeastPacking = D == 2 ? 0.4 : 0.25;
 
   // Whether lists serve this system: particles that do not grow, none of zero size nor much
   // smaller than the largest (a list would hold too many), and in a periodic box one image of

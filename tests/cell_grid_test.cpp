@@ -173,3 +173,44 @@ TEST(CellGrid, PeriodicAxisWithTwoCellsNeverPingPongs) {
 
 }  // namespace
 }  // namespace carom
+
+namespace carom {
+namespace {
+
+// adjacent() finds a cell's place along an axis by multiplying by the stride's inverse, not
+// dividing: checked against division on grids of one to seven cells an axis (an axis of one cell
+// makes the next axis's stride 1, which has no 64-bit inverse).
+template <std::size_t D>
+void check_adjacent_cells(Boundary boundary) {
+  for (std::uint32_t shape = 0; shape < (D == 2 ? 49u : 343u); ++shape) {
+    Box<D> box;
+    box.boundary = boundary;
+    std::array<std::uint32_t, D> count{};
+    for (std::size_t k = 0, rest = shape; k < D; ++k, rest /= 7) {
+      count[k] = 1 + static_cast<std::uint32_t>(rest % 7);
+      box.size[k] = 1.001 * count[k];
+    }
+    const CellGrid<D> grid(box, 1.0, 1000);
+    for (std::size_t k = 0; k < D; ++k) ASSERT_EQ(grid.cells_along(k), count[k]);
+    for (std::uint32_t cell = 0; cell < grid.cell_count(); ++cell) {
+      std::uint32_t stride = 1;
+      for (std::size_t axis = 0; axis < D; ++axis) {
+        const std::uint32_t at = cell / stride % count[axis], n = count[axis];
+        for (const bool upward : {false, true}) {
+          const std::uint32_t to = upward ? (at + 1) % n : (at + n - 1) % n;
+          EXPECT_EQ(grid.adjacent(cell, axis, upward), cell - at * stride + to * stride)
+              << "cell " << cell << " axis " << axis;
+        }
+        stride *= n;
+      }
+    }
+  }
+}
+
+TEST(CellGrid, AdjacentCellsAreFoundWithoutDividing) {
+  check_adjacent_cells<2>(Boundary::periodic);
+  check_adjacent_cells<3>(Boundary::periodic);
+}
+
+}  // namespace
+}  // namespace carom

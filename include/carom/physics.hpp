@@ -107,7 +107,9 @@ template <std::size_t D>
 void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& image) {
   if (!box.periodic()) return;
   for (std::size_t k = 0; k < D; ++k) {
-    const double sides = image[k] + wrap_coordinate(position[k], box.size[k]);
+    const double moved = wrap_coordinate(position[k], box.size[k]);
+    if (moved == 0.0) continue;  // inside already, most of the time
+    const double sides = image[k] + moved;
     if (std::isnan(sides)) continue;
     constexpr double kLow = std::numeric_limits<std::int32_t>::min();
     constexpr double kHigh = std::numeric_limits<std::int32_t>::max();
