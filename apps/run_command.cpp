@@ -484,8 +484,9 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                 "No progress line (shown on stderr during long runs when it is a terminal) and "
                 "no notes");
   add_choice<EngineKind>(run, "--engine", args.engine,
-                         "fast: cell grid and event calendar, O(1) per event; reference: the "
-                         "seed's algorithm, every pair checked after every event (O(N^2), for "
+                         "fast: neighbour lists (dense systems) or a cell grid, and an event "
+                         "calendar, O(1) per event; reference: the classic assignment's "
+                         "algorithm, every pair checked after every event (O(N^2), for "
                          "checking)");
   run->add_option("--checkpoint", args.checkpoint,
                   "Save the complete state of the run to this file at the end, every "

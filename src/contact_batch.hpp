@@ -17,6 +17,8 @@
 #include <immintrin.h>
 #endif
 
+#include <algorithm>
+#include <limits>
 #include <type_traits>
 
 #include "carom/physics.hpp"
@@ -154,6 +156,7 @@ template <std::size_t D>
   const bool a_now = a.time == clock;
   const __m256d now = _mm256_set1_pd(clock), zero = _mm256_setzero_pd();
   const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
+  const __m256d latest = _mm256_set1_pd(std::min(limit, std::numeric_limits<double>::max()));
   __m256d at[D], a_v[D], half[D];
   for (std::size_t k = 0; k < D; ++k) {
     at[k] = _mm256_set1_pd(here[k]);
@@ -219,8 +222,8 @@ template <std::size_t D>
     t = _mm256_blendv_pd(t, t0, touching);
     t = _mm256_blendv_pd(never, t, approaching);
     _mm256_storeu_pd(times + n, t);
-    const __m256d wanted = _mm256_and_pd(_mm256_cmp_pd(t, _mm256_set1_pd(limit), _CMP_LE_OQ),
-                                         _mm256_cmp_pd(t, never, _CMP_NEQ_OQ));
+    // Finite and no later than the limit: no later than the limit or the largest double.
+    const __m256d wanted = _mm256_cmp_pd(t, latest, _CMP_LE_OQ);
     soon |= static_cast<std::uint64_t>(_mm256_movemask_pd(wanted)) << n;
   }
   return soon;

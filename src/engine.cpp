@@ -64,9 +64,8 @@ Event Engine<D>::apply(Event event) {
     Particle<D>& b = system_.particles[j];
     ParticleRecord& rb = system_.records[j];
     // The TC model reads each particle's own last collision, never its stored time.
-    const bool recent = t - ra.last_collision < rule_.elastic_within ||
-                        t - rb.last_collision < rule_.elastic_within;
-    event.elastic_by_tc = recent && rule_.restitution < 1.0;
+    event.elastic_by_tc = rule_.restitution < 1.0 && (t - ra.last_collision < rule_.elastic_within ||
+                                                      t - rb.last_collision < rule_.elastic_within);
     advance(a, t);
     advance(b, t);
     const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
