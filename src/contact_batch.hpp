@@ -14,7 +14,12 @@
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CAROM_HAVE_AVX2_KERNEL 1
+// GCC 12's AVX-512 intrinsics start from an "undefined" register it then calls uninitialized
+// (GCC bug 105593, fixed in 13): silenced for the header's own lines only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
+#pragma GCC diagnostic pop
 #endif
 
 #include <algorithm>
@@ -73,8 +78,22 @@ std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here, doubl
                                  const std::uint32_t* candidates, std::size_t count, double limit,
                                  double* times);
 
+// Eight at a time on a CPU with AVX-512F (the tail through the scalar loop).
+template <std::size_t D>
+std::uint64_t contact_times_avx512(const Particle<D>& a, const Vec<D>& here, double clock,
+                                   const Box<D>& box, const Particle<D>* particles,
+                                   const std::uint32_t* candidates, std::size_t count,
+                                   double limit, double* times);
+
 // Whether this CPU runs contact_times_avx2 (otherwise it is the scalar loop).
 bool cpu_has_avx2();
+// Whether this CPU runs contact_times_avx512.
+bool cpu_has_avx512();
+
+// The contact kernels, narrowest first: what a prediction may be compiled for.
+enum class ContactKernel : std::uint8_t { scalar, avx2, avx512 };
+// The widest this CPU runs.
+ContactKernel widest_contact_kernel();
 
 #ifdef CAROM_HAVE_AVX2_KERNEL
 // The four-wide loop itself, for callers compiled for AVX2 (a function with
@@ -157,6 +176,8 @@ template <std::size_t D>
   const __m256d now = _mm256_set1_pd(clock), zero = _mm256_setzero_pd();
   const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
   const __m256d latest = _mm256_set1_pd(std::min(limit, std::numeric_limits<double>::max()));
+  // a's state in registers before the loop: the stores to `times` might alias it otherwise.
+  const __m256d a_radius = _mm256_set1_pd(a.radius), never = _mm256_set1_pd(kNever);
   __m256d at[D], a_v[D], half[D];
   for (std::size_t k = 0; k < D; ++k) {
     at[k] = _mm256_set1_pd(here[k]);
@@ -208,7 +229,7 @@ template <std::size_t D>
     for (std::size_t k = 0; k < D; ++k) v[k] = _mm256_sub_pd(a_v[k], b.v[k]);
     const __m256d rv = dot<D>(r, v);
     const __m256d approaching = _mm256_cmp_pd(rv, zero, _CMP_LT_OQ);
-    const __m256d sigma = _mm256_add_pd(_mm256_set1_pd(a.radius), b.radius);
+    const __m256d sigma = _mm256_add_pd(a_radius, b.radius);
     const __m256d c = _mm256_sub_pd(dot<D>(r, r), _mm256_mul_pd(sigma, sigma));
     const __m256d touching = _mm256_cmp_pd(c, zero, _CMP_LE_OQ);
     const __m256d discriminant =
@@ -217,7 +238,6 @@ template <std::size_t D>
     const __m256d root = _mm256_add_pd(
         t0, _mm256_div_pd(c, _mm256_sub_pd(_mm256_sqrt_pd(discriminant), rv)));
     const __m256d real = _mm256_cmp_pd(discriminant, zero, _CMP_NLT_UQ);
-    const __m256d never = _mm256_set1_pd(kNever);
     __m256d t = _mm256_blendv_pd(never, root, real);
     t = _mm256_blendv_pd(t, t0, touching);
     t = _mm256_blendv_pd(never, t, approaching);
@@ -286,6 +306,178 @@ template <std::size_t D>
 }
 
 }  // namespace contact_avx2
+
+// The same eight candidates at a time, for callers compiled for AVX-512F: `count` must be a
+// multiple of eight. The lanes are gathered from the particles field by field (one instruction
+// each, where a transposition takes three a field), and the comparisons give bit masks directly.
+// Each lane computes what contact_avx2 computes, operation for operation.
+namespace contact_avx512 {
+
+template <std::size_t D>
+struct Lanes {
+  __m512d x[D], v[D], time, radius;
+};
+
+// The offsets, in doubles, of eight array elements `stride` doubles long.
+template <std::size_t stride>
+[[gnu::target("avx512f")]] inline __m512i element_offsets(const std::uint32_t* c) {
+  static_assert(stride == 2 || stride == 3 || stride == 6 || stride == 8);
+  const __m512i i = _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c)));
+  if constexpr (stride == 8) return _mm512_slli_epi64(i, 3);
+  if constexpr (stride == 2) return _mm512_slli_epi64(i, 1);
+  if constexpr (stride == 3) return _mm512_add_epi64(_mm512_slli_epi64(i, 1), i);
+  if constexpr (stride == 6) return _mm512_slli_epi64(_mm512_add_epi64(_mm512_slli_epi64(i, 1), i), 1);
+}
+
+template <std::size_t D>
+[[gnu::target("avx512f")]] inline Lanes<D> load(const Particle<D>* particles,
+                                                const std::uint32_t* c) {
+  static_assert(sizeof(Particle<D>) == (2 * D + 2) * sizeof(double));
+  const __m512i at = element_offsets<2 * D + 2>(c);
+  const double* base = contact_avx2::raw(particles[0]);
+  Lanes<D> lanes;
+  for (std::size_t k = 0; k < D; ++k) {
+    lanes.x[k] = _mm512_i64gather_pd(at, base + k, 8);
+    lanes.v[k] = _mm512_i64gather_pd(at, base + D + k, 8);
+  }
+  lanes.time = _mm512_i64gather_pd(at, base + 2 * D, 8);
+  lanes.radius = _mm512_i64gather_pd(at, base + 2 * D + 1, 8);
+  return lanes;
+}
+
+template <std::size_t D>
+[[gnu::target("avx512f")]] inline __m512d dot(const __m512d (&a)[D], const __m512d (&b)[D]) {
+  __m512d s = _mm512_mul_pd(a[0], b[0]);
+  for (std::size_t k = 1; k < D; ++k) s = _mm512_add_pd(s, _mm512_mul_pd(a[k], b[k]));
+  return s;
+}
+
+template <std::size_t D>
+[[gnu::target("avx512f")]] inline std::uint64_t contact_times(
+    const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
+    const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
+    double* times) {
+  const bool periodic = box.periodic();
+  const bool a_now = a.time == clock;  // see contact_avx2::contact_times
+  const __m512d now = _mm512_set1_pd(clock), zero = _mm512_setzero_pd();
+  const __m512d latest = _mm512_set1_pd(std::min(limit, std::numeric_limits<double>::max()));
+  const __m512d a_radius = _mm512_set1_pd(a.radius), never = _mm512_set1_pd(kNever);
+  const __m512d a_time = _mm512_set1_pd(a.time);
+  __m512d at[D], a_x[D], a_v[D], half[D], side[D];
+  for (std::size_t k = 0; k < D; ++k) {
+    at[k] = _mm512_set1_pd(here[k]);
+    a_x[k] = _mm512_set1_pd(a.position[k]);
+    a_v[k] = _mm512_set1_pd(a.velocity[k]);
+    half[k] = _mm512_set1_pd(0.5 * box.size[k]);
+    side[k] = _mm512_set1_pd(box.size[k]);
+  }
+  std::uint64_t soon = 0;
+  for (std::size_t n = 0; n < count; n += 8) {
+    const Lanes<D> b = load(particles, candidates + n);
+    const __m512d since = _mm512_sub_pd(now, b.time);
+    __m512d r[D];
+    for (std::size_t k = 0; k < D; ++k) {
+      r[k] = _mm512_sub_pd(at[k], _mm512_add_pd(b.x[k], _mm512_mul_pd(b.v[k], since)));
+    }
+    __mmask8 inside[D];
+    __mmask8 all = 0xFF;
+    if (periodic) {
+      for (std::size_t k = 0; k < D; ++k) {
+        inside[k] = _mm512_cmp_pd_mask(_mm512_abs_pd(r[k]), half[k], _CMP_LE_OQ);
+        all &= inside[k];
+      }
+    }
+    __m512d offset[D];
+    const bool shifted = all != 0xFF;
+    if (shifted) [[unlikely]] {  // some pair is seen across the box
+      for (std::size_t k = 0; k < D; ++k) {
+        const __m512d sides = _mm512_roundscale_pd(_mm512_div_pd(r[k], side[k]),
+                                                   _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+        offset[k] = _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
+                                        _mm512_mul_pd(side[k], sides));
+      }
+    }
+    __m512d t0 = now;
+    if (!a_now) {
+      t0 = _mm512_max_pd(b.time, a_time);
+      const __m512d a_dt = _mm512_sub_pd(t0, a_time), b_dt = _mm512_sub_pd(t0, b.time);
+      for (std::size_t k = 0; k < D; ++k) {
+        r[k] = _mm512_sub_pd(_mm512_add_pd(a_x[k], _mm512_mul_pd(a_v[k], a_dt)),
+                             _mm512_add_pd(b.x[k], _mm512_mul_pd(b.v[k], b_dt)));
+      }
+    }
+    if (shifted) {
+      for (std::size_t k = 0; k < D; ++k) r[k] = _mm512_sub_pd(r[k], offset[k]);
+    }
+    __m512d v[D];
+    for (std::size_t k = 0; k < D; ++k) v[k] = _mm512_sub_pd(a_v[k], b.v[k]);
+    const __m512d rv = dot<D>(r, v);
+    const __mmask8 approaching = _mm512_cmp_pd_mask(rv, zero, _CMP_LT_OQ);
+    const __m512d sigma = _mm512_add_pd(a_radius, b.radius);
+    const __m512d c = _mm512_sub_pd(dot<D>(r, r), _mm512_mul_pd(sigma, sigma));
+    const __mmask8 touching = _mm512_cmp_pd_mask(c, zero, _CMP_LE_OQ);
+    const __m512d discriminant =
+        _mm512_sub_pd(_mm512_mul_pd(rv, rv), _mm512_mul_pd(dot<D>(v, v), c));
+    const __m512d root = _mm512_add_pd(
+        t0, _mm512_div_pd(c, _mm512_sub_pd(_mm512_sqrt_pd(discriminant), rv)));
+    const __mmask8 real = _mm512_cmp_pd_mask(discriminant, zero, _CMP_NLT_UQ);
+    __m512d t = _mm512_mask_blend_pd(real, never, root);
+    t = _mm512_mask_blend_pd(touching, t, t0);
+    t = _mm512_mask_blend_pd(approaching, never, t);
+    _mm512_storeu_pd(times + n, t);
+    const __mmask8 wanted = _mm512_cmp_pd_mask(t, latest, _CMP_LE_OQ);
+    soon |= static_cast<std::uint64_t>(wanted) << n;
+  }
+  return soon;
+}
+
+// contact_avx2::near_points eight at a time (`count` a multiple of eight).
+template <std::size_t D>
+[[gnu::target("avx512f")]] inline std::uint64_t near_points(const Vec<D>& centre,
+                                                           const Vec<D>* points,
+                                                           const std::uint32_t* candidates,
+                                                           std::size_t count, const Box<D>& box,
+                                                           double reach) {
+  static_assert(sizeof(Vec<D>) == D * sizeof(double));
+  const __m512d reach2 = _mm512_set1_pd(reach * reach);
+  const bool periodic = box.periodic();
+  const double* base = points[0].c.data();
+  __m512d at[D], half[D], side[D];
+  for (std::size_t k = 0; k < D; ++k) {
+    at[k] = _mm512_set1_pd(centre[k]);
+    half[k] = _mm512_set1_pd(0.5 * box.size[k]);
+    side[k] = _mm512_set1_pd(box.size[k]);
+  }
+  std::uint64_t near = 0;
+  for (std::size_t n = 0; n < count; n += 8) {
+    const __m512i offsets = element_offsets<D>(candidates + n);
+    __m512d apart[D];
+    for (std::size_t k = 0; k < D; ++k) {
+      apart[k] = _mm512_sub_pd(at[k], _mm512_i64gather_pd(offsets, base + k, 8));
+    }
+    if (periodic) {
+      __mmask8 inside[D];
+      __mmask8 all = 0xFF;
+      for (std::size_t k = 0; k < D; ++k) {
+        inside[k] = _mm512_cmp_pd_mask(_mm512_abs_pd(apart[k]), half[k], _CMP_LE_OQ);
+        all &= inside[k];
+      }
+      if (all != 0xFF) [[unlikely]] {
+        for (std::size_t k = 0; k < D; ++k) {
+          const __m512d sides = _mm512_roundscale_pd(
+              _mm512_div_pd(apart[k], side[k]), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+          apart[k] = _mm512_sub_pd(apart[k], _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
+                                                                 _mm512_mul_pd(side[k], sides)));
+        }
+      }
+    }
+    const __mmask8 within = _mm512_cmp_pd_mask(dot<D>(apart, apart), reach2, _CMP_LE_OQ);
+    near |= static_cast<std::uint64_t>(within) << n;
+  }
+  return near;
+}
+
+}  // namespace contact_avx512
 #endif
 
 }  // namespace carom

@@ -122,11 +122,11 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
     earliest.start_with_wall(contacts, p, box, i, clock_);
   }
   // The candidates go to the contact kernel in batches. The particle itself, among them or
-  // padding a batch to a multiple of four, is never a contact of its own.
+  // padding a batch to a multiple of the kernel's lanes, is never a contact of its own.
   std::array<std::uint32_t, kMostContacts> batch;
   std::size_t size = 0;
   const auto flush = [&] {
-    while (size % 4 != 0) batch[size++] = i;
+    while (size % Contacts::kLanes != 0) batch[size++] = i;
     earliest.try_batch(contacts, p, here, clock_, box, particles.data(), i, batch.data(), size);
     size = 0;
   };

@@ -26,10 +26,11 @@ bool ListEngine<D>::suits(const System<D>& system, const Growth& growth) {
   if (!(smallest > 0.0) || largest > 2.0 * smallest) return false;
   // In a dilute system the cells hold few candidates and a list would be made again after every
   // few collisions: cells serve it better.
-  if (!(packing_fraction(system) >= kLeastPacking)) return false;
+  const double packing = packing_fraction(system);
+  if (!(packing >= kLeastPacking)) return false;
   if (system.box.periodic()) {
     // Neighbours are at most 2 R (1 + 2 skin) apart: within half a box, one image of each.
-    const double apart = 2.0 * largest * (1.0 + 2.0 * kSkin) * (1.0 + kReachMargin);
+    const double apart = 2.0 * largest * (1.0 + 2.0 * skin(packing)) * (1.0 + kReachMargin);
     for (std::size_t k = 0; k < D; ++k) {
       if (!(system.box.size[k] > 2.0 * apart)) return false;
     }
@@ -38,16 +39,16 @@ bool ListEngine<D>::suits(const System<D>& system, const Growth& growth) {
 }
 
 template <std::size_t D>
-ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule)
+ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKernel kernel)
     : Engine<D>(std::move(system), rule, Growth{}),
-      shell_(ListEngine<D>::kSkin * largest_radius(this->system_)),
+      shell_(skin(packing_fraction(this->system_)) * largest_radius(this->system_)),
       reach_(2.0 * (largest_radius(this->system_) + shell_) * (1.0 + kReachMargin)),
       grid_(this->system_.box, reach_, this->system_.size()),
       queue_(static_cast<std::uint32_t>(this->system_.size())),
       pending_(this->system_.size()),
       centre_(this->system_.size() + 1),  // one more, which near_points may read
       size_(this->system_.size(), 0),
-      wide_(cpu_has_avx2()) {
+      kernel_(std::min(kernel, widest_contact_kernel())) {
   const auto n = static_cast<std::uint32_t>(this->system_.size());
   slots_.resize(slot(n));
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -102,7 +103,7 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
   std::array<std::uint32_t, kMostContacts> batch;
   std::size_t size = 0;
   const auto flush = [&] {
-    while (size % 4 != 0) batch[size++] = i;
+    while (size % Contacts::kLanes != 0) batch[size++] = i;
     for (std::uint64_t near =
              contacts.near_points(centre, centre_.data(), batch.data(), size, box, reach_);
          near != 0; near &= near - 1) {
@@ -139,7 +140,7 @@ void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j) {
 
 template <std::size_t D>
 void ListEngine<D>::widen() {
-  const std::uint32_t capacity = (capacity_ + std::max<std::uint32_t>(8, capacity_ / 2) + 3) & ~3u;
+  const std::uint32_t capacity = (capacity_ + std::max<std::uint32_t>(8, capacity_ / 2) + 7) & ~7u;
   const auto n = static_cast<std::uint32_t>(size_.size());
   std::vector<std::uint32_t> slots(std::size_t{n} * capacity);
   for (std::uint32_t i = 0; i < n; ++i) {
@@ -153,53 +154,81 @@ void ListEngine<D>::widen() {
 
 template <std::size_t D>
 void ListEngine<D>::predict(std::uint32_t i) {
-  if (wide_) {
-    predict_wide(i);
-  } else {
-    predict_narrow(i);
+  switch (kernel_) {
+    case ContactKernel::avx512:
+      return predict_avx512(i);
+    case ContactKernel::avx2:
+      return predict_avx2(i);
+    default:
+      return predict_scalar(i);
   }
 }
 
 template <std::size_t D>
 void ListEngine<D>::renew(std::uint32_t i) {
-  if (wide_) {
-    renew_wide(i);
-  } else {
-    renew_narrow(i);
+  switch (kernel_) {
+    case ContactKernel::avx512:
+      return renew_avx512(i);
+    case ContactKernel::avx2:
+      return renew_avx2(i);
+    default:
+      return renew_scalar(i);
   }
 }
 
+// Each kernel's prediction compiled for its instructions, with everything it calls inlined.
 template <std::size_t D>
-[[gnu::flatten]] void ListEngine<D>::predict_narrow(std::uint32_t i) {
+[[gnu::flatten]] void ListEngine<D>::predict_scalar(std::uint32_t i) {
   predict_with(i, NarrowContacts{});
 }
 
 template <std::size_t D>
-[[gnu::flatten]] void ListEngine<D>::renew_narrow(std::uint32_t i) {
+[[gnu::flatten]] void ListEngine<D>::renew_scalar(std::uint32_t i) {
   make_list_with(i, NarrowContacts{});
   predict_with(i, NarrowContacts{});
 }
 
 #ifdef CAROM_HAVE_AVX2_KERNEL
 template <std::size_t D>
-[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::predict_wide(std::uint32_t i) {
+[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::predict_avx2(std::uint32_t i) {
   predict_with(i, WideContacts{});
 }
 
 template <std::size_t D>
-[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::renew_wide(std::uint32_t i) {
+[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::renew_avx2(std::uint32_t i) {
   make_list_with(i, WideContacts{});
   predict_with(i, WideContacts{});
 }
-#else
+
 template <std::size_t D>
-void ListEngine<D>::predict_wide(std::uint32_t i) {
-  predict_narrow(i);
+[[gnu::flatten, gnu::target("avx512f")]] void ListEngine<D>::predict_avx512(std::uint32_t i) {
+  predict_with(i, WiderContacts{});
 }
 
 template <std::size_t D>
-void ListEngine<D>::renew_wide(std::uint32_t i) {
-  renew_narrow(i);
+[[gnu::flatten, gnu::target("avx512f")]] void ListEngine<D>::renew_avx512(std::uint32_t i) {
+  make_list_with(i, WiderContacts{});
+  predict_with(i, WiderContacts{});
+}
+#else
+template <std::size_t D>
+void ListEngine<D>::predict_avx2(std::uint32_t i) {
+  predict_scalar(i);
+}
+
+template <std::size_t D>
+void ListEngine<D>::renew_avx2(std::uint32_t i) {
+  renew_scalar(i);
+}
+
+template <std::size_t D>
+void ListEngine<D>::predict_avx512(std::uint32_t i) {
+  predict_scalar(i);
+}
+
+template <std::size_t D>
+void ListEngine<D>::renew_avx512(std::uint32_t i) {
+  renew_scalar(i);
 }
 #endif
 
@@ -212,21 +241,28 @@ void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
   const Vec<D> here = position_at(p, clock_);
   EarliestEvent<D> earliest;
   earliest.start_with_wall(contacts, p, box, i, clock_);
-  // The list in fours: its own padding is the particle itself, never a contact of its own.
+  // Leaving its shell first: nothing after it matters (the list is made again then, and with it
+  // the prediction), so it bounds the contacts worth looking at. A collision at the same instant
+  // still comes first (after_collisions).
+  const double exit = shell_exit_delay(here - centre_[i], p.velocity, shell_);
+  if (exit != kNever) {
+    // A renewal the time cannot resolve would come again at the same instant forever.
+    if (exit > 0.0 && clock_ + exit == clock_) this->throw_too_fast(clock_);
+    const EventKey renewal{clock_ + exit, after_collisions(i)};
+    if (renewal < earliest.key) earliest.key = renewal;
+  }
+  // The list in the kernel's widths: its own padding is the particle itself, never a contact of
+  // its own.
   const std::uint32_t* list = &slots_[slot(i)];
-  const std::size_t count = (std::size_t{size_[i]} + 3) & ~std::size_t{3};
+  constexpr std::size_t lanes = Contacts::kLanes;
+  const std::size_t count = (std::size_t{size_[i]} + lanes - 1) / lanes * lanes;
   for (std::size_t from = 0; from < count; from += kMostContacts) {
     earliest.try_batch(contacts, p, here, clock_, box, particles.data(), i, list + from,
                        std::min(count - from, kMostContacts));
   }
   earliest.read_partner_version(this->system_.records);
-  EventKey key = earliest.key;
-  const double exit = shell_exit_delay(here - centre_[i], p.velocity, shell_);
-  if (exit != kNever) {
-    // A renewal the time cannot resolve would come again at the same instant forever.
-    if (exit > 0.0 && clock_ + exit == clock_) this->throw_too_fast(clock_);
-    key = std::min(key, EventKey{clock_ + exit, after_collisions(i)});
-  }
+  // A renewal leaves `pending` as it was (a wall hit, or nothing): step() does not read it then.
+  const EventKey key = earliest.key;
   pending_[i] = earliest.pending;
   queue_.update(i, key);
 }

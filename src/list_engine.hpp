@@ -15,6 +15,7 @@
 // 0.45), a list holds about 12; cells are visited only to make a list.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -42,11 +43,15 @@ double shell_exit_delay(const Vec<D>& offset, const Vec<D>& velocity, double rad
 template <std::size_t D>
 class ListEngine final : public Engine<D> {
  public:
-  // Shells `kSkin` largest radii thick. Measured (instructions a collision, N = 10^4): spheres
-  // at packing 0.45 cost least from 0.5 to 0.6 (0.4 and 0.8 cost 5 % more, 0.3 15 %), a sphere
-  // then leaving its shell every ten collisions or so with about 13 neighbours; disks at 0.5 and
-  // 0.7 from 0.7 to 1.2.
-  static constexpr double kSkin = D == 2 ? 0.9 : 0.5;
+  // How many largest radii thick shells are at packing fraction `packing`: the measured optima
+  // (instructions a collision, N = 10^4, skins from 0.4 to 1.5). Spheres cost least at 0.7 from
+  // packing 0.3 (0.5: 7 % more, 1.0: 9 %) to 0.45 (0.5 to 0.7 within 1 %, 0.4: 5 % more).
+  // Disks at 0.5 cost least at 1.2 (0.9: 4 % more, 1.5: 5 %), at 0.6 and 0.7 at 0.9 (1.2: 7 and
+  // 10 % more): thicker shells the less dense, as a particle goes further between collisions.
+  static constexpr double skin(double packing) {
+    if constexpr (D == 3) return 0.7;
+    return std::clamp(0.9 + 3.0 * (0.6 - packing), 0.9, 1.2);
+  }
   // Lists serve systems at least this densely packed (see suits()): below, a particle leaves its
   // shell every few collisions and the cells' candidates are few. Measured crossovers: spheres
   // near 0.3 (cells 5,860 and lists 5,980 instructions a collision; 5,870 and 9,100 at 0.2),
@@ -58,13 +63,17 @@ class ListEngine final : public Engine<D> {
   // each neighbour within reach.
   static bool suits(const System<D>& system, const Growth& growth);
 
-  ListEngine(System<D> system, const CollisionRule& rule);
+  // Predictions use `kernel` (tests choose each; the widest the CPU runs by default).
+  ListEngine(System<D> system, const CollisionRule& rule,
+             ContactKernel kernel = widest_contact_kernel());
   std::optional<Event> step(double end_time) override;
 
   // The neighbours of particle i, for tests: list(i)[0 .. list_size(i)).
   const std::uint32_t* list(std::uint32_t i) const { return &slots_[slot(i)]; }
   std::uint32_t list_size(std::uint32_t i) const { return size_[i]; }
   const Vec<D>& shell_centre(std::uint32_t i) const { return centre_[i]; }
+  // How far a particle moves from its shell's centre before it makes its list again.
+  double shell() const { return shell_; }
 
  private:
   void rebased(double shift) override;
@@ -72,8 +81,9 @@ class ListEngine final : public Engine<D> {
   void make_all_lists();
   // Particle i's list made again around where it is now, and its next event predicted.
   void renew(std::uint32_t i);
-  void renew_narrow(std::uint32_t i);
-  void renew_wide(std::uint32_t i);
+  void renew_scalar(std::uint32_t i);
+  void renew_avx2(std::uint32_t i);
+  void renew_avx512(std::uint32_t i);
   template <class Contacts>
   void make_list_with(std::uint32_t i, const Contacts& contacts);
   void add(std::uint32_t i, std::uint32_t j);
@@ -85,8 +95,9 @@ class ListEngine final : public Engine<D> {
   // Finds the earliest event of particle i from the clock among its neighbours and walls, or its
   // leaving its shell, and queues it.
   void predict(std::uint32_t i);
-  void predict_narrow(std::uint32_t i);
-  void predict_wide(std::uint32_t i);
+  void predict_scalar(std::uint32_t i);
+  void predict_avx2(std::uint32_t i);
+  void predict_avx512(std::uint32_t i);
   template <class Contacts>
   void predict_with(std::uint32_t i, const Contacts& contacts);
 
@@ -97,12 +108,12 @@ class ListEngine final : public Engine<D> {
   std::vector<Pending> pending_;
   std::vector<Vec<D>> centre_;
   // Particle i's list in slots_[slot(i) ..], size_[i] long; the rest of its slots hold i itself,
-  // so that a list read in fours is padded by a particle that never touches itself.
+  // so that a list read in fours or eights is padded by a particle that never touches itself.
   std::vector<std::uint32_t> slots_;
   std::vector<std::uint32_t> size_;
-  std::uint32_t capacity_ = 16;  // slots a particle, a multiple of four
+  std::uint32_t capacity_ = 16;  // slots a particle, a multiple of eight
   double clock_ = 0.0;  // the current time: the last processed event or list renewal
-  bool wide_;           // the CPU has AVX2: predictions use the four-wide contact kernel
+  ContactKernel kernel_;
 };
 
 }  // namespace carom

@@ -50,8 +50,10 @@ EventKey collision_key(const Pending& pending, std::uint32_t i) {
   }
 }
 
-// The scalar contact kernel and plain wall hits.
+// The scalar contact kernel and plain wall hits. kLanes: batches of candidates are padded to a
+// multiple of it.
 struct NarrowContacts {
+  static constexpr std::size_t kLanes = 4;
   template <std::size_t D>
   static WallHit wall_hit(const Particle<D>& p, const Box<D>& box) {
     return next_wall_hit(p, box);
@@ -92,10 +94,33 @@ struct WideContacts : NarrowContacts {
     return contact_avx2::near_points(centre, points, candidates, count, box, reach);
   }
 };
+
+// The eight-wide kernel, for predictions compiled for AVX-512F.
+struct WiderContacts : NarrowContacts {
+  static constexpr std::size_t kLanes = 8;
+  template <std::size_t D>
+  [[gnu::target("avx512f")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
+                                                      double clock, const Box<D>& box,
+                                                      const Particle<D>* particles,
+                                                      const std::uint32_t* candidates,
+                                                      std::size_t count, double limit,
+                                                      double* times) const {
+    return contact_avx512::contact_times(a, here, clock, box, particles, candidates, count, limit,
+                                         times);
+  }
+  template <std::size_t D>
+  [[gnu::target("avx512f")]] std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
+                                                       const std::uint32_t* candidates,
+                                                       std::size_t count, const Box<D>& box,
+                                                       double reach) const {
+    return contact_avx512::near_points(centre, points, candidates, count, box, reach);
+  }
+};
 #endif
 
 // Growing particles (see Growth): their own wall hits and contacts, one candidate at a time.
 struct GrowingContacts {
+  static constexpr std::size_t kLanes = 4;
   double rate;
   template <std::size_t D>
   WallHit wall_hit(const Particle<D>& p, const Box<D>& box) const {
@@ -142,8 +167,8 @@ struct EarliestEvent {
     }
   }
 
-  // Tries `count` candidates (at most kMostContacts, a multiple of four; the particle itself may
-  // be among them) against particle i, seen at `here` at `clock`.
+  // Tries `count` candidates (at most kMostContacts, a multiple of Contacts::kLanes; the particle
+  // itself may be among them) against particle i, seen at `here` at `clock`.
   template <class Contacts>
   void try_batch(const Contacts& contacts, const Particle<D>& p, const Vec<D>& here, double clock,
                  const Box<D>& box, const Particle<D>* particles, std::uint32_t i,

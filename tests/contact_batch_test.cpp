@@ -1,11 +1,13 @@
-// The contact kernels (src/contact_batch.hpp): the four-wide one gives the scalar one's times bit
-// for bit, and the scalar one is contact_time with the image seen at the clock, as the reference
-// engine computes it.
+// The contact kernels (src/contact_batch.hpp): the four- and eight-wide ones give the scalar one's
+// times bit for bit, and the scalar one is contact_time with the image seen at the clock, as the
+// reference engine computes it; the same for the wide distance tests that make neighbour lists.
 #include "contact_batch.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <random>
@@ -90,16 +92,95 @@ void check_kernels_agree(bool periodic) {
       ASSERT_EQ(((scalar_soon >> n) & 1) != 0, soon) << "candidate " << n;
     }
     ASSERT_EQ(scalar.back(), kNever) << "a particle is no contact of its own";
-    if (!cpu_has_avx2()) continue;
-    const std::uint64_t wide_soon =
-        contact_times_avx2(a, here, batch.clock, batch.box, batch.particles.data(),
-                           batch.candidates.data(), count, limit, wide.data());
-    ASSERT_EQ(wide_soon, scalar_soon) << "trial " << trial;
-    ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), count * sizeof(double)), 0)
-        << "trial " << trial;
+    if (cpu_has_avx2()) {
+      const std::uint64_t wide_soon =
+          contact_times_avx2(a, here, batch.clock, batch.box, batch.particles.data(),
+                             batch.candidates.data(), count, limit, wide.data());
+      ASSERT_EQ(wide_soon, scalar_soon) << "trial " << trial;
+      ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), count * sizeof(double)), 0)
+          << "trial " << trial;
+    }
+    if (cpu_has_avx512()) {
+      std::fill(wide.begin(), wide.end(), 0.0);
+      const std::uint64_t wider_soon =
+          contact_times_avx512(a, here, batch.clock, batch.box, batch.particles.data(),
+                               batch.candidates.data(), count, limit, wide.data());
+      ASSERT_EQ(wider_soon, scalar_soon) << "trial " << trial;
+      ASSERT_EQ(std::memcmp(wide.data(), scalar.data(), count * sizeof(double)), 0)
+          << "trial " << trial;
+    }
   }
   if (!cpu_has_avx2()) GTEST_SKIP() << "this CPU has no AVX2: only the scalar kernel checked";
+  if (!cpu_has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512F: the eight-wide kernel unchecked";
 }
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+template <std::size_t D>
+[[gnu::target("avx2")]] std::uint64_t near_points_avx2(const Vec<D>& centre,
+                                                       const std::vector<Vec<D>>& points,
+                                                       const std::uint32_t* candidates,
+                                                       std::size_t count, const Box<D>& box,
+                                                       double reach) {
+  return contact_avx2::near_points(centre, points.data(), candidates, count, box, reach);
+}
+
+template <std::size_t D>
+[[gnu::target("avx512f")]] std::uint64_t near_points_avx512(const Vec<D>& centre,
+                                                           const std::vector<Vec<D>>& points,
+                                                           const std::uint32_t* candidates,
+                                                           std::size_t count, const Box<D>& box,
+                                                           double reach) {
+  return contact_avx512::near_points(centre, points.data(), candidates, count, box, reach);
+}
+
+// Points within reach or just beyond it, some across a periodic edge: the wide tests find the
+// scalar one's, bit for bit.
+template <std::size_t D>
+void check_near_points_agree(bool periodic) {
+  std::mt19937_64 rng(periodic ? 17 : 19);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 5000; ++trial) {
+    Box<D> box;
+    for (std::size_t k = 0; k < D; ++k) box.size[k] = 6.0 + 10.0 * unit(rng);
+    box.boundary = periodic ? Boundary::periodic : Boundary::walls;
+    const double reach = 0.5 + 2.0 * unit(rng);
+    const std::size_t count = 8 * (1 + trial % 8);
+    std::vector<Vec<D>> points(count + 2);  // one more than read, as for the engine's centres
+    Vec<D> centre;
+    for (std::size_t k = 0; k < D; ++k) centre[k] = box.size[k] * unit(rng);
+    std::vector<std::uint32_t> candidates(count);
+    for (std::uint32_t n = 0; n < count; ++n) {
+      Vec<D> direction;
+      for (std::size_t k = 0; k < D; ++k) direction[k] = unit(rng) - 0.5;
+      direction *= 1.0 / std::sqrt(norm2(direction));
+      const double distance = unit(rng) < 0.3 ? reach : reach * 2.0 * unit(rng);
+      points[n + 1] = centre + direction * distance;
+      if (periodic && unit(rng) < 0.5) points[n + 1][0] += box.size[0] * (unit(rng) < 0.5 ? 1 : -1);
+      candidates[n] = n + 1;
+    }
+    const std::uint64_t scalar =
+        near_points_scalar(centre, points.data(), candidates.data(), count, box, reach);
+    if (cpu_has_avx2()) {
+      ASSERT_EQ(near_points_avx2(centre, points, candidates.data(), count, box, reach), scalar)
+          << "trial " << trial;
+    }
+    if (cpu_has_avx512()) {
+      ASSERT_EQ(near_points_avx512(centre, points, candidates.data(), count, box, reach), scalar)
+          << "trial " << trial;
+    }
+  }
+  if (!cpu_has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512F: the eight-wide test unchecked";
+}
+
+TEST(NearPoints, TheWideTestsAreTheScalarOneForDisks) {
+  check_near_points_agree<2>(false);
+  check_near_points_agree<2>(true);
+}
+TEST(NearPoints, TheWideTestsAreTheScalarOneForSpheres) {
+  check_near_points_agree<3>(false);
+  check_near_points_agree<3>(true);
+}
+#endif
 
 TEST(ContactBatch, TheWideKernelIsTheScalarOneBitForBitForDisksBetweenWalls) {
   check_kernels_agree<2>(false);

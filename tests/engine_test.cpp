@@ -150,8 +150,9 @@ TEST(Engine, ATouchingApproachingPairCollidesAtOnce) {
 //
 // With growth (a growing engine is never rebased) the radii grow until the end time.
 //
-// `fast` names the engine checked: the one make_engine picks, or the cell or the list engine.
-enum class Checked { fast, cells, lists };
+// `fast` names the engine checked: the one make_engine picks, or the cell or the list engine (with
+// the widest contact kernel the CPU runs, or the four-wide or the scalar one).
+enum class Checked { fast, cells, lists, lists_avx2, lists_scalar };
 
 template <std::size_t D>
 std::unique_ptr<Engine<D>> checked_engine(Checked checked, const System<D>& system,
@@ -161,6 +162,10 @@ std::unique_ptr<Engine<D>> checked_engine(Checked checked, const System<D>& syst
       return std::make_unique<FastEngine<D>>(system, rule, growth);
     case Checked::lists:
       return std::make_unique<ListEngine<D>>(system, rule);
+    case Checked::lists_avx2:
+      return std::make_unique<ListEngine<D>>(system, rule, ContactKernel::avx2);
+    case Checked::lists_scalar:
+      return std::make_unique<ListEngine<D>>(system, rule, ContactKernel::scalar);
     default:
       return make_engine(EngineKind::fast, system, rule, growth);
   }
@@ -445,7 +450,11 @@ void check_lists_against_reference(std::uint64_t seed, int trials, int events) {
     // An inelastic gas cools and its collisions spread out in time, which the reference engine
     // (windows of the image horizon, all pairs each) pays dearly for: fewer events then.
     const int checked = rule.restitution < 1.0 ? events / 5 : events;
-    expect_same_runs(system, rule, 1e9, checked, label, 37 + trial % 200, 0.0, Checked::lists);
+    // Each kernel in turn.
+    const Checked engine = trial % 3 == 0   ? Checked::lists
+                           : trial % 3 == 1 ? Checked::lists_avx2
+                                            : Checked::lists_scalar;
+    expect_same_runs(system, rule, 1e9, checked, label, 37 + trial % 200, 0.0, engine);
     ++checked_trials;
   }
   EXPECT_GE(checked_trials, trials / 2);
@@ -510,7 +519,8 @@ TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
   ListEngine<3> engine(make_initial<3>(options), {Rule::elastic});
   for (int e = 0; e < 20000; ++e) ASSERT_TRUE(engine.step(kNever));
   const System<3>& system = engine.system();
-  const double shell = ListEngine<3>::kSkin * 0.5, reach = 2.0 * (0.5 + shell);
+  const double shell = engine.shell(), reach = 2.0 * (0.5 + shell);
+  EXPECT_EQ(shell, ListEngine<3>::skin(0.5) * 0.5);
   const auto n = static_cast<std::uint32_t>(system.size());
   std::size_t pairs = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
