@@ -321,27 +321,50 @@ struct Lanes {
 // The offsets, in doubles, of eight array elements `stride` doubles long.
 template <std::size_t stride>
 [[gnu::target("avx512f")]] inline __m512i element_offsets(const std::uint32_t* c) {
-  static_assert(stride == 2 || stride == 3 || stride == 6 || stride == 8);
+  static_assert(stride == 2 || stride == 3);
   const __m512i i = _mm512_cvtepu32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(c)));
-  if constexpr (stride == 8) return _mm512_slli_epi64(i, 3);
   if constexpr (stride == 2) return _mm512_slli_epi64(i, 1);
-  if constexpr (stride == 3) return _mm512_add_epi64(_mm512_slli_epi64(i, 1), i);
-  if constexpr (stride == 6) return _mm512_slli_epi64(_mm512_add_epi64(_mm512_slli_epi64(i, 1), i), 1);
+  return _mm512_add_epi64(_mm512_slli_epi64(i, 1), i);
 }
 
+// Eight particles' states (at most eight doubles each) as lanes: row l is particle l's doubles,
+// column k of the result field k of the eight. Three rounds of eight shuffles, each within
+// pairs of rows, then of 128-bit blocks, then of 256-bit halves.
 template <std::size_t D>
 [[gnu::target("avx512f")]] inline Lanes<D> load(const Particle<D>* particles,
                                                 const std::uint32_t* c) {
-  static_assert(sizeof(Particle<D>) == (2 * D + 2) * sizeof(double));
-  const __m512i at = element_offsets<2 * D + 2>(c);
-  const double* base = contact_avx2::raw(particles[0]);
+  constexpr std::size_t fields = 2 * D + 2;  // position, velocity, time, radius
+  static_assert(sizeof(Particle<D>) == fields * sizeof(double) && fields <= 8);
+  constexpr __mmask8 whole = static_cast<__mmask8>((1u << fields) - 1);
+  __m512d row[8];
+  for (std::size_t l = 0; l < 8; ++l) {
+    row[l] = _mm512_maskz_loadu_pd(whole, contact_avx2::raw(particles[c[l]]));
+  }
+  __m512d pair[8], block[8], field[8];
+  for (std::size_t l = 0; l < 8; l += 2) {
+    pair[l] = _mm512_unpacklo_pd(row[l], row[l + 1]);      // fields 0 2 4 6 of rows l, l + 1
+    pair[l + 1] = _mm512_unpackhi_pd(row[l], row[l + 1]);  // fields 1 3 5 7
+  }
+  for (std::size_t h = 0; h < 2; ++h) {
+    for (std::size_t odd = 0; odd < 2; ++odd) {
+      const __m512d a = pair[4 * h + odd], b = pair[4 * h + 2 + odd];
+      block[4 * h + odd] = _mm512_shuffle_f64x2(a, b, 0x88);      // fields 0 4 (or 1 5)
+      block[4 * h + 2 + odd] = _mm512_shuffle_f64x2(a, b, 0xDD);  // fields 2 6 (or 3 7)
+    }
+  }
+  for (std::size_t q = 0; q < 4; ++q) {
+    // block[q] holds fields f and f + 4 of rows 0-3, block[q + 4] of rows 4-7.
+    const std::size_t f = q % 2 + 2 * (q / 2);
+    field[f] = _mm512_shuffle_f64x2(block[q], block[q + 4], 0x88);
+    field[f + 4] = _mm512_shuffle_f64x2(block[q], block[q + 4], 0xDD);
+  }
   Lanes<D> lanes;
   for (std::size_t k = 0; k < D; ++k) {
-    lanes.x[k] = _mm512_i64gather_pd(at, base + k, 8);
-    lanes.v[k] = _mm512_i64gather_pd(at, base + D + k, 8);
+    lanes.x[k] = field[k];
+    lanes.v[k] = field[D + k];
   }
-  lanes.time = _mm512_i64gather_pd(at, base + 2 * D, 8);
-  lanes.radius = _mm512_i64gather_pd(at, base + 2 * D + 1, 8);
+  lanes.time = field[2 * D];
+  lanes.radius = field[2 * D + 1];
   return lanes;
 }
 
