@@ -15,6 +15,37 @@ namespace {
 // its shell.
 constexpr double kReachMargin = 1e-8;
 
+// Where `j` is in a list that holds it, padded to a multiple of eight by entries other than j.
+std::uint32_t position_in(const std::uint32_t* list, std::uint32_t j, const NarrowContacts&) {
+  std::uint32_t k = 0;
+  while (list[k] != j) ++k;
+  return k;
+}
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+// Eight entries a comparison.
+[[gnu::target("avx2")]] std::uint32_t position_in_eights(const std::uint32_t* list,
+                                                         std::uint32_t j) {
+  const __m256i wanted = _mm256_set1_epi32(static_cast<int>(j));
+  for (std::uint32_t k = 0;; k += 8) {
+    const __m256i eight = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(list + k));
+    const auto equal = static_cast<unsigned>(
+        _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(eight, wanted))));
+    if (equal != 0) return k + static_cast<std::uint32_t>(std::countr_zero(equal));
+  }
+}
+
+[[gnu::target("avx2")]] std::uint32_t position_in(const std::uint32_t* list, std::uint32_t j,
+                                                  const WideContacts&) {
+  return position_in_eights(list, j);
+}
+
+[[gnu::target("avx512f")]] std::uint32_t position_in(const std::uint32_t* list, std::uint32_t j,
+                                                     const WiderContacts&) {
+  return position_in_eights(list, j);
+}
+#endif
+
 }  // namespace
 
 template <std::size_t D>
@@ -91,7 +122,7 @@ void ListEngine<D>::make_all_lists() {
 template <std::size_t D>
 template <class Contacts>
 void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
-  for (std::uint32_t k = 0; k < size_[i]; ++k) remove(slots_[slot(i) + k], i);
+  for (std::uint32_t k = 0; k < size_[i]; ++k) remove(slots_[slot(i) + k], i, contacts);
   std::fill_n(&slots_[slot(i)], size_[i], i);
   size_[i] = 0;
   const Vec<D> centre = position_at(this->system_.particles[i], clock_);
@@ -129,11 +160,11 @@ void ListEngine<D>::add(std::uint32_t i, std::uint32_t j) {
 }
 
 template <std::size_t D>
-void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j) {
+template <class Contacts>
+void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j, const Contacts& contacts) {
   std::uint32_t* list = &slots_[slot(i)];
   const std::uint32_t last = --size_[i];
-  std::uint32_t k = 0;
-  while (list[k] != j) ++k;
+  const std::uint32_t k = position_in(list, j, contacts);
   list[k] = list[last];
   list[last] = i;
 }

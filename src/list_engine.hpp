@@ -87,7 +87,8 @@ class ListEngine final : public Engine<D> {
   template <class Contacts>
   void make_list_with(std::uint32_t i, const Contacts& contacts);
   void add(std::uint32_t i, std::uint32_t j);
-  void remove(std::uint32_t i, std::uint32_t j);
+  template <class Contacts>
+  void remove(std::uint32_t i, std::uint32_t j, const Contacts& contacts);
   // Makes room for longer lists: every list moves to slots of the new capacity.
   void widen();
   std::size_t slot(std::uint32_t i) const { return std::size_t{i} * capacity_; }
