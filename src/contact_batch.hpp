@@ -164,23 +164,23 @@ template <std::size_t D>
   return s;
 }
 
-template <std::size_t D>
-[[gnu::target("avx2")]] inline std::uint64_t contact_times(
+// The loop of contact_times for one kind of box and of particle a (see there), so that neither
+// is tested per batch and the compiler has the registers for the rest.
+template <std::size_t D, bool periodic, bool a_now>
+[[gnu::target("avx2")]] inline std::uint64_t contact_times_of(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
     double* times) {
-  const bool periodic = box.periodic();
-  // After a collision (most predictions) a's state is at the clock: the separation seen for the
-  // image is the contact time's own (contact_time moves only the earlier particle, to a's time).
-  const bool a_now = a.time == clock;
   const __m256d now = _mm256_set1_pd(clock), zero = _mm256_setzero_pd();
   const __m256d magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(0x7FFFFFFFFFFFFFFF));
   const __m256d latest = _mm256_set1_pd(std::min(limit, std::numeric_limits<double>::max()));
   // a's state in registers before the loop: the stores to `times` might alias it otherwise.
   const __m256d a_radius = _mm256_set1_pd(a.radius), never = _mm256_set1_pd(kNever);
-  __m256d at[D], a_v[D], half[D];
+  const __m256d a_time = _mm256_set1_pd(a.time);
+  __m256d at[D], a_x[D], a_v[D], half[D];
   for (std::size_t k = 0; k < D; ++k) {
     at[k] = _mm256_set1_pd(here[k]);
+    a_x[k] = _mm256_set1_pd(a.position[k]);
     a_v[k] = _mm256_set1_pd(a.velocity[k]);
     half[k] = _mm256_set1_pd(0.5 * box.size[k]);
   }
@@ -194,32 +194,31 @@ template <std::size_t D>
       r[k] = _mm256_sub_pd(at[k], _mm256_add_pd(b.x[k], _mm256_mul_pd(b.v[k], since)));
     }
     bool shifted = false;
-    if (periodic) {
-      __m256d inside[D];
-      for (std::size_t k = 0; k < D; ++k) {
-        inside[k] = _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ);
+    if constexpr (periodic) {
+      __m256d all = _mm256_cmp_pd(_mm256_and_pd(r[0], magnitude), half[0], _CMP_LE_OQ);
+      for (std::size_t k = 1; k < D; ++k) {
+        all = _mm256_and_pd(all, _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ));
       }
-      __m256d all = inside[0];
-      for (std::size_t k = 1; k < D; ++k) all = _mm256_and_pd(all, inside[k]);
       if (_mm256_movemask_pd(all) != 0xF) [[unlikely]] {  // some pair is seen across the box
         shifted = true;
         for (std::size_t k = 0; k < D; ++k) {
+          const __m256d inside = _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ);
           const __m256d side = _mm256_set1_pd(box.size[k]);
           const __m256d sides = _mm256_round_pd(_mm256_div_pd(r[k], side),
                                                 _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-          offset[k] = _mm256_blendv_pd(_mm256_mul_pd(side, sides), zero, inside[k]);
+          offset[k] = _mm256_blendv_pd(_mm256_mul_pd(side, sides), zero, inside);
         }
       }
     }
-    // The separation at the later of the two stored times, less the offset.
+    // The separation at the later of the two stored times, less the offset. After a collision
+    // (most predictions) a is at the clock: that is the separation above.
     __m256d t0 = now;
-    if (!a_now) {
-      const __m256d a_time = _mm256_set1_pd(a.time);
+    if constexpr (!a_now) {
       t0 = _mm256_max_pd(b.time, a_time);
       const __m256d a_dt = _mm256_sub_pd(t0, a_time), b_dt = _mm256_sub_pd(t0, b.time);
       for (std::size_t k = 0; k < D; ++k) {
-        const __m256d a_x = _mm256_add_pd(_mm256_set1_pd(a.position[k]), _mm256_mul_pd(a_v[k], a_dt));
-        r[k] = _mm256_sub_pd(a_x, _mm256_add_pd(b.x[k], _mm256_mul_pd(b.v[k], b_dt)));
+        r[k] = _mm256_sub_pd(_mm256_add_pd(a_x[k], _mm256_mul_pd(a_v[k], a_dt)),
+                             _mm256_add_pd(b.x[k], _mm256_mul_pd(b.v[k], b_dt)));
       }
     }
     if (shifted) {
@@ -247,6 +246,26 @@ template <std::size_t D>
     soon |= static_cast<std::uint64_t>(_mm256_movemask_pd(wanted)) << n;
   }
   return soon;
+}
+
+template <std::size_t D>
+[[gnu::target("avx2")]] inline std::uint64_t contact_times(
+    const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
+    const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
+    double* times) {
+  // After a collision (most predictions) a's state is at the clock: the separation seen for the
+  // image is the contact time's own (contact_time moves only the earlier particle, to a's time).
+  const bool a_now = a.time == clock;
+  if (box.periodic()) {
+    return a_now ? contact_times_of<D, true, true>(a, here, clock, box, particles, candidates,
+                                                   count, limit, times)
+                 : contact_times_of<D, true, false>(a, here, clock, box, particles, candidates,
+                                                    count, limit, times);
+  }
+  return a_now ? contact_times_of<D, false, true>(a, here, clock, box, particles, candidates, count,
+                                                  limit, times)
+               : contact_times_of<D, false, false>(a, here, clock, box, particles, candidates,
+                                                   count, limit, times);
 }
 
 // near_points_scalar four at a time (`count` a multiple of four); `points` must be readable one
@@ -375,53 +394,51 @@ template <std::size_t D>
   return s;
 }
 
-template <std::size_t D>
-[[gnu::target("avx512f")]] inline std::uint64_t contact_times(
+template <std::size_t D, bool periodic, bool a_now>
+[[gnu::target("avx512f")]] inline std::uint64_t contact_times_of(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
     double* times) {
-  const bool periodic = box.periodic();
-  const bool a_now = a.time == clock;  // see contact_avx2::contact_times
   const __m512d now = _mm512_set1_pd(clock), zero = _mm512_setzero_pd();
   const __m512d latest = _mm512_set1_pd(std::min(limit, std::numeric_limits<double>::max()));
   const __m512d a_radius = _mm512_set1_pd(a.radius), never = _mm512_set1_pd(kNever);
   const __m512d a_time = _mm512_set1_pd(a.time);
-  __m512d at[D], a_x[D], a_v[D], half[D], side[D];
+  __m512d at[D], a_x[D], a_v[D], half[D];
   for (std::size_t k = 0; k < D; ++k) {
     at[k] = _mm512_set1_pd(here[k]);
     a_x[k] = _mm512_set1_pd(a.position[k]);
     a_v[k] = _mm512_set1_pd(a.velocity[k]);
     half[k] = _mm512_set1_pd(0.5 * box.size[k]);
-    side[k] = _mm512_set1_pd(box.size[k]);
   }
   std::uint64_t soon = 0;
   for (std::size_t n = 0; n < count; n += 8) {
     const Lanes<D> b = load(particles, candidates + n);
     const __m512d since = _mm512_sub_pd(now, b.time);
-    __m512d r[D];
+    __m512d r[D], offset[D];
     for (std::size_t k = 0; k < D; ++k) {
       r[k] = _mm512_sub_pd(at[k], _mm512_add_pd(b.x[k], _mm512_mul_pd(b.v[k], since)));
     }
-    __mmask8 inside[D];
-    __mmask8 all = 0xFF;
-    if (periodic) {
+    bool shifted = false;
+    if constexpr (periodic) {
+      __mmask8 inside[D];
+      __mmask8 all = 0xFF;
       for (std::size_t k = 0; k < D; ++k) {
         inside[k] = _mm512_cmp_pd_mask(_mm512_abs_pd(r[k]), half[k], _CMP_LE_OQ);
         all &= inside[k];
       }
-    }
-    __m512d offset[D];
-    const bool shifted = all != 0xFF;
-    if (shifted) [[unlikely]] {  // some pair is seen across the box
-      for (std::size_t k = 0; k < D; ++k) {
-        const __m512d sides = _mm512_roundscale_pd(_mm512_div_pd(r[k], side[k]),
-                                                   _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-        offset[k] = _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
-                                        _mm512_mul_pd(side[k], sides));
+      if (all != 0xFF) [[unlikely]] {  // some pair is seen across the box
+        shifted = true;
+        for (std::size_t k = 0; k < D; ++k) {
+          const __m512d side = _mm512_set1_pd(box.size[k]);
+          const __m512d sides = _mm512_roundscale_pd(_mm512_div_pd(r[k], side),
+                                                     _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+          offset[k] = _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
+                                          _mm512_mul_pd(side, sides));
+        }
       }
     }
     __m512d t0 = now;
-    if (!a_now) {
+    if constexpr (!a_now) {
       t0 = _mm512_max_pd(b.time, a_time);
       const __m512d a_dt = _mm512_sub_pd(t0, a_time), b_dt = _mm512_sub_pd(t0, b.time);
       for (std::size_t k = 0; k < D; ++k) {
@@ -452,6 +469,24 @@ template <std::size_t D>
     soon |= static_cast<std::uint64_t>(wanted) << n;
   }
   return soon;
+}
+
+template <std::size_t D>
+[[gnu::target("avx512f")]] inline std::uint64_t contact_times(
+    const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
+    const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
+    double* times) {
+  const bool a_now = a.time == clock;  // see contact_avx2::contact_times
+  if (box.periodic()) {
+    return a_now ? contact_times_of<D, true, true>(a, here, clock, box, particles, candidates,
+                                                   count, limit, times)
+                 : contact_times_of<D, true, false>(a, here, clock, box, particles, candidates,
+                                                    count, limit, times);
+  }
+  return a_now ? contact_times_of<D, false, true>(a, here, clock, box, particles, candidates, count,
+                                                  limit, times)
+               : contact_times_of<D, false, false>(a, here, clock, box, particles, candidates,
+                                                   count, limit, times);
 }
 
 // contact_avx2::near_points eight at a time (`count` a multiple of eight).
