@@ -162,6 +162,7 @@ Start load(const RunArguments& args) {
   return std::visit(
       [&](auto&& input) {
         using Sim = SimulationFor<decltype(input)>;
+        input.line_of = {};  // only for the reader's messages: not held while the engine is made
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
                      args.input, false};
       },

@@ -353,6 +353,9 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
         name, input.line_of[j],
         describe_overlap(input.system, i, j, radius, fmt::format(" on line {}", input.line_of[i])));
   }
+  // Grown line by line, the arrays hold up to twice what they need: a run keeps them throughout.
+  input.system.particles.shrink_to_fit();
+  input.system.records.shrink_to_fit();
   return input;
 }
 

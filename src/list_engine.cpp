@@ -81,9 +81,7 @@ ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKe
       size_(this->system_.size(), 0),
       kernel_(std::min(kernel, widest_contact_kernel())) {
   const auto n = static_cast<std::uint32_t>(this->system_.size());
-  slots_.resize(slot(n));
   for (std::uint32_t i = 0; i < n; ++i) {
-    std::fill_n(&slots_[slot(i)], capacity_, i);
     grid_.insert(i, grid_.locate(position_at(this->system_.particles[i], this->now_)));
   }
   make_all_lists();
@@ -101,21 +99,42 @@ void ListEngine<D>::make_all_lists() {
   const auto n = static_cast<std::uint32_t>(particles.size());
   clock_ = this->now_;
   for (std::uint32_t i = 0; i < n; ++i) {
-    std::fill_n(&slots_[slot(i)], size_[i], i);
-    size_[i] = 0;
     centre_[i] = position_at(particles[i], clock_);
     const std::uint32_t cell = grid_.locate(centre_[i]);
     if (cell != grid_.cell_of(i)) grid_.move(i, cell);
   }
   const Box<D>& box = this->system_.box;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
-      if (j > i && near_points_scalar(centre_[i], centre_.data(), &j, 1, box, reach_) != 0) {
-        add(i, j);
-        add(j, i);
-      }
-    });
+  const auto for_each_pair = [&](auto&& pair) {
+    for (std::uint32_t i = 0; i < n; ++i) {
+      grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
+        if (j > i && near_points_scalar(centre_[i], centre_.data(), &j, 1, box, reach_) != 0) {
+          pair(i, j);
+        }
+      });
+    }
+  };
+  // The lists' lengths first, so that their slots are allocated once, as many as the longest
+  // needs (later growth widens them), the old ones freed before.
+  std::fill(size_.begin(), size_.end(), 0);
+  for_each_pair([&](std::uint32_t i, std::uint32_t j) {
+    ++size_[i];
+    ++size_[j];
+  });
+  const std::uint32_t longest = n == 0 ? 0 : *std::max_element(size_.begin(), size_.end());
+  const std::uint32_t capacity = std::max<std::uint32_t>(8, (longest + 7) & ~7u);
+  if (slots_.empty() || capacity > capacity_) {
+    slots_ = {};
+    capacity_ = capacity;
+    slots_.resize(slot(n));
   }
+  for (std::uint32_t i = 0; i < n; ++i) {
+    std::fill_n(&slots_[slot(i)], capacity_, i);
+    size_[i] = 0;
+  }
+  for_each_pair([&](std::uint32_t i, std::uint32_t j) {
+    add(i, j);
+    add(j, i);
+  });
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
 }
 

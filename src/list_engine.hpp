@@ -112,7 +112,7 @@ class ListEngine final : public Engine<D> {
   // so that a list read in fours or eights is padded by a particle that never touches itself.
   std::vector<std::uint32_t> slots_;
   std::vector<std::uint32_t> size_;
-  std::uint32_t capacity_ = 16;  // slots a particle, a multiple of eight
+  std::uint32_t capacity_ = 0;  // slots a particle, a multiple of eight
   double clock_ = 0.0;  // the current time: the last processed event or list renewal
   ContactKernel kernel_;
 };
