@@ -39,14 +39,57 @@ namespace carom {
 // the caller need not look at them.
 inline constexpr std::size_t kMostContacts = 64;
 
+// A particle read as doubles: position, velocity, time, radius, with nothing in between.
 template <std::size_t D>
+inline const double* raw(const Particle<D>& p) {
+  static_assert(std::is_standard_layout_v<Particle<D>>);
+  static_assert(offsetof(Particle<D>, velocity) == D * sizeof(double));
+  static_assert(offsetof(Particle<D>, time) == 2 * D * sizeof(double));
+  static_assert(offsetof(Particle<D>, radius) == (2 * D + 1) * sizeof(double));
+  return reinterpret_cast<const double*>(&p);
+}
+
+// How a batch names its candidates: by index into the particles, or by offset, the index times
+// the doubles a particle takes (kStride), which the CPU's addressing turns into the particle's
+// address without an instruction of its own. Neighbour lists keep offsets; the cells, indices.
+template <std::size_t D>
+inline constexpr std::uint32_t kStride = sizeof(Particle<D>) / sizeof(double);
+
+struct ByIndex {
+  template <std::size_t D>
+  static std::uint32_t index(std::uint32_t name) {
+    return name;
+  }
+  template <std::size_t D>
+  static const double* state(const Particle<D>* particles, std::uint32_t name) {
+    return raw(particles[name]);
+  }
+};
+
+struct ByOffset {
+  template <std::size_t D>
+  static std::uint32_t index(std::uint32_t name) {
+    return name / kStride<D>;
+  }
+  template <std::size_t D>
+  static const double* state(const Particle<D>* particles, std::uint32_t name) {
+    return raw(particles[0]) + name;
+  }
+  // The offset of particle `index` (below 2^32 / kStride).
+  template <std::size_t D>
+  static std::uint32_t name(std::uint32_t index) {
+    return index * kStride<D>;
+  }
+};
+
+template <std::size_t D, class Names = ByIndex>
 std::uint64_t contact_times_scalar(const Particle<D>& a, const Vec<D>& here, double clock,
                                    const Box<D>& box, const Particle<D>* particles,
                                    const std::uint32_t* candidates, std::size_t count, double limit,
-                                   double* times) {
+                                   double* times, Names = {}) {
   std::uint64_t soon = 0;
   for (std::size_t n = 0; n < count; ++n) {
-    const Particle<D>& b = particles[candidates[n]];
+    const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
     const Vec<D> offset =
         box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
     times[n] = contact_time(a, b, offset);
@@ -100,16 +143,6 @@ ContactKernel widest_contact_kernel();
 // [[gnu::target("avx2")]]) to inline: `count` must be a multiple of four.
 namespace contact_avx2 {
 
-// A particle read as doubles: position, velocity, time, radius, with nothing in between.
-template <std::size_t D>
-inline const double* raw(const Particle<D>& p) {
-  static_assert(std::is_standard_layout_v<Particle<D>>);
-  static_assert(offsetof(Particle<D>, velocity) == D * sizeof(double));
-  static_assert(offsetof(Particle<D>, time) == 2 * D * sizeof(double));
-  static_assert(offsetof(Particle<D>, radius) == (2 * D + 1) * sizeof(double));
-  return reinterpret_cast<const double*>(&p);
-}
-
 // Four candidates' states as lanes: coordinate k of the positions in x[k], and so on.
 template <std::size_t D>
 struct Lanes {
@@ -126,11 +159,12 @@ struct Lanes {
   r3 = _mm256_permute2f128_pd(t1, t3, 0x31);
 }
 
+template <class Names>
 [[gnu::target("avx2")]] inline Lanes<3> load(const Particle<3>* particles, const std::uint32_t* c) {
-  const double* p0 = raw(particles[c[0]]);
-  const double* p1 = raw(particles[c[1]]);
-  const double* p2 = raw(particles[c[2]]);
-  const double* p3 = raw(particles[c[3]]);
+  const double* p0 = Names::state(particles, c[0]);
+  const double* p1 = Names::state(particles, c[1]);
+  const double* p2 = Names::state(particles, c[2]);
+  const double* p3 = Names::state(particles, c[3]);
   // [x y z vx] and [vy vz t radius]
   __m256d a0 = _mm256_loadu_pd(p0), a1 = _mm256_loadu_pd(p1), a2 = _mm256_loadu_pd(p2),
           a3 = _mm256_loadu_pd(p3);
@@ -141,11 +175,12 @@ struct Lanes {
   return {{a0, a1, a2}, {a3, b0, b1}, b2, b3};
 }
 
+template <class Names>
 [[gnu::target("avx2")]] inline Lanes<2> load(const Particle<2>* particles, const std::uint32_t* c) {
-  const double* p0 = raw(particles[c[0]]);
-  const double* p1 = raw(particles[c[1]]);
-  const double* p2 = raw(particles[c[2]]);
-  const double* p3 = raw(particles[c[3]]);
+  const double* p0 = Names::state(particles, c[0]);
+  const double* p1 = Names::state(particles, c[1]);
+  const double* p2 = Names::state(particles, c[2]);
+  const double* p3 = Names::state(particles, c[3]);
   // [x y vx vy] and [t radius]
   __m256d a0 = _mm256_loadu_pd(p0), a1 = _mm256_loadu_pd(p1), a2 = _mm256_loadu_pd(p2),
           a3 = _mm256_loadu_pd(p3);
@@ -166,7 +201,7 @@ template <std::size_t D>
 
 // The loop of contact_times for one kind of box and of particle a (see there), so that neither
 // is tested per batch and the compiler has the registers for the rest.
-template <std::size_t D, bool periodic, bool a_now>
+template <std::size_t D, bool periodic, bool a_now, class Names>
 [[gnu::target("avx2")]] inline std::uint64_t contact_times_of(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
@@ -186,7 +221,7 @@ template <std::size_t D, bool periodic, bool a_now>
   }
   std::uint64_t soon = 0;
   for (std::size_t n = 0; n < count; n += 4) {
-    const Lanes<D> b = load(particles, candidates + n);
+    const Lanes<D> b = load<Names>(particles, candidates + n);
     // The separation at the clock, for the image (image_offset), as position_at computes it.
     const __m256d since = _mm256_sub_pd(now, b.time);
     __m256d r[D], offset[D];
@@ -248,23 +283,23 @@ template <std::size_t D, bool periodic, bool a_now>
   return soon;
 }
 
-template <std::size_t D>
+template <std::size_t D, class Names = ByIndex>
 [[gnu::target("avx2")]] inline std::uint64_t contact_times(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
-    double* times) {
+    double* times, Names = {}) {
   // After a collision (most predictions) a's state is at the clock: the separation seen for the
   // image is the contact time's own (contact_time moves only the earlier particle, to a's time).
   const bool a_now = a.time == clock;
   if (box.periodic()) {
-    return a_now ? contact_times_of<D, true, true>(a, here, clock, box, particles, candidates,
+    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles, candidates,
                                                    count, limit, times)
-                 : contact_times_of<D, true, false>(a, here, clock, box, particles, candidates,
+                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles, candidates,
                                                     count, limit, times);
   }
-  return a_now ? contact_times_of<D, false, true>(a, here, clock, box, particles, candidates, count,
+  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates, count,
                                                   limit, times)
-               : contact_times_of<D, false, false>(a, here, clock, box, particles, candidates,
+               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles, candidates,
                                                    count, limit, times);
 }
 
@@ -349,7 +384,7 @@ template <std::size_t stride>
 // Eight particles' states (at most eight doubles each) as lanes: row l is particle l's doubles,
 // column k of the result field k of the eight. Three rounds of eight shuffles, each within
 // pairs of rows, then of 128-bit blocks, then of 256-bit halves.
-template <std::size_t D>
+template <class Names, std::size_t D>
 [[gnu::target("avx512f")]] inline Lanes<D> load(const Particle<D>* particles,
                                                 const std::uint32_t* c) {
   constexpr std::size_t fields = 2 * D + 2;  // position, velocity, time, radius
@@ -357,7 +392,7 @@ template <std::size_t D>
   constexpr __mmask8 whole = static_cast<__mmask8>((1u << fields) - 1);
   __m512d row[8];
   for (std::size_t l = 0; l < 8; ++l) {
-    row[l] = _mm512_maskz_loadu_pd(whole, contact_avx2::raw(particles[c[l]]));
+    row[l] = _mm512_maskz_loadu_pd(whole, Names::state(particles, c[l]));
   }
   __m512d pair[8], block[8], field[8];
   for (std::size_t l = 0; l < 8; l += 2) {
@@ -394,7 +429,7 @@ template <std::size_t D>
   return s;
 }
 
-template <std::size_t D, bool periodic, bool a_now>
+template <std::size_t D, bool periodic, bool a_now, class Names>
 [[gnu::target("avx512f")]] inline std::uint64_t contact_times_of(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
@@ -412,7 +447,7 @@ template <std::size_t D, bool periodic, bool a_now>
   }
   std::uint64_t soon = 0;
   for (std::size_t n = 0; n < count; n += 8) {
-    const Lanes<D> b = load(particles, candidates + n);
+    const Lanes<D> b = load<Names>(particles, candidates + n);
     const __m512d since = _mm512_sub_pd(now, b.time);
     __m512d r[D], offset[D];
     for (std::size_t k = 0; k < D; ++k) {
@@ -471,21 +506,21 @@ template <std::size_t D, bool periodic, bool a_now>
   return soon;
 }
 
-template <std::size_t D>
+template <std::size_t D, class Names = ByIndex>
 [[gnu::target("avx512f")]] inline std::uint64_t contact_times(
     const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
-    double* times) {
+    double* times, Names = {}) {
   const bool a_now = a.time == clock;  // see contact_avx2::contact_times
   if (box.periodic()) {
-    return a_now ? contact_times_of<D, true, true>(a, here, clock, box, particles, candidates,
+    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles, candidates,
                                                    count, limit, times)
-                 : contact_times_of<D, true, false>(a, here, clock, box, particles, candidates,
+                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles, candidates,
                                                     count, limit, times);
   }
-  return a_now ? contact_times_of<D, false, true>(a, here, clock, box, particles, candidates, count,
+  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates, count,
                                                   limit, times)
-               : contact_times_of<D, false, false>(a, here, clock, box, particles, candidates,
+               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles, candidates,
                                                    count, limit, times);
 }
 

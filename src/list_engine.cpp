@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <limits>
 
 #include "carom/observables.hpp"
 
@@ -46,11 +47,19 @@ std::uint32_t position_in(const std::uint32_t* list, std::uint32_t j, const Narr
 }
 #endif
 
+// A neighbour's name in a list (see ListEngine::slots_).
+template <std::size_t D>
+std::uint32_t name_of(std::uint32_t index) {
+  return ByOffset::name<D>(index);
+}
+
 }  // namespace
 
 template <std::size_t D>
 bool ListEngine<D>::suits(const System<D>& system, const Growth& growth) {
   if (growth.rate != 0.0 || system.size() == 0) return false;
+  // Lists name particles by offsets of 32 bits (see slots_).
+  if (system.size() > std::numeric_limits<std::uint32_t>::max() / kStride<D>) return false;
   double smallest = kNever;
   for (const Particle<D>& p : system.particles) smallest = std::min(smallest, p.radius);
   const double largest = largest_radius(system);
@@ -85,6 +94,15 @@ ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKe
     grid_.insert(i, grid_.locate(position_at(this->system_.particles[i], this->now_)));
   }
   make_all_lists();
+}
+
+template <std::size_t D>
+std::vector<std::uint32_t> ListEngine<D>::neighbours(std::uint32_t i) const {
+  std::vector<std::uint32_t> indices;
+  for (std::uint32_t k = 0; k < size_[i]; ++k) {
+    indices.push_back(ByOffset::index<D>(slots_[slot(i) + k]));
+  }
+  return indices;
 }
 
 template <std::size_t D>
@@ -128,7 +146,7 @@ void ListEngine<D>::make_all_lists() {
     slots_.resize(slot(n));
   }
   for (std::uint32_t i = 0; i < n; ++i) {
-    std::fill_n(&slots_[slot(i)], capacity_, i);
+    std::fill_n(&slots_[slot(i)], capacity_, name_of<D>(i));
     size_[i] = 0;
   }
   for_each_pair([&](std::uint32_t i, std::uint32_t j) {
@@ -141,8 +159,10 @@ void ListEngine<D>::make_all_lists() {
 template <std::size_t D>
 template <class Contacts>
 void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
-  for (std::uint32_t k = 0; k < size_[i]; ++k) remove(slots_[slot(i) + k], i, contacts);
-  std::fill_n(&slots_[slot(i)], size_[i], i);
+  for (std::uint32_t k = 0; k < size_[i]; ++k) {
+    remove(ByOffset::index<D>(slots_[slot(i) + k]), i, contacts);
+  }
+  std::fill_n(&slots_[slot(i)], size_[i], name_of<D>(i));
   size_[i] = 0;
   const Vec<D> centre = position_at(this->system_.particles[i], clock_);
   centre_[i] = centre;
@@ -175,7 +195,7 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
 template <std::size_t D>
 void ListEngine<D>::add(std::uint32_t i, std::uint32_t j) {
   if (size_[i] == capacity_) widen();
-  slots_[slot(i) + size_[i]++] = j;
+  slots_[slot(i) + size_[i]++] = name_of<D>(j);
 }
 
 template <std::size_t D>
@@ -183,9 +203,9 @@ template <class Contacts>
 void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j, const Contacts& contacts) {
   std::uint32_t* list = &slots_[slot(i)];
   const std::uint32_t last = --size_[i];
-  const std::uint32_t k = position_in(list, j, contacts);
+  const std::uint32_t k = position_in(list, name_of<D>(j), contacts);
   list[k] = list[last];
-  list[last] = i;
+  list[last] = name_of<D>(i);
 }
 
 template <std::size_t D>
@@ -196,7 +216,7 @@ void ListEngine<D>::widen() {
   for (std::uint32_t i = 0; i < n; ++i) {
     std::uint32_t* to = &slots[std::size_t{i} * capacity];
     std::copy_n(&slots_[slot(i)], size_[i], to);
-    std::fill(to + size_[i], to + capacity, i);
+    std::fill(to + size_[i], to + capacity, name_of<D>(i));
   }
   slots_ = std::move(slots);
   capacity_ = capacity;
@@ -308,7 +328,7 @@ void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
   const std::size_t count = (std::size_t{size_[i]} + lanes - 1) / lanes * lanes;
   for (std::size_t from = 0; from < count; from += kMostContacts) {
     earliest.try_batch(contacts, p, here, clock_, box, particles.data(), i, list + from,
-                       std::min(count - from, kMostContacts));
+                       std::min(count - from, kMostContacts), ByOffset{});
   }
   earliest.read_partner_version(this->system_.records);
   // A renewal leaves `pending` as it was (a wall hit, or nothing): step() does not read it then.

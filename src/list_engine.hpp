@@ -68,9 +68,8 @@ class ListEngine final : public Engine<D> {
              ContactKernel kernel = widest_contact_kernel());
   std::optional<Event> step(double end_time) override;
 
-  // The neighbours of particle i, for tests: list(i)[0 .. list_size(i)).
-  const std::uint32_t* list(std::uint32_t i) const { return &slots_[slot(i)]; }
-  std::uint32_t list_size(std::uint32_t i) const { return size_[i]; }
+  // The neighbours of particle i (their indices), for tests.
+  std::vector<std::uint32_t> neighbours(std::uint32_t i) const;
   const Vec<D>& shell_centre(std::uint32_t i) const { return centre_[i]; }
   // How far a particle moves from its shell's centre before it makes its list again.
   double shell() const { return shell_; }
@@ -108,8 +107,10 @@ class ListEngine final : public Engine<D> {
   EventCalendar queue_;
   std::vector<Pending> pending_;
   std::vector<Vec<D>> centre_;
-  // Particle i's list in slots_[slot(i) ..], size_[i] long; the rest of its slots hold i itself,
-  // so that a list read in fours or eights is padded by a particle that never touches itself.
+  // Particle i's list in slots_[slot(i) ..], size_[i] long, its neighbours named by offset (see
+  // ByOffset: what the contact kernel reads, without a multiplication); the rest of its slots
+  // hold i itself, so that a list read in fours or eights is padded by a particle that never
+  // touches itself.
   std::vector<std::uint32_t> slots_;
   std::vector<std::uint32_t> size_;
   std::uint32_t capacity_ = 0;  // slots a particle, a multiple of eight

@@ -58,12 +58,13 @@ struct NarrowContacts {
   static WallHit wall_hit(const Particle<D>& p, const Box<D>& box) {
     return next_wall_hit(p, box);
   }
-  template <std::size_t D>
+  template <std::size_t D, class Names>
   std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
                            const Box<D>& box, const Particle<D>* particles,
                            const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times) const {
-    return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times);
+                           double* times, Names names) const {
+    return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times,
+                                names);
   }
   template <std::size_t D>
   std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
@@ -76,15 +77,15 @@ struct NarrowContacts {
 #ifdef CAROM_HAVE_AVX2_KERNEL
 // The four-wide kernel, for predictions compiled for AVX2 (which inline it).
 struct WideContacts : NarrowContacts {
-  template <std::size_t D>
+  template <std::size_t D, class Names>
   [[gnu::target("avx2")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
                                                    double clock, const Box<D>& box,
                                                    const Particle<D>* particles,
                                                    const std::uint32_t* candidates,
-                                                   std::size_t count, double limit,
-                                                   double* times) const {
+                                                   std::size_t count, double limit, double* times,
+                                                   Names names) const {
     return contact_avx2::contact_times(a, here, clock, box, particles, candidates, count, limit,
-                                       times);
+                                       times, names);
   }
   template <std::size_t D>
   [[gnu::target("avx2")]] std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
@@ -98,15 +99,15 @@ struct WideContacts : NarrowContacts {
 // The eight-wide kernel, for predictions compiled for AVX-512F.
 struct WiderContacts : NarrowContacts {
   static constexpr std::size_t kLanes = 8;
-  template <std::size_t D>
+  template <std::size_t D, class Names>
   [[gnu::target("avx512f")]] std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here,
                                                       double clock, const Box<D>& box,
                                                       const Particle<D>* particles,
                                                       const std::uint32_t* candidates,
                                                       std::size_t count, double limit,
-                                                      double* times) const {
+                                                      double* times, Names names) const {
     return contact_avx512::contact_times(a, here, clock, box, particles, candidates, count, limit,
-                                         times);
+                                         times, names);
   }
   template <std::size_t D>
   [[gnu::target("avx512f")]] std::uint64_t near_points(const Vec<D>& centre, const Vec<D>* points,
@@ -126,14 +127,14 @@ struct GrowingContacts {
   WallHit wall_hit(const Particle<D>& p, const Box<D>& box) const {
     return growing_wall_hit(p, box, rate);
   }
-  template <std::size_t D>
+  template <std::size_t D, class Names>
   std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
                            const Box<D>& box, const Particle<D>* particles,
                            const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times) const {
+                           double* times, Names) const {
     std::uint64_t soon = 0;
     for (std::size_t n = 0; n < count; ++n) {
-      const Particle<D>& b = particles[candidates[n]];
+      const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
       // Unlike the fixed-size contact, a growing particle overlaps itself: skipped.
       if (&b == &a) {
         times[n] = kNever;
@@ -167,23 +168,25 @@ struct EarliestEvent {
     }
   }
 
-  // Tries `count` candidates (at most kMostContacts, a multiple of Contacts::kLanes; the particle
-  // itself may be among them) against particle i, seen at `here` at `clock`.
-  template <class Contacts>
+  // Tries `count` candidates (at most kMostContacts, a multiple of Contacts::kLanes, named as
+  // Names says; the particle itself may be among them) against particle i, seen at `here` at
+  // `clock`.
+  template <class Contacts, class Names = ByIndex>
   void try_batch(const Contacts& contacts, const Particle<D>& p, const Vec<D>& here, double clock,
                  const Box<D>& box, const Particle<D>* particles, std::uint32_t i,
-                 const std::uint32_t* candidates, std::size_t count) {
+                 const std::uint32_t* candidates, std::size_t count, Names names = {}) {
     std::array<double, kMostContacts> times;
     // Only candidates touching no later than the best so far come back: one test settles the
     // rest, most of them.
     for (std::uint64_t soon = contacts(p, here, clock, box, particles, candidates, count, key.time,
-                                       times.data());
+                                       times.data(), names);
          soon != 0; soon &= soon - 1) {
       const auto n = static_cast<std::size_t>(std::countr_zero(soon));
-      const EventKey candidate = key_of<D>(pair_event(std::max(times[n], clock), i, candidates[n]));
+      const std::uint32_t j = Names::template index<D>(candidates[n]);
+      const EventKey candidate = key_of<D>(pair_event(std::max(times[n], clock), i, j));
       if (candidate < key) {
         key = candidate;
-        pending = {key.time, 0, static_cast<std::int32_t>(candidates[n]), PendingKind::pair};
+        pending = {key.time, 0, static_cast<std::int32_t>(j), PendingKind::pair};
         new_partner = true;
       }
     }

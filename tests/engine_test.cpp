@@ -524,8 +524,7 @@ TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
   const auto n = static_cast<std::uint32_t>(system.size());
   std::size_t pairs = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t* list = engine.list(i);
-    const std::uint32_t size = engine.list_size(i);
+    const std::vector<std::uint32_t> list = engine.neighbours(i);
     // No particle has left its shell.
     const Vec<3> moved = position_at(system.particles[i], engine.stored_time()) -
                          engine.shell_centre(i);
@@ -534,10 +533,9 @@ TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
       if (j == i) continue;
       Vec<3> apart = engine.shell_centre(i) - engine.shell_centre(j);
       apart -= image_offset(apart, system.box);
-      const bool listed = std::find(list, list + size, j) != list + size;
-      const std::uint32_t* other = engine.list(j);
-      EXPECT_EQ(listed, std::find(other, other + engine.list_size(j), i) !=
-                            other + engine.list_size(j))
+      const bool listed = std::find(list.begin(), list.end(), j) != list.end();
+      const std::vector<std::uint32_t> other = engine.neighbours(j);
+      EXPECT_EQ(listed, std::find(other.begin(), other.end(), i) != other.end())
           << i << " and " << j;
       if (norm2(apart) < reach * reach * (1 - 1e-6)) {
         EXPECT_TRUE(listed) << j << " within reach of " << i;
