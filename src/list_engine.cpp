@@ -153,7 +153,8 @@ void ListEngine<D>::make_all_lists() {
     add(i, j);
     add(j, i);
   });
-  for (std::uint32_t i = 0; i < n; ++i) predict(i);
+  // The scalar kernel's times are the wide kernels' (contact_batch.hpp): it serves here, once.
+  for (std::uint32_t i = 0; i < n; ++i) predict_with(i, NarrowContacts{});
 }
 
 template <std::size_t D>
@@ -223,86 +224,6 @@ void ListEngine<D>::widen() {
 }
 
 template <std::size_t D>
-void ListEngine<D>::predict(std::uint32_t i) {
-  switch (kernel_) {
-    case ContactKernel::avx512:
-      return predict_avx512(i);
-    case ContactKernel::avx2:
-      return predict_avx2(i);
-    default:
-      return predict_scalar(i);
-  }
-}
-
-template <std::size_t D>
-void ListEngine<D>::renew(std::uint32_t i) {
-  switch (kernel_) {
-    case ContactKernel::avx512:
-      return renew_avx512(i);
-    case ContactKernel::avx2:
-      return renew_avx2(i);
-    default:
-      return renew_scalar(i);
-  }
-}
-
-// Each kernel's prediction compiled for its instructions, with everything it calls inlined.
-template <std::size_t D>
-[[gnu::flatten]] void ListEngine<D>::predict_scalar(std::uint32_t i) {
-  predict_with(i, NarrowContacts{});
-}
-
-template <std::size_t D>
-[[gnu::flatten]] void ListEngine<D>::renew_scalar(std::uint32_t i) {
-  make_list_with(i, NarrowContacts{});
-  predict_with(i, NarrowContacts{});
-}
-
-#ifdef CAROM_HAVE_AVX2_KERNEL
-template <std::size_t D>
-[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::predict_avx2(std::uint32_t i) {
-  predict_with(i, WideContacts{});
-}
-
-template <std::size_t D>
-[[gnu::flatten, gnu::target("avx2")]] void ListEngine<D>::renew_avx2(std::uint32_t i) {
-  make_list_with(i, WideContacts{});
-  predict_with(i, WideContacts{});
-}
-
-template <std::size_t D>
-[[gnu::flatten, gnu::target("avx512f")]] void ListEngine<D>::predict_avx512(std::uint32_t i) {
-  predict_with(i, WiderContacts{});
-}
-
-template <std::size_t D>
-[[gnu::flatten, gnu::target("avx512f")]] void ListEngine<D>::renew_avx512(std::uint32_t i) {
-  make_list_with(i, WiderContacts{});
-  predict_with(i, WiderContacts{});
-}
-#else
-template <std::size_t D>
-void ListEngine<D>::predict_avx2(std::uint32_t i) {
-  predict_scalar(i);
-}
-
-template <std::size_t D>
-void ListEngine<D>::renew_avx2(std::uint32_t i) {
-  renew_scalar(i);
-}
-
-template <std::size_t D>
-void ListEngine<D>::predict_avx512(std::uint32_t i) {
-  predict_scalar(i);
-}
-
-template <std::size_t D>
-void ListEngine<D>::renew_avx512(std::uint32_t i) {
-  renew_scalar(i);
-}
-#endif
-
-template <std::size_t D>
 template <class Contacts>
 void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
   const auto& particles = this->system_.particles;
@@ -339,6 +260,49 @@ void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
 
 template <std::size_t D>
 std::optional<Event> ListEngine<D>::step(double end_time) {
+  switch (kernel_) {
+    case ContactKernel::avx512:
+      return step_avx512(end_time);
+    case ContactKernel::avx2:
+      return step_avx2(end_time);
+    default:
+      return step_scalar(end_time);
+  }
+}
+
+// The event loop compiled for each kernel's instructions, everything it calls in this file inlined.
+template <std::size_t D>
+[[gnu::flatten]] std::optional<Event> ListEngine<D>::step_scalar(double end_time) {
+  return step_with(end_time, NarrowContacts{});
+}
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+template <std::size_t D>
+[[gnu::flatten, gnu::target("avx2")]] std::optional<Event> ListEngine<D>::step_avx2(
+    double end_time) {
+  return step_with(end_time, WideContacts{});
+}
+
+template <std::size_t D>
+[[gnu::flatten, gnu::target("avx512f")]] std::optional<Event> ListEngine<D>::step_avx512(
+    double end_time) {
+  return step_with(end_time, WiderContacts{});
+}
+#else
+template <std::size_t D>
+std::optional<Event> ListEngine<D>::step_avx2(double end_time) {
+  return step_scalar(end_time);
+}
+
+template <std::size_t D>
+std::optional<Event> ListEngine<D>::step_avx512(double end_time) {
+  return step_scalar(end_time);
+}
+#endif
+
+template <std::size_t D>
+template <class Contacts>
+std::optional<Event> ListEngine<D>::step_with(double end_time, const Contacts& contacts) {
   const auto& particles = this->system_.particles;
   const auto& records = this->system_.records;
   while (true) {
@@ -353,25 +317,26 @@ std::optional<Event> ListEngine<D>::step(double end_time) {
     if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
     if (key.order == after_collisions(i)) {  // leaving its shell
       clock_ = t;
-      renew(i);
+      make_list_with(i, contacts);
+      predict_with(i, contacts);
       continue;
     }
     const Pending pending = pending_[i];
     if (pending.kind == PendingKind::wall) {
       clock_ = t;
       const Event event = this->apply({t, i, pending.partner});
-      predict(i);
+      predict_with(i, contacts);
       return event;
     }
     const auto j = static_cast<std::uint32_t>(pending.partner);
     if (records[j].version() != pending.partner_version) {
-      predict(i);  // the partner has collided since: this event will not happen
+      predict_with(i, contacts);  // the partner has collided since: this event will not happen
       continue;
     }
     clock_ = t;
     const Event event = this->apply(pair_event(t, i, j));
-    predict(i);
-    predict(j);
+    predict_with(i, contacts);
+    predict_with(j, contacts);
     return event;
   }
 }

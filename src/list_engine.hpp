@@ -78,11 +78,13 @@ class ListEngine final : public Engine<D> {
   void rebased(double shift) override;
   // Every list made afresh around the positions at the clock, every prediction made again.
   void make_all_lists();
-  // Particle i's list made again around where it is now, and its next event predicted.
-  void renew(std::uint32_t i);
-  void renew_scalar(std::uint32_t i);
-  void renew_avx2(std::uint32_t i);
-  void renew_avx512(std::uint32_t i);
+  // The event loop with each contact kernel (step() picks one), and with any.
+  std::optional<Event> step_scalar(double end_time);
+  std::optional<Event> step_avx2(double end_time);
+  std::optional<Event> step_avx512(double end_time);
+  template <class Contacts>
+  std::optional<Event> step_with(double end_time, const Contacts& contacts);
+  // Particle i's list made again around where it is now (its next event is then predicted).
   template <class Contacts>
   void make_list_with(std::uint32_t i, const Contacts& contacts);
   void add(std::uint32_t i, std::uint32_t j);
@@ -94,10 +96,6 @@ class ListEngine final : public Engine<D> {
 
   // Finds the earliest event of particle i from the clock among its neighbours and walls, or its
   // leaving its shell, and queues it.
-  void predict(std::uint32_t i);
-  void predict_scalar(std::uint32_t i);
-  void predict_avx2(std::uint32_t i);
-  void predict_avx512(std::uint32_t i);
   template <class Contacts>
   void predict_with(std::uint32_t i, const Contacts& contacts);
 
