@@ -27,7 +27,9 @@ namespace carom {
 class EventCalendar {
  public:
   explicit EventCalendar(std::uint32_t slots)
-      : slot_(slots), bucket_(std::max<std::uint32_t>(2 * slots, 16), kEnd) {}
+      : slot_(slots),
+        bucket_(std::max<std::uint32_t>(2 * slots, 16), kEnd),
+        year_buckets_(static_cast<double>(bucket_.size())) {}
 
   // The slot with the earliest event (any slot when none has one: its key is then kNoEvent). When a
   // bucket is entered, ahead(slot, 1) is called for each of its slots and ahead(slot, 2) for each
@@ -84,9 +86,9 @@ class EventCalendar {
 
   void insert(std::uint32_t slot) {
     const double at = bucket_of(slot_[slot].key.time);
-    if (at < static_cast<double>(current_bucket_) + 1.0) {
+    if (at < current_end_) {
       heap_push({slot_[slot].key, slot});
-    } else if (at < static_cast<double>(bucket_.size())) {
+    } else if (at < year_buckets_) {
       list_push(bucket_[static_cast<std::uint32_t>(at)], slot, static_cast<std::uint32_t>(at));
     } else {
       list_push(overflow_, slot, kOverflow);
@@ -126,6 +128,7 @@ class EventCalendar {
     while (current_.empty()) {
       if (current_bucket_ + 1 < buckets) {
         ++current_bucket_;
+        current_end_ = current_bucket_ + 1.0;
         std::uint32_t& head = bucket_[current_bucket_];
         for (std::uint32_t s = head; s != kEnd; s = slot_[s].next) {
           heap_push({slot_[s].key, s});
@@ -170,6 +173,7 @@ class EventCalendar {
     year_end_ = earliest + width * static_cast<double>(bucket_.size());
     taken_ = 0;
     current_bucket_ = 0;
+    current_end_ = 1.0;
     std::uint32_t s = overflow_;
     overflow_ = kEnd;
     while (s != kEnd) {
@@ -194,7 +198,7 @@ class EventCalendar {
     if (at == current_.size()) return;
     current_[at] = last;
     slot_[last.slot].where = kInHeap | at;
-    sift_up(at);
+    if (at > 0) sift_up(at);  // the top's replacement can only go down
     sift_down(slot_[last.slot].where & ~kInHeap);
   }
 
@@ -232,6 +236,8 @@ class EventCalendar {
   std::vector<Entry> current_;         // the events due by the end of the current bucket, a heap
   std::uint32_t overflow_ = kEnd;      // the head of the list of events after this year
   std::uint32_t current_bucket_ = 0;
+  // As doubles, for insert(): the end of the current bucket and of the year, in buckets.
+  double current_end_ = 1.0, year_buckets_ = 0.0;
   // Before the first year the width is not yet known: the year lies infinitely far in the past,
   // so that every event waits in the overflow.
   double year_start_ = -kNever, year_end_ = -kNever, inverse_width_ = kNever;

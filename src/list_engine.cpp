@@ -170,7 +170,7 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
   const std::uint32_t cell = grid_.locate(centre);
   if (cell != grid_.cell_of(i)) grid_.move(i, cell);
   // The candidates in batches, padded by the particle itself, which is no neighbour of its own.
-  const Box<D> box = this->system_.box;
+  const Box<D>& box = this->system_.box;
   std::array<std::uint32_t, kMostContacts> batch;
   std::size_t size = 0;
   const auto flush = [&] {
@@ -228,7 +228,7 @@ template <class Contacts>
 void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
   const auto& particles = this->system_.particles;
   const Particle<D>& p = particles[i];
-  const Box<D> box = this->system_.box;
+  const Box<D>& box = this->system_.box;
   const Vec<D> here = position_at(p, clock_);
   EarliestEvent<D> earliest;
   earliest.start_with_wall(contacts, p, box, i, clock_);
@@ -237,9 +237,9 @@ void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
   // still comes first (after_collisions).
   const double exit = shell_exit_delay(here - centre_[i], p.velocity, shell_);
   if (exit != kNever) {
-    // A renewal the time cannot resolve would come again at the same instant forever.
-    if (exit > 0.0 && clock_ + exit == clock_) this->throw_too_fast(clock_);
     const EventKey renewal{clock_ + exit, after_collisions(i)};
+    // A renewal the time cannot resolve would come again at the same instant forever.
+    if (renewal.time == clock_ && exit > 0.0) this->throw_too_fast(clock_);
     if (renewal < earliest.key) earliest.key = renewal;
   }
   // The list in the kernel's widths: its own padding is the particle itself, never a contact of
