@@ -139,7 +139,7 @@ void ListEngine<D>::make_all_lists() {
     ++size_[j];
   });
   const std::uint32_t longest = n == 0 ? 0 : *std::max_element(size_.begin(), size_.end());
-  const std::uint32_t capacity = std::max<std::uint32_t>(8, (longest + 7) & ~7u);
+  const std::size_t capacity = std::max<std::size_t>(8, (std::size_t{longest} + 7) & ~std::size_t{7});
   if (slots_.empty() || capacity > capacity_) {
     slots_ = {};
     capacity_ = capacity;
@@ -211,7 +211,8 @@ void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j, const Contacts& con
 
 template <std::size_t D>
 void ListEngine<D>::widen() {
-  const std::uint32_t capacity = (capacity_ + std::max<std::uint32_t>(8, capacity_ / 2) + 7) & ~7u;
+  const std::size_t capacity =
+      (capacity_ + std::max<std::size_t>(8, capacity_ / 2) + 7) & ~std::size_t{7};
   const auto n = static_cast<std::uint32_t>(size_.size());
   std::vector<std::uint32_t> slots(std::size_t{n} * capacity);
   for (std::uint32_t i = 0; i < n; ++i) {

@@ -111,7 +111,9 @@ class ListEngine final : public Engine<D> {
   // touches itself.
   std::vector<std::uint32_t> slots_;
   std::vector<std::uint32_t> size_;
-  std::uint32_t capacity_ = 0;  // slots a particle, a multiple of eight
+  // Slots a particle, a multiple of eight. Not a std::uint32_t, which a store to a slot might
+  // alias: the compiler would read it again after every store.
+  std::size_t capacity_ = 0;
   double clock_ = 0.0;  // the current time: the last processed event or list renewal
   ContactKernel kernel_;
 };
