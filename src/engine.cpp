@@ -131,7 +131,7 @@ std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const 
     return std::make_unique<ReferenceEngine<D>>(std::move(system), rule, growth);
   }
   // Dense systems: a sphere at packing 0.45 has some 26 candidates in the 27 cells around it and
-  // about 13 in its list (see ListEngine::suits for when lists pay).
+  // about 18 in its list (see ListEngine::suits for when lists pay).
   if (ListEngine<D>::suits(system, growth)) {
     return std::make_unique<ListEngine<D>>(std::move(system), rule);
   }
