@@ -92,11 +92,7 @@ class CellGrid {
   std::uint32_t locate(Vec<D> position) const {
     wrap(position, box_);
     std::uint32_t cell = 0;
-    for (std::size_t k = 0; k < D; ++k) {
-      const double at = std::floor(position[k] / width_[k]);
-      const double last = count_[k] - 1.0;
-      cell += stride_[k] * static_cast<std::uint32_t>(std::clamp(at, 0.0, last));
-    }
+    for (std::size_t k = 0; k < D; ++k) cell += stride_[k] * along_axis(position[k], k);
     return cell;
   }
 
@@ -126,6 +122,69 @@ class CellGrid {
   void for_each_near(std::uint32_t cell, LookAhead&& look_ahead, Visit&& visit) const {
     std::array<std::uint32_t, kBlock> cells;
     visit_cells(cells, block(cell, cells), look_ahead, visit);
+  }
+
+  // Calls visit(j) once for every particle j in the cells around the one containing `point` (its
+  // own included) that come within `reach` of it: the block's corners and edges lie beyond when
+  // `point` is far from them, and are skipped (about a quarter of the particles of a block of
+  // cells one reach wide). Conservative by a hair: a cell is skipped only when it is farther than
+  // `reach` even with the round-off of locating its particles allowed for.
+  // Returns the cell containing `point` (locate(point)).
+  template <class Visit>
+  std::uint32_t for_each_within(Vec<D> point, double reach, Visit&& visit) const {
+    wrap(point, box_);
+    std::uint32_t cell = 0;
+    // Per axis, the cells to look at (a coordinate times the stride) and the square of the gap
+    // between `point` and each.
+    std::array<std::array<std::uint32_t, 3>, D> along{};
+    std::array<std::array<double, 3>, D> gap2{};
+    std::array<std::uint32_t, D> size{};
+    for (std::size_t k = 0; k < D; ++k) {
+      const std::uint32_t n = count_[k], stride = stride_[k];
+      const double width = width_[k];
+      const std::uint32_t at = along_axis(point[k], k);
+      cell += at * stride;
+      if (box_.periodic() && n < 3) {  // every cell of the axis, once
+        for (std::uint32_t c = 0; c < n; ++c) along[k][size[k]++] = c * stride;
+        continue;
+      }
+      const double slack = kLocatingSlack * width;
+      const double below = std::max(0.0, point[k] - at * width - slack);
+      const double above = std::max(0.0, (at + 1.0) * width - point[k] - slack);
+      if (at > 0 || box_.periodic()) {
+        gap2[k][size[k]] = below * below;
+        along[k][size[k]++] = (at > 0 ? at - 1 : n - 1) * stride;
+      }
+      along[k][size[k]++] = at * stride;
+      if (at + 1 < n || box_.periodic()) {
+        gap2[k][size[k]] = above * above;
+        along[k][size[k]++] = (at + 1 < n ? at + 1 : 0) * stride;
+      }
+    }
+    // The cells first, then their particles: a flat walk.
+    const double reach2 = reach * reach;
+    std::array<std::uint32_t, kBlock> cells;
+    std::size_t count = 0;
+    const auto add_row = [&](std::uint32_t row, double row_gap2) {
+      for (std::uint32_t x = 0; x < size[0]; ++x) {
+        cells[count] = row + along[0][x];
+        count += row_gap2 + gap2[0][x] <= reach2;
+      }
+    };
+    static_assert(D == 2 || D == 3);
+    if constexpr (D == 2) {
+      for (std::uint32_t y = 0; y < size[1]; ++y) add_row(along[1][y], gap2[1][y]);
+    } else {
+      for (std::uint32_t z = 0; z < size[2]; ++z) {
+        for (std::uint32_t y = 0; y < size[1]; ++y) {
+          add_row(along[2][z] + along[1][y], gap2[2][z] + gap2[1][y]);
+        }
+      }
+    }
+    for (std::size_t c = 0; c < count; ++c) {
+      for (std::uint32_t j = head_[cells[c]]; j != kNone; j = next_[j]) visit(j);
+    }
+    return cell;
   }
 
   // The same for the particles of layer(cell, axis, upward) only.
@@ -193,6 +252,17 @@ class CellGrid {
  private:
   static constexpr std::size_t power_of_three(std::size_t k) {
     return k == 0 ? 1 : 3 * power_of_three(k - 1);
+  }
+
+  // How far (relative to a cell's width) a particle may lie outside the cell it was located in,
+  // by the round-off of wrapping and dividing: far less than this.
+  static constexpr double kLocatingSlack = 1e-6;
+
+  // The place along `axis` of the cell containing a coordinate inside a periodic box; one beyond
+  // the edges of a box with walls goes to the edge cell.
+  std::uint32_t along_axis(double coordinate, std::size_t axis) const {
+    const double at = std::floor(coordinate / width_[axis]);
+    return static_cast<std::uint32_t>(std::clamp(at, 0.0, count_[axis] - 1.0));
   }
 
   static double most_cells(std::size_t particles) {

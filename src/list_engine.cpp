@@ -124,7 +124,7 @@ void ListEngine<D>::make_all_lists() {
   const Box<D>& box = this->system_.box;
   const auto for_each_pair = [&](auto&& pair) {
     for (std::uint32_t i = 0; i < n; ++i) {
-      grid_.for_each_near(grid_.cell_of(i), [&](std::uint32_t j) {
+      grid_.for_each_within(centre_[i], reach_, [&](std::uint32_t j) {
         if (j > i && near_points_scalar(centre_[i], centre_.data(), &j, 1, box, reach_) != 0) {
           pair(i, j);
         }
@@ -167,8 +167,6 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
   size_[i] = 0;
   const Vec<D> centre = position_at(this->system_.particles[i], clock_);
   centre_[i] = centre;
-  const std::uint32_t cell = grid_.locate(centre);
-  if (cell != grid_.cell_of(i)) grid_.move(i, cell);
   // The candidates in batches, padded by the particle itself, which is no neighbour of its own.
   const Box<D>& box = this->system_.box;
   std::array<std::uint32_t, kMostContacts> batch;
@@ -186,11 +184,12 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
     }
     size = 0;
   };
-  grid_.for_each_near(cell, [&](std::uint32_t j) {
+  const std::uint32_t cell = grid_.for_each_within(centre, reach_, [&](std::uint32_t j) {
     batch[size++] = j;
     if (size == kMostContacts) flush();
   });
   if (size > 0) flush();
+  if (cell != grid_.cell_of(i)) grid_.move(i, cell);
 }
 
 template <std::size_t D>

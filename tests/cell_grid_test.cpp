@@ -62,6 +62,52 @@ TEST(CellGrid, FindsEveryParticleWithinRangeAndOnlyNearbyOnes) {
   }
 }
 
+// for_each_within visits every particle within reach of any point (the nearest image in a
+// periodic box, the point itself anywhere, even outside the box), each once, and fewer than the
+// whole block around the point's cell.
+template <std::size_t D>
+void check_within(const Vec<D>& side, Boundary boundary, double reach, std::uint64_t seed) {
+  pcg32 rng(seed);
+  const Box<D> box{side, boundary};
+  const std::uint32_t n = 400;
+  CellGrid<D> grid(box, reach, n);
+  std::vector<Vec<D>> at(n);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < D; ++k) at[i][k] = testing::uniform(rng, 0, side[k]);
+    grid.insert(i, grid.locate(at[i]));
+  }
+  std::size_t within_visits = 0, block_visits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Vec<D> point;
+    const double beyond = box.periodic() ? 1.5 : 0.0;  // unwrapped points of a periodic box
+    for (std::size_t k = 0; k < D; ++k) {
+      point[k] = testing::uniform(rng, -beyond * side[k], (1 + beyond) * side[k]);
+    }
+    std::set<std::uint32_t> found;
+    const std::uint32_t cell = grid.for_each_within(point, reach, [&](std::uint32_t j) {
+      EXPECT_TRUE(found.insert(j).second) << j << " visited twice";
+    });
+    EXPECT_EQ(cell, grid.locate(point));
+    for (std::uint32_t j = 0; j < n; ++j) {
+      Vec<D> apart = point - at[j];
+      apart -= image_offset(apart, box);
+      if (norm2(apart) <= reach * reach) EXPECT_TRUE(found.count(j)) << trial << " " << j;
+    }
+    within_visits += found.size();
+    grid.for_each_near(cell, [&](std::uint32_t) { ++block_visits; });
+  }
+  EXPECT_LT(within_visits, block_visits);
+}
+
+TEST(CellGrid, WithinReachFindsEveryParticleThereAndSkipsFarCorners) {
+  check_within<2>(Vec<2>{{13.7, 9.1}}, Boundary::walls, 1.3, 1);
+  check_within<2>(Vec<2>{{13.7, 9.1}}, Boundary::periodic, 1.3, 2);
+  check_within<2>(Vec<2>{{5.0, 2.7}}, Boundary::periodic, 1.3, 3);  // two cells along y
+  check_within<3>(Vec<3>{{7.1, 6.3, 9.8}}, Boundary::walls, 1.1, 4);
+  check_within<3>(Vec<3>{{7.1, 6.3, 9.8}}, Boundary::periodic, 1.1, 5);
+  check_within<3>(Vec<3>{{7.1, 2.5, 3.9}}, Boundary::periodic, 1.1, 6);  // two and three cells
+}
+
 TEST(CellGrid, MovingKeepsTheListsConsistent) {
   CellGrid<2> grid(Box<2>{Vec2{{10, 10}}}, 1.0, 4);
   for (std::uint32_t i = 0; i < 4; ++i) grid.insert(i, 0);
