@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <limits>
+#include <new>
 
 #include "carom/observables.hpp"
 
@@ -140,10 +141,10 @@ void ListEngine<D>::make_all_lists() {
   });
   const std::uint32_t longest = n == 0 ? 0 : *std::max_element(size_.begin(), size_.end());
   const std::size_t capacity = std::max<std::size_t>(8, (std::size_t{longest} + 7) & ~std::size_t{7});
-  if (slots_.empty() || capacity > capacity_) {
-    slots_ = {};
+  if (!slots_ || capacity > capacity_) {
+    slots_.reset();
     capacity_ = capacity;
-    slots_.resize(slot(n));
+    reserve_slots(slot(n));
   }
   for (std::uint32_t i = 0; i < n; ++i) {
     std::fill_n(&slots_[slot(i)], capacity_, name_of<D>(i));
@@ -213,14 +214,23 @@ void ListEngine<D>::widen() {
   const std::size_t capacity =
       (capacity_ + std::max<std::size_t>(8, capacity_ / 2) + 7) & ~std::size_t{7};
   const auto n = static_cast<std::uint32_t>(size_.size());
-  std::vector<std::uint32_t> slots(std::size_t{n} * capacity);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    std::uint32_t* to = &slots[std::size_t{i} * capacity];
-    std::copy_n(&slots_[slot(i)], size_[i], to);
+  reserve_slots(std::size_t{n} * capacity);
+  // Each list moves up to its wider slots, the last first: no list is overwritten before it moves.
+  for (std::uint32_t i = n; i-- > 0;) {
+    std::uint32_t* from = &slots_[std::size_t{i} * capacity_];
+    std::uint32_t* to = &slots_[std::size_t{i} * capacity];
+    std::copy_backward(from, from + size_[i], to + size_[i]);
     std::fill(to + size_[i], to + capacity, name_of<D>(i));
   }
-  slots_ = std::move(slots);
   capacity_ = capacity;
+}
+
+template <std::size_t D>
+void ListEngine<D>::reserve_slots(std::size_t count) {
+  void* grown = std::realloc(slots_.get(), count * sizeof(std::uint32_t));
+  if (grown == nullptr) throw std::bad_alloc();
+  (void)slots_.release();
+  slots_.reset(static_cast<std::uint32_t*>(grown));
 }
 
 template <std::size_t D>

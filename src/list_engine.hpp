@@ -17,6 +17,8 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <vector>
 
 #include "carom/engine.hpp"
@@ -109,7 +111,15 @@ class ListEngine final : public Engine<D> {
   // ByOffset: what the contact kernel reads, without a multiplication); the rest of its slots
   // hold i itself, so that a list read in fours or eights is padded by a particle that never
   // touches itself.
-  std::vector<std::uint32_t> slots_;
+  // From malloc, so that widen() grows them in place (realloc moves the pages of a large block
+  // without copying them): a std::vector would hold the old slots and the new ones at once,
+  // twice the lists' memory at the peak.
+  struct FreeSlots {
+    void operator()(std::uint32_t* slots) const { std::free(slots); }
+  };
+  std::unique_ptr<std::uint32_t[], FreeSlots> slots_;
+  // Gives slots_ room for `count` slots, keeping what it holds.
+  void reserve_slots(std::size_t count);
   std::vector<std::uint32_t> size_;
   // Slots a particle, a multiple of eight. Not a std::uint32_t, which a store to a slot might
   // alias: the compiler would read it again after every store.

@@ -91,7 +91,9 @@ void check_within(const Vec<D>& side, Boundary boundary, double reach, std::uint
     for (std::uint32_t j = 0; j < n; ++j) {
       Vec<D> apart = point - at[j];
       apart -= image_offset(apart, box);
-      if (norm2(apart) <= reach * reach) EXPECT_TRUE(found.count(j)) << trial << " " << j;
+      if (norm2(apart) <= reach * reach) {
+        EXPECT_TRUE(found.count(j)) << trial << " " << j;
+      }
     }
     within_visits += found.size();
     grid.for_each_near(cell, [&](std::uint32_t) { ++block_visits; });
