@@ -162,7 +162,9 @@ Start load(const RunArguments& args) {
   return std::visit(
       [&](auto&& input) {
         using Sim = SimulationFor<decltype(input)>;
-        input.line_of = {};  // only for the reader's messages: not held while the engine is made
+        // Only for the reader's messages: not held while the engine is made (a move frees it; `= {}`
+        // would keep its capacity).
+        input.line_of = std::vector<std::size_t>();
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
                      args.input, false};
       },

@@ -116,8 +116,8 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
   const Vec<D> here = position_at(p, clock_);
   EarliestEvent<D> earliest;
   if (layer_axis < D) {
-    earliest.pending = pending_[i];
-    earliest.key = collision_key<D>(pending_[i], i);
+    earliest.pending = pending_[i].pending;
+    earliest.key = collision_key<D>(pending_[i].pending, pending_[i].time, i);
   } else {
     earliest.start_with_wall(contacts, p, box, i, clock_);
   }
@@ -151,7 +151,7 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
     const EventKey key{clock_ + crossing.delay, after_collisions(i)};
     if (key < best_key) best_key = key;
   }
-  pending_[i] = best;
+  pending_[i] = {best, earliest.key.time};
   queue_.update(i, best_key);
 }
 
@@ -178,8 +178,8 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         return;
       }
       grid_.prefetch_near(grid_.cell_of(s));
-      if (pending_[s].kind == PendingKind::pair)
-        fetch_ahead(static_cast<std::uint32_t>(pending_[s].partner));
+      if (pending_[s].pending.kind == PendingKind::pair)
+        fetch_ahead(static_cast<std::uint32_t>(pending_[s].pending.partner));
     });
     const EventKey key = queue_.top_key();
     const double t = key.time;
@@ -189,7 +189,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
       predict_all();
       continue;
     }
-    const Pending pending = pending_[i];
+    const Pending pending = pending_[i].pending;
     if (key.order == after_collisions(i)) {
       clock_ = t;
       const std::size_t axis = pending.crossing_axis;

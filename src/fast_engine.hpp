@@ -57,7 +57,13 @@ class FastEngine final : public Engine<D> {
   bool wide_;  // the CPU has AVX2: predictions use the four-wide contact kernel
   CellGrid<D> grid_;
   EventCalendar queue_;
-  std::vector<Pending> pending_;
+  // Each particle's earliest collision and the time of it (the calendar's key is the crossing's
+  // when that comes first).
+  struct TimedPending {
+    Pending pending;
+    double time = kNever;
+  };
+  std::vector<TimedPending> pending_;
   double clock_ = 0.0;  // the current time: the last processed event or cell crossing
   // In a periodic box too small for five cells along some axis, a neighbour may be reached
   // through more than one image, and predictions are renewed at least this often (see

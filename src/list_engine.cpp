@@ -211,8 +211,10 @@ void ListEngine<D>::remove(std::uint32_t i, std::uint32_t j, const Contacts& con
 
 template <std::size_t D>
 void ListEngine<D>::widen() {
-  const std::size_t capacity =
-      (capacity_ + std::max<std::size_t>(8, capacity_ / 2) + 7) & ~std::size_t{7};
+  // Eight more, not half as many again: lists grow by a few neighbours as a lattice melts or a
+  // fluctuation crowds one, and every particle pays for the longest. Each widening moves every
+  // list once; there are a handful in a run.
+  const std::size_t capacity = capacity_ + 8;
   const auto n = static_cast<std::uint32_t>(size_.size());
   reserve_slots(std::size_t{n} * capacity);
   // Each list moves up to its wider slots, the last first: no list is overwritten before it moves.

@@ -92,7 +92,7 @@ class ListEngine final : public Engine<D> {
   void add(std::uint32_t i, std::uint32_t j);
   template <class Contacts>
   void remove(std::uint32_t i, std::uint32_t j, const Contacts& contacts);
-  // Makes room for longer lists: every list moves to slots of the new capacity.
+  // Makes room for a longer list: every list moves to slots eight wider.
   void widen();
   std::size_t slot(std::uint32_t i) const { return std::size_t{i} * capacity_; }
 
