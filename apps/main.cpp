@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("carom ") + carom::kVersion);
   app.require_subcommand(1);
   app.footer(R"(Examples:
-  carom run examples/walls_only.txt 20                   the seed's first case
+  carom run examples/walls_only.txt 20                   the classic assignment's first case
   carom run examples/normal.txt 20 --trace               every collision, step by step
   carom init --n 4096 --phi 0.5 --seed 1 -o gas.txt      a start file
   carom init --dim 3 --n 4000 --phi 0.45 -o spheres.txt  hard spheres (FCC, melts when run)

@@ -36,7 +36,7 @@ Three numbers on line 3 (Lx Ly Lz) make it spheres, with lines x y z vx vy vz [r
 walls, -5 back (z = 0) and -6 front (z = Lz); every output then carries z.)";
 
 constexpr const char* kExamples = R"(Examples:
-  carom run examples/walls_only.txt 20            final state, the seed's table
+  carom run examples/walls_only.txt 20            final state, the classic assignment's table
   carom run examples/normal.txt 20 --format csv   x, y, wall and disk collision counts
   carom run examples/normal.txt 20 --trace        every collision, step by step
   carom run examples/normal.txt 100 --format json -o result.json
@@ -106,7 +106,7 @@ void check_distinct_outputs(const RunArguments& args) {
 void check(const RunArguments& args) {
   if (args.trace && args.format != Format::table) {
     throw UsageError(
-        "--trace prints the seed's step-by-step table; it cannot be combined with --format csv "
+        "--trace prints the classic assignment's step-by-step table; it cannot be combined with --format csv "
         "or json");
   }
   if (!(args.restitution > 0.0 && args.restitution <= 1.0)) {
@@ -328,7 +328,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   }
   const bool periodic = simulation.state().box.periodic();
   if (periodic && simulation.settings().rule.rule == Rule::swap && !args.quiet) {
-    std::cerr << "carom: note: the swap rule (the seed's) exchanges whole velocities, so the set "
+    std::cerr << "carom: note: the swap rule (the classic assignment's) exchanges whole velocities, so the set "
                  "of speeds never changes and the gas never reaches Maxwell-Boltzmann; --rule "
                  "elastic is the physical one\n";
   }
@@ -426,7 +426,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       ->required();
   run->add_option("END_TIME", args.end_time, "Time to simulate to (a number >= 0)")->required();
   add_choice<Format>(run, "--format", args.format,
-                     "table: the seed's `particle i: (x, y) (vx, vy): t : (cwall, cpart)` lines; "
+                     "table: the classic assignment's `particle i: (x, y) (vx, vy): t : (cwall, cpart)` lines; "
                      "csv: `x, y, cwall, cpart` lines; json: settings, counts, observables and "
                      "full state");
   run->add_flag("--trace", args.trace,
@@ -456,7 +456,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
   add_choice<Rule>(run, "--rule", args.rule,
-                   "swap: touching disks exchange whole velocities (the seed's rule); elastic: "
+                   "swap: touching disks exchange whole velocities (the classic assignment's rule); elastic: "
                    "they exchange momentum along the line of centres, with masses (real hard "
                    "disks)");
   run->add_option("--restitution", args.restitution,
@@ -470,7 +470,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       ->check(finite_number())
       ->default_str(fmt::format("{}", kDefaultTc));
   add_choice<Boundary>(run, "--boundary", args.boundary,
-                       "walls: hard walls on all four sides (the seed's box); periodic: the box "
+                       "walls: hard walls on all four sides (the classic assignment's box); periodic: the box "
                        "repeats, no walls (sides must exceed two diameters)");
   run->add_option("--equilibrate", args.equilibrate,
                   "Measure observables only from this time on (the dynamics are unchanged); with "

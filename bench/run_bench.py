@@ -10,7 +10,7 @@ memory is read from the kernel (wait4). Collisions per second come from the run'
 (simulation only, not reading or writing files). Instructions per collision are counted, not
 timed (this machine has no hardware counters): callgrind runs the same start twice, to two
 lengths, and the difference of the instruction counts over the difference of the collisions
-leaves out reading, setting up and writing (N = 10^4). The seed's algorithm (--engine reference:
+leaves out reading, setting up and writing (N = 10^4). The classic assignment's algorithm (--engine reference:
 every pair predicted again after every event) is timed at N = 2000, for the speedup. Each row is
 compared with bench/results/baseline.json (an earlier carom on the same kind of machine), or,
 with --versus, with another carom binary run side by side: each row alternately by both, the

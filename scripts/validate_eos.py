@@ -15,7 +15,7 @@ import os
 import subprocess
 import tempfile
 
-# Reference values for disks measured with an independent code (issue #3).
+# Reference values for disks measured with an independent code.
 DISK_REFERENCE = {0.30: 2.063, 0.50: 4.107, 0.60: 6.456, 0.65: 8.41}
 SPHERE_PACKINGS = [0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45]
 

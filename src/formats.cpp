@@ -23,7 +23,7 @@ constexpr const char* kTableHeader =
     D == 3 ? "particle id: (xpos, ypos, zpos) (xvel, yvel, zvel): last_update : (cwall, cpart)\n"
            : "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
 
-// printf's %.6f, exactly as the seed's C program printed (round-half-even on exact ties, `-0`
+// printf's %.6f, exactly as the classic assignment's C program printed (round-half-even on exact ties, `-0`
 // kept), which is what users compare against.
 template <class... Args>
 std::string c_format(const char* format, Args... args) {

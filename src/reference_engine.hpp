@@ -1,4 +1,4 @@
-// The seed's algorithm, done right: after every event, every wall hit and every pair contact is
+// The classic assignment's algorithm, done right: after every event, every wall hit and every pair contact is
 // predicted again from the stored states and the earliest (by EventKey) is processed. O(N^2)
 // per event and obviously correct; the tests hold the fast engine to it.
 //

@@ -101,7 +101,7 @@ TEST(ClassicInput, RefusesMagnitudesWhoseSquaresOverflow) {
 }
 
 TEST(ClassicInput, TouchingIsAllowed) {
-  // Touching each other and the walls, as the seed's second case starts.
+  // Touching each other and the walls, as the classic assignment's second case starts.
   EXPECT_NO_THROW(read("3\n1\n10 10\n1 1 0 0\n3 1 0 0\n9 9 0 0\n"));
   // Touching in decimal, overlapping by an ulp in binary.
   EXPECT_NO_THROW(read("2\n0.1\n1 1\n0.3 0.5 0 0\n0.1 0.5 0 0\n"));

@@ -1,4 +1,4 @@
-// The carom command line, run as a user runs it: exact seed outputs, formats, errors.
+// The carom command line, run as a user runs it: the classic assignment's outputs exactly, formats, errors.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <gtest/gtest.h>
@@ -339,7 +339,7 @@ TEST_F(Cli, TheSwapRuleInAPeriodicBoxGetsANote) {
   const Result quiet =
       carom({"run", start, "1", "--boundary", "periodic", "--format", "csv", "--quiet"});
   EXPECT_EQ(quiet.err, "");
-  const Result walls = carom({"run", kCases + "normal.txt", "1"});  // the seed's own box
+  const Result walls = carom({"run", kCases + "normal.txt", "1"});  // the classic assignment's own box
   EXPECT_EQ(walls.err, "");
 }
 
@@ -493,25 +493,31 @@ TEST_F(Cli, AnInterruptedRunLeavesNoPartialResultAndKeepsItsFrames) {
 TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "ck", movie = dir_ / "m.xyz";
   ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
-  const pid_t pid =
-      start_run(start, {"500", "--rule", "elastic", "--checkpoint", checkpoint.string(),
-                        "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
-  ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
-  ::kill(pid, SIGINT);
-  EXPECT_EQ(finish(pid), 130);
-  const std::string err = read_file(dir_ / "stderr");
-  EXPECT_NE(err.find("interrupted (SIGINT)"), std::string::npos) << err;
-  EXPECT_NE(err.find("carom run --resume " + checkpoint.string()), std::string::npos) << err;
-  EXPECT_EQ(read_file(dir_ / "stdout"), "");  // no final table for a run that did not finish
-  const auto saved = nlohmann::json::parse(read_file(checkpoint));
-  const std::uint64_t events = saved["counts"]["events"];
-  EXPECT_NE(err.find(fmt::format("after {} events", events)), std::string::npos) << err;
+  // A signal that arrives while a periodic checkpoint is being written stops the run at that
+  // very event, where both saves are one state: try again then, to tell them apart.
+  std::uint64_t events = 0;
+  for (int attempt = 0; attempt < 3 && events % 250000 == 0; ++attempt) {
+    fs::remove(movie);
+    const pid_t pid =
+        start_run(start, {"500", "--rule", "elastic", "--checkpoint", checkpoint.string(),
+                          "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
+    ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
+    ::kill(pid, SIGINT);
+    EXPECT_EQ(finish(pid), 130);
+    const std::string err = read_file(dir_ / "stderr");
+    EXPECT_NE(err.find("interrupted (SIGINT)"), std::string::npos) << err;
+    EXPECT_NE(err.find("carom run --resume " + checkpoint.string()), std::string::npos) << err;
+    EXPECT_EQ(read_file(dir_ / "stdout"), "");  // no final table for a run that did not finish
+    const auto saved = nlohmann::json::parse(read_file(checkpoint));
+    events = saved["counts"]["events"];
+    EXPECT_NE(err.find(fmt::format("after {} events", events)), std::string::npos) << err;
+    EXPECT_GE(saved["time"].get<double>(), 2.0);
+    EXPECT_TRUE(saved["settled"].get<bool>());
+  }
   EXPECT_NE(events % 250000, 0u);  // not a periodic save
-  EXPECT_GE(saved["time"].get<double>(), 2.0);
-  EXPECT_TRUE(saved["settled"].get<bool>());
 }
 
-// Regression (#16.2): the stop flag was looked at only after events, so two disks flying side by
+// Regression: the stop flag was looked at only after events, so two disks flying side by
 // side in a periodic box (cell crossings, never a collision) ignored Ctrl-C until SIGKILL.
 TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
   const fs::path start = write("parallel.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
@@ -1193,7 +1199,7 @@ TEST_F(Cli, InitMakesSpheresThatRunAndRefusesWhatCannotBe) {
   }
 }
 
-// Regressions (#16): hostile numbers are usage errors (exit 2) before anything runs, whatever
+// Regressions: hostile numbers are usage errors (exit 2) before anything runs, whatever
 // option carries them, and no file appears.
 TEST_F(Cli, HostileNumbersAreRefusedUpFront) {
   const std::string input = kCases + "normal.txt";
@@ -1224,7 +1230,7 @@ TEST_F(Cli, HostileNumbersAreRefusedUpFront) {
             std::string::npos);
 }
 
-// Regression (#16.8): two outputs naming one file overwrote each other with exit 0.
+// Regression: two outputs naming one file overwrote each other with exit 0.
 TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
   const std::string input = kCases + "normal.txt";
   const fs::path out = dir_ / "out.txt";
@@ -1251,7 +1257,7 @@ TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
   EXPECT_EQ(carom({"run", "--resume", checkpoint, "10", "--checkpoint", checkpoint}).exit_code, 0);
 }
 
-// Regressions (#16): small promises of the output.
+// Regressions: small promises of the output.
 TEST_F(Cli, EdgesOfTheOutputKeepTheirPromises) {
   const std::string input = kCases + "normal.txt";
   const std::string zero = carom({"run", input, "-0", "--format", "json"}).out;
@@ -1263,7 +1269,7 @@ TEST_F(Cli, EdgesOfTheOutputKeepTheirPromises) {
   EXPECT_TRUE(holds(upper, "Time=1"));
 }
 
-// Regression (#16.10): a dump far larger than the disk was accepted without a word, and a failed
+// Regression: a dump far larger than the disk was accepted without a word, and a failed
 // write was noticed only at the end, keeping nothing.
 TEST_F(Cli, DumpsThatCannotFitAndWritesThatFailKeepTheState) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "c.ckpt";

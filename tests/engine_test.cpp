@@ -1,4 +1,4 @@
-// The engines: seed cases through the library, the fast engine against the reference engine on
+// The engines: the classic assignment's cases through the library, the fast engine against the reference engine on
 // many random systems, and the invariants every run must keep.
 #include "carom/engine.hpp"
 
@@ -100,8 +100,8 @@ TEST(Engine, CornerHitIsTwoEventsAtTheSameTime) {
 }
 
 TEST(Engine, APairThatJustCollidedDoesNotCollideAgainAfterAnUnrelatedEvent) {
-  // The seed's "not the same pair as last time" guard fails here: disks 0 and 1 collide, then
-  // disk 2 hits a wall, and the seed would let 0 and 1 (still touching) collide again and swap
+  // The classic assignment's "not the same pair as last time" guard fails here: disks 0 and 1 collide, then
+  // disk 2 hits a wall, and the classic assignment's code would let 0 and 1 (still touching) collide again and swap
   // back. Here they separate: exactly one pair collision.
   System<2> system;
   system.box.size = {20, 20};

@@ -65,7 +65,7 @@ TEST(FuzzReplay, CorpusAndRegressionsRunCleanAndDoWhatTheyWereKeptFor) {
     }
   }
   ASSERT_GE(outcomes.size(), 15u);
-  // The seed's cases run, events and all, in both boxes.
+  // The classic assignment's cases run, events and all, in both boxes.
   for (const char* valid : {"normal.txt", "particles1.txt", "walls_only.txt"}) {
     EXPECT_EQ(outcomes[valid].simulated, 2) << valid;
     EXPECT_GT(outcomes[valid].events, 0) << valid;

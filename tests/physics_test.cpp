@@ -41,7 +41,7 @@ TEST(PositionAt, MovesAlongTheLineFromTheStoredTime) {
 }
 
 TEST(NextWallHit, FindsTheNearestWallInTheDirectionOfMotion) {
-  // The seed's walls_only disk 0: reaches the left wall (x = R = 0.2) at t = 9.5.
+  // The classic assignment's walls_only disk 0: reaches the left wall (x = R = 0.2) at t = 9.5.
   const WallHit left = next_wall_hit(disk(2.1, 5, -0.2, -0.15, 0.2), kBox);
   EXPECT_DOUBLE_EQ(left.time, 9.5);
   EXPECT_EQ(left.label, -1);
@@ -87,7 +87,7 @@ TEST(ContactTime, HeadOnApproach) {
 }
 
 TEST(ContactTime, SeedParticlesOnlyCase) {
-  // Disks 1 and 2 of the seed's particles_only case touch at t = 14.001202.
+  // Disks 1 and 2 of the classic assignment's particles_only case touch at t = 14.001202.
   const double t = contact_time(disk(1.5, 12, 0.4, 0.05), disk(2.5, 19, 0.3, -0.31));
   EXPECT_NEAR(t, 14.001202, 5e-7);
 }

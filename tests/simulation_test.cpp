@@ -380,7 +380,7 @@ TEST(Simulation, CheckpointsContinueExactlyAcrossEpochs) {
   expect_identical(whole, resumed, "resumed");
 }
 
-// The system: two disks in a 2.1 x 2.1 box, every stored time `start`.
+// The system of the report: two disks in a 2.1 x 2.1 box, every stored time `start`.
 System<2> two_disks_at(double start) {
   System<2> system = boxed(
       {2.1, 2.1}, {disk({0.55, 0.6}, {0.7, 0.31}, 0.5), disk({1.5, 1.45}, {-0.43, 0.52}, 0.5)});

@@ -112,7 +112,7 @@ TEST(Viewer, ABadLineNamesTheFileAndTheLine) {
   }
 }
 
-// Regression (issue 16, item 4): malformed headers crashed `carom view` or read past a row's end.
+// Regression: malformed headers crashed `carom view` or read past a row's end.
 // Every one is now an InputError naming the file and the line at fault.
 TEST(Viewer, MalformedFilesAreRefusedWithTheirLine) {
   const auto frame = [](const std::string& comment, const std::string& rows, int n = 1) {

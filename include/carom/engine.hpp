@@ -24,7 +24,7 @@ class JamError : public std::runtime_error {
 
 enum class EngineKind {
   fast,       // cell grid, one pending event per particle in a calendar, O(1) per event
-  reference,  // the seed's algorithm done right: every pair predicted again after every event
+  reference,  // the classic assignment's algorithm done right: every pair predicted again after every event
 };
 
 template <>
@@ -43,7 +43,7 @@ struct Growth {
 };
 
 // Runs a system event by event. Events are processed in the order of EventKey, only the
-// particles involved are moved, and the particles' stored states follow the seed's lazy
+// particles involved are moved, and the particles' stored states follow the classic assignment's lazy
 // convention (see Particle). Engines know nothing of end times, frames or measurements: the
 // Simulation (simulation.hpp) drives them.
 //

@@ -1,4 +1,4 @@
-// Output formats of a run: the seed's table and trace, the classic csv, json, and the event log.
+// Output formats of a run: the classic assignment's table and trace, the classic csv, json, and the event log.
 // Disks print (x, y), spheres (x, y, z).
 #pragma once
 
@@ -27,7 +27,7 @@ std::string particle_line(std::size_t index, const Particle<D>& p, const Particl
 
 // The header `particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)`, then one
 // particle_line a particle: the stored (lazy) states, each at its absolute stored time (the
-// seed's trace).
+// classic assignment's trace).
 template <std::size_t D>
 void write_table(std::ostream& out, const System<D>& system);
 

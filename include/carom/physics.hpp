@@ -216,7 +216,7 @@ constexpr double growing_contact_time(const Particle<D>& a, const Particle<D>& b
 
 // How two touching particles change velocity.
 enum class Rule {
-  swap,     // the seed's rule: the two whole velocity vectors are exchanged
+  swap,     // the classic assignment's rule: the two whole velocity vectors are exchanged
   elastic,  // momentum along the line of centres is exchanged, with masses (real hard disks)
 };
 

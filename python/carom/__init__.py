@@ -114,11 +114,11 @@ class Simulation:
 
     positions, velocities: (N, D) float64 arrays at t = 0 (D = 2 or 3); box: the D sides (the box
     is [0, Lx] x [0, Ly] [x [0, Lz]]); radii, masses: a number or an (N,) array. boundary:
-    "walls" (hard walls on every face) or "periodic". rule: "swap" (the seed's: touching
+    "walls" (hard walls on every face) or "periodic". rule: "swap" (the classic assignment's: touching
     particles exchange velocities) or "elastic" (momentum exchanged along the line of centres,
     with masses); restitution < 1 makes elastic collisions inelastic, and a particle that
     collided less than `tc` ago collides elastically (the TC model against inelastic collapse).
-    engine: "fast" (O(1) per event) or "reference" (the seed's O(N^2) algorithm, for checking).
+    engine: "fast" (O(1) per event) or "reference" (the classic assignment's O(N^2) algorithm, for checking).
 
     The start is checked as `carom run` checks a file: finite numbers, positive radii and
     masses, particles inside the box, clear of the walls and of each other (touching is fine);

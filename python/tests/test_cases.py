@@ -1,4 +1,4 @@
-"""The seed's reference cases (tests/data/cases, see its README.md) through Python: the expected
+"""The classic assignment's reference cases (tests/data/cases, see its README.md) through Python: the expected
 files, and the command line's stdout, character for character."""
 
 import re
