@@ -45,9 +45,11 @@ inline void stop_if_asked(const std::string& what) {
 }
 
 // An option whose value is one of an enum's names (its EnumNames table); help lists them,
-// anything else is refused, and case does not matter.
-template <class E>
-CLI::Option* add_choice(CLI::App* app, const std::string& flag, E& target,
+// anything else is refused, and case does not matter. `target` is an E, or a std::optional<E>
+// left empty when the option is not given (its default then comes from elsewhere: say where with
+// default_str).
+template <class E, class Target>
+CLI::Option* add_choice(CLI::App* app, const std::string& flag, Target& target,
                         const std::string& help) {
   std::vector<std::string> keys;
   for (const auto& entry : EnumNames<E>::table) keys.emplace_back(entry.first);

@@ -47,7 +47,9 @@ Examples:
                    "start (thermal speed 1)")
       ->check(finite_number())
       ->default_str(fmt::format("{:g}", kDefaultGrowthRate));
-  add_choice<Boundary>(compress, "--boundary", args.boundary, "The box of the start file");
+  add_choice<Boundary>(compress, "--boundary", args.boundary,
+                       "The box of the start file (default: what the file records, else walls)")
+      ->default_str("from the file");
   compress->add_option("--kT", args.settings.temperature, "The temperature velocities are kept at")
       ->check(finite_number())
       ->default_str("1");
@@ -129,7 +131,7 @@ void compress(const CompressArguments& args, System<D> start) {
   const Compression<D>& c = *compression;
   // The packing so far is a valid start, whatever stopped the compression: it is kept.
   const System<D>& system = c.system();
-  write_classic(out.stream(), system);
+  write_start(out.stream(), system, Rule::elastic);
   const int signal = stop_signal().load();
   if (summary) {
     const double seconds =

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 #include "carom/compression.hpp"
@@ -12,7 +13,7 @@ struct CompressArguments {
   std::string input;
   double target = 0.0;
   bool jam = false;
-  Boundary boundary = Boundary::walls;
+  std::optional<Boundary> boundary;  // the file's record, else walls
   CompressionSettings settings;
   std::string output;
   std::string summary;

@@ -82,7 +82,7 @@ void write_initial(const InitialOptions& o, const std::string& path) {
     throw UsageError(e.what());
   }
   Output out(path);
-  write_classic(out.stream(), system);
+  write_start(out.stream(), system, Rule::elastic);
   out.commit();
 }
 

@@ -119,12 +119,12 @@ int main(int argc, char** argv) {
   app.footer(R"(Examples:
   carom run examples/walls_only.txt 20                   the classic assignment's first case
   carom run examples/normal.txt 20 --trace               every collision, step by step
-  carom init --n 4096 --phi 0.5 --seed 1 -o gas.txt      a start file
-  carom init --dim 3 --n 4000 --phi 0.45 -o spheres.txt  hard spheres (FCC, melts when run)
-  carom run gas.txt 100 --rule elastic --boundary periodic --format json
+  carom init --n 4096 --phi 0.5 --boundary periodic -o gas.txt    a start (it records its box)
+  carom init --dim 3 --n 4000 --phi 0.45 --boundary periodic -o spheres.txt   hard spheres (FCC)
+  carom run gas.txt 100 --format json                    elastic, periodic: as gas.txt records
   carom run gas.txt 20 --dump movie.xyz --every 0.1 && carom view movie.xyz -o movie.html
-  carom run gas.txt 40 --boundary periodic --dump run.gsd --every 0.5 && carom analyze run.gsd --html report.html
-  carom compress spheres.txt --jam --boundary periodic -o jammed.txt   grow until jammed (~0.64)
+  carom run gas.txt 40 --dump run.gsd --every 0.5 && carom analyze run.gsd --html report.html
+  carom compress spheres.txt --jam -o jammed.txt         grow until jammed (~0.64)
 
 Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command's options.)");
 

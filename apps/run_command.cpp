@@ -33,17 +33,21 @@ constexpr const char* kFormatHelp = R"(The classic input FILE holds whitespace-s
                                   radius and mass (default R and 1)
 Walls are labelled -1 left, -2 right, -3 bottom, -4 top; disks 0..N-1.
 Three numbers on line 3 (Lx Ly Lz) make it spheres, with lines x y z vx vy vz [r [m]] and two more
-walls, -5 back (z = 0) and -6 front (z = Lz); every output then carries z.)";
+walls, -5 back (z = 0) and -6 front (z = Lz); every output then carries z.
+Comment lines start with #. Files carom writes (init, compress) begin with one that records how
+they are meant to be run, `# carom: boundary=periodic rule=elastic`: the run takes those unless
+--boundary or --rule say otherwise. A plain file runs with walls and the swap rule, as the classic
+assignment's do (with --boundary periodic, the elastic rule).)";
 
 constexpr const char* kExamples = R"(Examples:
   carom run examples/walls_only.txt 20            final state, the classic assignment's table
   carom run examples/normal.txt 20 --format csv   x, y, wall and disk collision counts
   carom run examples/normal.txt 20 --trace        every collision, step by step
   carom run examples/normal.txt 100 --format json -o result.json
-  carom run gas.txt 200 --rule elastic --boundary periodic --equilibrate 50 --format json
-  carom run gas.txt 1e4 --rule elastic --boundary periodic --checkpoint run.ckpt --dump movie.xyz --every 10
+  carom run gas.txt 200 --equilibrate 50 --format json     (gas.txt from carom init)
+  carom run gas.txt 1e4 --checkpoint run.ckpt --dump movie.xyz --every 10
   carom run --resume run.ckpt 2e4 --equilibrate 1e4 --dump movie.xyz --every 10 --format json
-  carom run spheres.txt 100 --rule elastic --boundary periodic --format json   (carom init --dim 3))";
+  carom run spheres.txt 100 --format json                  (carom init --dim 3))";
 
 // --checkpoint-every: a number of events (1000000) or of seconds (600s).
 Trigger checkpoint_trigger(const std::string& every) {
@@ -112,7 +116,7 @@ void check(const RunArguments& args) {
   if (!(args.restitution > 0.0 && args.restitution <= 1.0)) {
     throw UsageError(fmt::format("--restitution must be in (0, 1], got {}", args.restitution));
   }
-  if (args.restitution < 1.0 && args.rule != Rule::elastic) {
+  if (args.restitution < 1.0 && args.rule == Rule::swap) {
     throw UsageError(
         "--restitution below 1 needs --rule elastic (the swap rule has no restitution)");
   }
@@ -146,7 +150,30 @@ struct Start {
   AnySimulation simulation;
   std::string source;  // the file the run began from
   bool resumed = false;
+  std::string defaults;  // which rule and boundary the run took without being asked, and why
 };
+
+// Says which of the run's boundary and rule were not asked for and are not the classic
+// assignment's (walls, swap), and where they came from: the file's record, or the physical rule
+// of a periodic box. Nothing when the run is the classic assignment's or was asked for whole.
+std::string describe_defaults(const RunArguments& args, const StartRecord& record,
+                              Boundary boundary, Rule rule) {
+  const bool periodic = !args.boundary && boundary == Boundary::periodic;
+  const bool elastic = !args.rule && rule == Rule::elastic && args.restitution == 1.0;
+  if (!periodic && !elastic) return "";
+  const std::string taken = periodic && elastic ? "periodic boundary and elastic rule"
+                            : periodic          ? "periodic boundary"
+                                                : "elastic rule";
+  if (record.boundary || record.rule) {
+    return fmt::format("{}, as {} records ({} choose{} otherwise)", taken, args.input,
+                       periodic && elastic ? "--boundary and --rule"
+                       : periodic          ? "--boundary"
+                                           : "--rule",
+                       periodic && elastic ? "" : "s");
+  }
+  return "elastic rule, the physical one in a periodic box (--rule swap is the classic "
+         "assignment's)";
+}
 
 Start load(const RunArguments& args) {
   if (args.resume) {
@@ -158,15 +185,19 @@ Start load(const RunArguments& args) {
         },
         read_checkpoint(file, args.input));
   }
-  const Settings settings{{args.rule, args.restitution, args.tc}, args.engine};
   return std::visit(
       [&](auto&& input) {
         using Sim = SimulationFor<decltype(input)>;
+        const Boundary boundary = input.system.box.boundary;
+        const Rule rule =
+            args.rule.value_or(default_rule(input.record, boundary, args.restitution));
+        const Settings settings{{rule, args.restitution, args.tc}, args.engine};
+        std::string defaults = describe_defaults(args, input.record, boundary, rule);
         // Only for the reader's messages: not held while the engine is made (a move frees it; `= {}`
         // would keep its capacity).
         input.line_of = std::vector<std::size_t>();
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
-                     args.input, false};
+                     args.input, false, std::move(defaults)};
       },
       read_any_start_file(args.input, args.boundary));
 }
@@ -326,6 +357,9 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     }
     simulation.measure_from(from);
   }
+  if (!start.defaults.empty() && !args.quiet) {
+    std::cerr << "carom: note: " << start.defaults << '\n';
+  }
   const bool periodic = simulation.state().box.periodic();
   if (periodic && simulation.settings().rule.rule == Rule::swap && !args.quiet) {
     std::cerr << "carom: note: the swap rule (the classic assignment's) exchanges whole velocities, so the set "
@@ -456,9 +490,11 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
   add_choice<Rule>(run, "--rule", args.rule,
-                   "swap: touching disks exchange whole velocities (the classic assignment's rule); elastic: "
-                   "they exchange momentum along the line of centres, with masses (real hard "
-                   "disks)");
+                   "swap: touching disks exchange whole velocities (the classic assignment's "
+                   "rule); elastic: they exchange momentum along the line of centres, with "
+                   "masses (real hard disks). Default: what the file records (carom init and "
+                   "compress record elastic), else swap with walls and elastic in a periodic box")
+      ->default_str("from the file");
   run->add_option("--restitution", args.restitution,
                   "Coefficient of normal restitution E in (0, 1] for --rule elastic; E < 1 makes "
                   "collisions inelastic (granular gas)")
@@ -470,8 +506,10 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       ->check(finite_number())
       ->default_str(fmt::format("{}", kDefaultTc));
   add_choice<Boundary>(run, "--boundary", args.boundary,
-                       "walls: hard walls on all four sides (the classic assignment's box); periodic: the box "
-                       "repeats, no walls (sides must exceed two diameters)");
+                       "walls: hard walls on every side (the classic assignment's box); periodic: "
+                       "the box repeats, no walls (sides must exceed two diameters). Default: what "
+                       "the file records (carom init and compress record theirs), else walls")
+      ->default_str("from the file");
   run->add_option("--equilibrate", args.equilibrate,
                   "Measure observables only from this time on (the dynamics are unchanged); with "
                   "--resume, from this time on in the resumed run")

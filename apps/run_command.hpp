@@ -27,10 +27,10 @@ struct RunArguments {
   bool resume = false;
   bool check = false;
   std::uint64_t check_every = 0;
-  Rule rule = Rule::swap;
+  std::optional<Rule> rule;  // default_rule
   double restitution = 1.0;
   double tc = kDefaultTc;
-  Boundary boundary = Boundary::walls;
+  std::optional<Boundary> boundary;  // the file's record, else walls
   std::optional<double> equilibrate;
   EngineKind engine = EngineKind::fast;
   bool quiet = false;

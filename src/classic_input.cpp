@@ -55,7 +55,50 @@ std::vector<std::string_view> split(std::string_view line) {
   return tokens;
 }
 
-// Yields the lines that carry data, skipping blank and comment lines, with their numbers.
+// The names a choice can take, for a message: "walls or periodic".
+template <class E>
+std::string choices() {
+  std::string out;
+  for (const auto& [key, value] : EnumNames<E>::table) {
+    out += out.empty() ? "" : " or ";
+    out += key;
+  }
+  return out;
+}
+
+// One `key=value` of a record line, stored into `slot` once.
+template <class E>
+void set_once(std::optional<E>& slot, std::string_view key, std::string_view value) {
+  if (slot) throw std::invalid_argument(fmt::format("{} is given twice", key));
+  slot = from_name<E>(value);
+  if (!slot) {
+    throw std::invalid_argument(
+        fmt::format("{} is not a {}: {} are", shown(value), key, choices<E>()));
+  }
+}
+
+// The settings of a `# carom:` line, tokens after the marker.
+StartRecord parse_record(const std::vector<std::string_view>& settings) {
+  StartRecord record;
+  for (const std::string_view setting : settings) {
+    const std::size_t equals = setting.find('=');
+    const std::string_view key = setting.substr(0, equals);
+    const std::string_view value =
+        equals == std::string_view::npos ? std::string_view() : setting.substr(equals + 1);
+    if (key == "boundary") {
+      set_once(record.boundary, key, value);
+    } else if (key == "rule") {
+      set_once(record.rule, key, value);
+    } else {
+      throw std::invalid_argument(fmt::format(
+          "{} is not a setting carom records (boundary=..., rule=...)", shown(setting)));
+    }
+  }
+  return record;
+}
+
+// Yields the lines that carry data, skipping blank and comment lines, with their numbers; a
+// `# carom:` comment before the data is the file's StartRecord.
 class DataLines {
  public:
   DataLines(std::istream& in, const std::string& name) : in_(in), name_(name) {}
@@ -81,17 +124,43 @@ class DataLines {
       std::string_view text(buffer_, length);
       if (number_ == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);  // UTF-8 BOM
       tokens = split(text);
+      if (tokens.size() >= 2 && tokens[0] == "#" && tokens[1] == "carom:") {
+        read_record({tokens.begin() + 2, tokens.end()});
+        continue;
+      }
       if (tokens.empty() || tokens.front().front() == '#') continue;
+      data_begun_ = true;
       return true;
     }
   }
   std::size_t number() const { return number_; }
+  const StartRecord& record() const { return record_; }
 
  private:
+  void read_record(const std::vector<std::string_view>& settings) {
+    if (data_begun_) {
+      throw InputError(name_, number_, "a '# carom:' line must come before the data");
+    }
+    if (record_line_ != 0) {
+      throw InputError(name_, number_,
+                       fmt::format("a second '# carom:' line (the first is line {})",
+                                   record_line_));
+    }
+    record_line_ = number_;
+    try {
+      record_ = parse_record(settings);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(name_, number_, e.what());
+    }
+  }
+
   std::istream& in_;
   const std::string& name_;
   char buffer_[kMaxLineLength];
   std::size_t number_ = 0;
+  bool data_begun_ = false;
+  std::size_t record_line_ = 0;
+  StartRecord record_;
 };
 
 }  // namespace
@@ -199,6 +268,7 @@ class Reader {
 
   std::size_t line() const { return lines_.number(); }
   const std::string& name() const { return name_; }
+  const StartRecord& record() const { return lines_.record(); }
 
  private:
   DataLines lines_;
@@ -320,11 +390,24 @@ template void check_start(const System<3>&);
 
 namespace {
 
+// What to add to a particle's problem in a box with walls when it would be no problem in a
+// periodic box: the file is likely meant for one.
+template <std::size_t D>
+std::string periodic_hint(const Particle<D>& p, double mass, const Box<D>& b) {
+  if (b.periodic()) return "";
+  Box<D> periodic = b;
+  periodic.boundary = Boundary::periodic;
+  if (particle_problem(0, p, mass, periodic)) return "";
+  return "; if the file is for a periodic box, run it with --boundary periodic "
+         "(boundary=\"periodic\" in Python)";
+}
+
 // The particle lines of a file whose header said N = `count`, R = `radius` and the box.
 template <std::size_t D>
 ClassicInput<D> read_particles(Reader& reader, long long count, double radius, const Box<D>& b) {
   const std::string& name = reader.name();
   ClassicInput<D> input;
+  input.record = reader.record();
   input.radius = radius;
   input.system.box = b;
   const char* columns = D == 3 ? "x y z vx vy vz [r [m]]" : "x y vx vy [r [m]]";
@@ -341,7 +424,7 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
     p.radius = v.size() > 2 * D ? v[2 * D] : radius;
     const double mass = v.size() > 2 * D + 1 ? v[2 * D + 1] : 1.0;
     if (const auto problem = particle_problem(i, p, mass, b)) {
-      throw InputError(name, reader.line(), *problem);
+      throw InputError(name, reader.line(), *problem + periodic_hint(p, mass, b));
     }
     input.system.add(p, mass);
     input.line_of.push_back(reader.line());
@@ -361,7 +444,18 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
 
 }  // namespace
 
-AnyClassicInput read_any_classic(std::istream& in, const std::string& name, Boundary boundary) {
+std::string start_record_line(Boundary boundary, Rule rule) {
+  return fmt::format("# carom: boundary={} rule={}", name_of(boundary), name_of(rule));
+}
+
+Rule default_rule(const StartRecord& record, Boundary boundary, double restitution) {
+  if (restitution < 1.0) return Rule::elastic;
+  if (record.rule) return *record.rule;
+  return boundary == Boundary::periodic ? Rule::elastic : Rule::swap;
+}
+
+AnyClassicInput read_any_classic(std::istream& in, const std::string& name,
+                                 std::optional<Boundary> asked) {
   Reader reader(in, name);
   const long long count = reader.count();
   const double radius = reader.numbers(1, 1, "the radius R").front();
@@ -379,6 +473,8 @@ AnyClassicInput read_any_classic(std::istream& in, const std::string& name, Boun
           fmt::format("the box size must be positive, found {}", fmt::join(sides, " x ")));
     }
   }
+  // The record is complete here: the data has begun.
+  const Boundary boundary = asked.value_or(reader.record().boundary.value_or(Boundary::walls));
   if (sides.size() == 3) {
     return read_particles<3>(reader, count, radius, {{{sides[0], sides[1], sides[2]}}, boundary});
   }
@@ -386,7 +482,8 @@ AnyClassicInput read_any_classic(std::istream& in, const std::string& name, Boun
 }
 
 template <std::size_t D>
-ClassicInput<D> read_classic(std::istream& in, const std::string& name, Boundary boundary) {
+ClassicInput<D> read_classic(std::istream& in, const std::string& name,
+                             std::optional<Boundary> boundary) {
   AnyClassicInput input = read_any_classic(in, name, boundary);
   if (auto* wanted = std::get_if<ClassicInput<D>>(&input)) return std::move(*wanted);
   throw InputError(
@@ -402,22 +499,22 @@ std::ifstream open_input(const std::string& path) {
   return file;
 }
 
-AnyClassicInput read_any_classic_file(const std::string& path, Boundary boundary) {
+AnyClassicInput read_any_classic_file(const std::string& path, std::optional<Boundary> boundary) {
   if (path == "-") return read_any_classic(std::cin, "<stdin>", boundary);
   std::ifstream file = open_input(path);
   return read_any_classic(file, path, boundary);
 }
 
 template <std::size_t D>
-ClassicInput<D> read_classic_file(const std::string& path, Boundary boundary) {
+ClassicInput<D> read_classic_file(const std::string& path, std::optional<Boundary> boundary) {
   if (path == "-") return read_classic<D>(std::cin, "<stdin>", boundary);
   std::ifstream file = open_input(path);
   return read_classic<D>(file, path, boundary);
 }
 
-template ClassicInput<2> read_classic(std::istream&, const std::string&, Boundary);
-template ClassicInput<3> read_classic(std::istream&, const std::string&, Boundary);
-template ClassicInput<2> read_classic_file(const std::string&, Boundary);
-template ClassicInput<3> read_classic_file(const std::string&, Boundary);
+template ClassicInput<2> read_classic(std::istream&, const std::string&, std::optional<Boundary>);
+template ClassicInput<3> read_classic(std::istream&, const std::string&, std::optional<Boundary>);
+template ClassicInput<2> read_classic_file(const std::string&, std::optional<Boundary>);
+template ClassicInput<3> read_classic_file(const std::string&, std::optional<Boundary>);
 
 }  // namespace carom

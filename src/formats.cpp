@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "carom/version.hpp"
 #include "whole_lines.hpp"
@@ -203,7 +204,8 @@ void write_classic(std::ostream& out, const System<D>& system, double radius) {
 }
 
 template <std::size_t D>
-void write_classic(std::ostream& out, const System<D>& system) {
+void write_start(std::ostream& out, const System<D>& system, Rule rule) {
+  out << start_record_line(system.box.boundary, rule) << '\n';
   const double first = system.particles.front().radius;
   double sum = 0.0;
   bool equal = true;
@@ -278,7 +280,7 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
   template class TraceWriter<D>;                                                              \
   template class EventLogWriter<D>;                                                           \
   template void write_classic(std::ostream&, const System<D>&, double);                       \
-  template void write_classic(std::ostream&, const System<D>&);
+  template void write_start(std::ostream&, const System<D>&, Rule);
 CAROM_FORMATS(2)
 CAROM_FORMATS(3)
 #undef CAROM_FORMATS

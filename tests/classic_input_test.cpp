@@ -7,6 +7,11 @@
 namespace carom {
 namespace {
 
+// What a wall overlap adds when the particle would be fine in a periodic box.
+const std::string kPeriodicHint =
+    "; if the file is for a periodic box, run it with --boundary periodic (boundary=\"periodic\" "
+    "in Python)";
+
 ClassicInput<2> read(const std::string& text) {
   std::istringstream in(text);
   return read_classic<2>(in, "test.txt");
@@ -61,7 +66,7 @@ TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
             "centres are 3.5 apart, less than the sum of their radii, 3.6");
   EXPECT_EQ(error_of("1\n1\n20 20\n1.5 5 0 0 2\n"),
             "test.txt:4: particle 0 at (1.5, 5) with radius 2 overlaps the left wall (its centre "
-            "must be at least R from every wall)");
+            "must be at least R from every wall)" + kPeriodicHint);
 }
 
 TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
@@ -132,7 +137,7 @@ TEST(ClassicInput, ErrorsNameTheFileAndLine) {
             "centres are 1 apart, less than 2R = 2");
   EXPECT_EQ(error_of("1\n1\n10 10\n9.5 5 0 0\n"),
             "test.txt:4: particle 0 at (9.5, 5) with radius 1 overlaps the right wall (its "
-            "centre must be at least R from every wall)");
+            "centre must be at least R from every wall)" + kPeriodicHint);
   EXPECT_EQ(error_of("1\n1\n10 10\n5 -5 0 0\n"),
             "test.txt:4: particle 0 at (5, -5) is outside the box [0, 10] x [0, 10]");
 }
@@ -200,10 +205,10 @@ TEST(ClassicInput, SpheresAreCheckedAsDisksAre) {
             "s.txt:4: expected 6 to 8 numbers (x y z vx vy vz [r [m]] of particle 0), found 5");
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 0.2 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 0.2) with radius 0.5 overlaps the back wall (its "
-            "centre must be at least R from every wall)");
+            "centre must be at least R from every wall)" + kPeriodicHint);
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 6.8 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 6.8) with radius 0.5 overlaps the front wall (its "
-            "centre must be at least R from every wall)");
+            "centre must be at least R from every wall)" + kPeriodicHint);
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 8 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 8) is outside the box [0, 5] x [0, 6] x [0, 7]");
   EXPECT_EQ(error("2\n0.5\n5 6 7\n1 1 1 0 0 0\n1 1 1.5 0 0 0\n"),
@@ -223,6 +228,70 @@ TEST(ClassicInput, SpheresAreCheckedAsDisksAre) {
     EXPECT_EQ(std::string(e.what()),
               "s.txt: holds spheres (its line 3 has 3 box sides); disks were expected");
   }
+}
+
+}  // namespace
+}  // namespace carom
+
+namespace carom {
+namespace {
+
+TEST(StartRecord, AHeaderLineRecordsTheBoundaryAndTheRule) {
+  const std::string data = "1\n0.5\n10 10\n0.2 5 1 0\n";  // touches the left wall's place
+  std::istringstream plain(data);
+  std::istringstream inside("1\n0.5\n10 10\n5 5 1 0\n");
+  const ClassicInput<2> walls_file = read_classic<2>(inside, "a");
+  EXPECT_FALSE(walls_file.record.boundary);
+  EXPECT_FALSE(walls_file.record.rule);
+  EXPECT_EQ(walls_file.system.box.boundary, Boundary::walls);
+  // A plain file overlapping a wall is refused, with the hint; recorded as periodic it is read so.
+  EXPECT_THROW(read_classic<2>(plain, "p"), InputError);
+  std::istringstream recorded("# carom: boundary=periodic rule=elastic\n" + data);
+  const ClassicInput<2> periodic = read_classic<2>(recorded, "r");
+  EXPECT_EQ(periodic.system.box.boundary, Boundary::periodic);
+  EXPECT_EQ(periodic.record.boundary, Boundary::periodic);
+  EXPECT_EQ(periodic.record.rule, Rule::elastic);
+  // An explicit boundary wins over the record.
+  std::istringstream asked("# carom: boundary=walls\n" + data);
+  EXPECT_EQ(read_classic<2>(asked, "w", Boundary::periodic).system.box.boundary,
+            Boundary::periodic);
+  // Other comments, before or after, are comments; the line is what carom writes.
+  std::istringstream commented("# made by hand\n# carom: rule=swap\n# more\n" + data);
+  EXPECT_EQ(read_classic<2>(commented, "c", Boundary::periodic).record.rule, Rule::swap);
+  EXPECT_EQ(start_record_line(Boundary::periodic, Rule::elastic),
+            "# carom: boundary=periodic rule=elastic");
+}
+
+TEST(StartRecord, ABadRecordIsRefusedWithItsLine) {
+  const auto error = [](const std::string& text) -> std::string {
+    std::istringstream in(text);
+    try {
+      read_classic<2>(in, "f.txt");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string data = "1\n0.5\n10 10\n5 5 1 0\n";
+  EXPECT_EQ(error("# carom: boundary=round\n" + data),
+            "f.txt:1: 'round' is not a boundary: walls or periodic are");
+  EXPECT_EQ(error("\n# carom: rule=sticky\n" + data),
+            "f.txt:2: 'sticky' is not a rule: swap or elastic are");
+  EXPECT_EQ(error("# carom: colour=red\n" + data),
+            "f.txt:1: 'colour=red' is not a setting carom records (boundary=..., rule=...)");
+  EXPECT_EQ(error("# carom: rule=swap rule=elastic\n" + data), "f.txt:1: rule is given twice");
+  EXPECT_EQ(error("# carom: rule=swap\n# carom: boundary=walls\n" + data),
+            "f.txt:2: a second '# carom:' line (the first is line 1)");
+  EXPECT_EQ(error("1\n# carom: rule=swap\n0.5\n10 10\n5 5 1 0\n"),
+            "f.txt:2: a '# carom:' line must come before the data");
+}
+
+TEST(StartRecord, TheDefaultRuleIsTheClassicAssignmentsOnlyInItsOwnBox) {
+  EXPECT_EQ(default_rule({}, Boundary::walls), Rule::swap);
+  EXPECT_EQ(default_rule({}, Boundary::periodic), Rule::elastic);
+  EXPECT_EQ(default_rule({}, Boundary::walls, 0.9), Rule::elastic);
+  EXPECT_EQ(default_rule({Boundary::walls, Rule::elastic}, Boundary::walls), Rule::elastic);
+  EXPECT_EQ(default_rule({std::nullopt, Rule::swap}, Boundary::periodic), Rule::swap);
 }
 
 }  // namespace

@@ -325,22 +325,63 @@ TEST_F(Cli, InitWritesNoPeriodicFileThatRunWouldRefuse) {
   }
 }
 
-TEST_F(Cli, TheSwapRuleInAPeriodicBoxGetsANote) {
+// Files carom writes record their box and rule; a run takes them unless told otherwise, and says
+// so. A plain file is the classic assignment's: walls and swap, silently.
+TEST_F(Cli, ARunTakesTheBoxAndRuleItsFileRecordsAndSaysSo) {
   const fs::path start = dir_ / "gas.txt";
   ASSERT_EQ(
       carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
       0);
-  const Result swap = carom({"run", start, "1", "--boundary", "periodic", "--format", "csv"});
+  EXPECT_EQ(read_file(start).substr(0, 40), "# carom: boundary=periodic rule=elastic\n");
+  const Result recorded = carom({"run", start, "1", "--format", "json"});
+  ASSERT_EQ(recorded.exit_code, 0) << recorded.err;
+  EXPECT_EQ(recorded.err, "carom: note: periodic boundary and elastic rule, as " + start.string() +
+                              " records (--boundary and --rule choose otherwise)\n");
+  EXPECT_NE(recorded.out.find("\"rule\": \"elastic\""), std::string::npos);
+  EXPECT_NE(recorded.out.find("\"boundary\": \"periodic\""), std::string::npos);
+  // The same run asked for in full: the same output, no note.
+  const Result asked = carom(
+      {"run", start, "1", "--boundary", "periodic", "--rule", "elastic", "--format", "json"});
+  EXPECT_EQ(asked.err, "");
+  EXPECT_EQ(asked.out.substr(asked.out.find("\"particles\"")),
+            recorded.out.substr(recorded.out.find("\"particles\"")));
+  EXPECT_EQ(carom({"run", start, "1", "--format", "csv", "--quiet"}).err, "");
+  // Swap asked for in a periodic box: allowed, with the physics spelled out.
+  const Result swap = carom({"run", start, "1", "--rule", "swap", "--format", "csv"});
   EXPECT_EQ(swap.exit_code, 0);
   EXPECT_NE(swap.err.find("--rule elastic is the physical one"), std::string::npos) << swap.err;
-  const Result elastic =
-      carom({"run", start, "1", "--boundary", "periodic", "--rule", "elastic", "--format", "csv"});
-  EXPECT_EQ(elastic.err, "");
-  const Result quiet =
-      carom({"run", start, "1", "--boundary", "periodic", "--format", "csv", "--quiet"});
-  EXPECT_EQ(quiet.err, "");
-  const Result walls = carom({"run", kCases + "normal.txt", "1"});  // the classic assignment's own box
-  EXPECT_EQ(walls.err, "");
+  // A plain file with --boundary periodic: elastic, said so.
+  const std::string plain = read_file(start).substr(40);
+  const fs::path bare = write("bare.txt", plain);
+  const Result inferred = carom({"run", bare, "1", "--boundary", "periodic", "--format", "json"});
+  EXPECT_NE(inferred.err.find("elastic rule, the physical one in a periodic box"),
+            std::string::npos)
+      << inferred.err;
+  EXPECT_NE(inferred.out.find("\"rule\": \"elastic\""), std::string::npos);
+  // A plain file whose particles reach through the walls: the error suggests the periodic box.
+  const fs::path edge = write("edge.txt", "1\n0.5\n10 10\n0.2 5 1 0\n");
+  const Result wall = carom({"run", edge, "1"});
+  EXPECT_EQ(wall.exit_code, 2);
+  EXPECT_NE(wall.err.find("run it with --boundary periodic"), std::string::npos) << wall.err;
+  // The classic assignment's own files: walls, swap, nothing said.
+  const Result classic = carom({"run", kCases + "normal.txt", "1", "--format", "json"});
+  EXPECT_EQ(classic.err, "");
+  EXPECT_NE(classic.out.find("\"rule\": \"swap\""), std::string::npos);
+  // A box with walls that init made: elastic, said so.
+  const fs::path walled = dir_ / "walled.txt";
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  EXPECT_EQ(carom({"run", walled, "1", "--format", "csv"}).err,
+            "carom: note: elastic rule, as " + walled.string() +
+                " records (--rule chooses otherwise)\n");
+  // compress reads the record too, and writes its own.
+  const fs::path dense = dir_ / "dense.txt";
+  const Result compressed = carom({"compress", start, "--phi", "0.35", "-o", dense, "-q"});
+  ASSERT_EQ(compressed.exit_code, 0) << compressed.err;
+  EXPECT_EQ(read_file(dense).substr(0, 40), "# carom: boundary=periodic rule=elastic\n");
+  // A restitution below 1 is the elastic rule's.
+  const Result granular = carom({"run", walled, "1", "--restitution", "0.9", "--format", "json"});
+  EXPECT_EQ(granular.err, "");
+  EXPECT_NE(granular.out.find("\"rule\": \"elastic\""), std::string::npos);
 }
 
 // Each bad input: exit code 2, one message naming the file and line, nothing on stdout and no
@@ -568,9 +609,9 @@ TEST_F(Cli, InitWritesAReproducibleValidStartFile) {
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
   EXPECT_NE(a.out, c.out);
-  EXPECT_EQ(a.out.substr(0, 4), "300\n");
+  EXPECT_EQ(a.out.substr(0, 41), "# carom: boundary=walls rule=elastic\n300\n");
   const fs::path start = write("start.txt", a.out);
-  const Result run = carom({"run", start, "5", "--rule", "elastic", "--format", "json"});
+  const Result run = carom({"run", start, "5", "--format", "json"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("\"packing_fraction\": 0.5"), std::string::npos) << run.out.substr(0, 900);
 }
@@ -598,7 +639,7 @@ TEST_F(Cli, InitRefusesImpossibleRequests) {
 TEST_F(Cli, PhysicsOptionsAreCheckedTogether) {
   const std::string input = kCases + "particles_only.txt";
   for (const std::vector<std::string>& args :
-       {std::vector<std::string>{"run", input, "10", "--restitution", "0.9"},
+       {std::vector<std::string>{"run", input, "10", "--rule", "swap", "--restitution", "0.9"},
         {"run", input, "10", "--rule", "elastic", "--restitution", "0"},
         {"run", input, "10", "--rule", "elastic", "--restitution", "1.5"},
         {"run", input, "10", "--tc", "-1"},

@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "carom/physics.hpp"
 #include "carom/system.hpp"
 
 namespace carom {
@@ -29,11 +30,29 @@ class InputError : public std::runtime_error {
   std::size_t line_;
 };
 
+// How a start file is meant to be run. carom records it in a comment line before the data,
+// `# carom: boundary=periodic rule=elastic`, which other readers of the classic format skip; a
+// plain classic file records nothing, and the classic assignment's box and rule apply.
+struct StartRecord {
+  std::optional<Boundary> boundary;
+  std::optional<Rule> rule;
+};
+
+// The record's line, as carom writes it before a start's data (no newline).
+std::string start_record_line(Boundary boundary, Rule rule);
+
+// The rule a run of a start takes when none is asked for: elastic when collisions lose energy
+// (a restitution below 1, which only it has), else the one its file records, else the classic
+// assignment's swap in a box with walls and elastic (the physical rule) in a periodic box, which
+// the classic assignment never had.
+Rule default_rule(const StartRecord& record, Boundary boundary, double restitution = 1.0);
+
 template <std::size_t D>
 struct ClassicInput {
   System<D> system;
   double radius = 0.0;               // the file's R, shared by every particle
   std::vector<std::size_t> line_of;  // the line each particle was read from
+  StartRecord record;                // what the file says about how to run it
 };
 
 // A file of disks or of spheres: which, its line 3 says.
@@ -46,23 +65,27 @@ using AnyClassicInput = std::variant<ClassicInput<2>, ClassicInput<3>>;
 // N < 1, R <= 0, a box that is not positive, a particle outside the box or overlapping a wall or
 // another particle beyond round-off) throws InputError naming `name` and the line. Touching is
 // allowed. Every particle starts at t = 0. In a periodic box walls do not count, overlaps are
-// measured through the nearest image, and each side must exceed two diameters.
+// measured through the nearest image, and each side must exceed two diameters. The box's
+// boundary is `boundary` when given, else the one the file records (StartRecord), else walls; a
+// `# carom:` line that is malformed, or comes after the data has begun, is an InputError.
 AnyClassicInput read_any_classic(std::istream& in, const std::string& name,
-                                 Boundary boundary = Boundary::walls);
+                                 std::optional<Boundary> boundary = std::nullopt);
 
 // As above for a program that takes one dimension only: a file of the other is an InputError.
 template <std::size_t D>
 ClassicInput<D> read_classic(std::istream& in, const std::string& name,
-                             Boundary boundary = Boundary::walls);
+                             std::optional<Boundary> boundary = std::nullopt);
 
 // Opens an input file (classic, checkpoint, trajectory) for reading; throws InputError naming it
 // when it is a directory or cannot be opened.
 std::ifstream open_input(const std::string& path);
 
 // As above from a file; "-" reads standard input.
-AnyClassicInput read_any_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
+AnyClassicInput read_any_classic_file(const std::string& path,
+                                      std::optional<Boundary> boundary = std::nullopt);
 template <std::size_t D>
-ClassicInput<D> read_classic_file(const std::string& path, Boundary boundary = Boundary::walls);
+ClassicInput<D> read_classic_file(const std::string& path,
+                                  std::optional<Boundary> boundary = std::nullopt);
 
 // Checks a number a program supplies as the reader checks one it parses: finite, and a magnitude
 // from 1e-100 to 1e100 (or 0); throws std::invalid_argument naming `what`.

@@ -91,10 +91,11 @@ class EventLogWriter final : public Observer<D> {
 // optional columns `r [m]`. Spheres have three box sides and `x y z vx vy vz` lines.
 template <std::size_t D>
 void write_classic(std::ostream& out, const System<D>& system, double radius);
-// The same with the file's R the particles' common radius, or their mean when they differ (those
-// particles then carry their own): how carom init and carom compress write their starts.
+// A start as carom init and carom compress write it: the line recording its boundary and `rule`
+// (start_record_line), then the classic lines with R the particles' common radius, or their mean
+// when they differ (those particles then carry their own).
 template <std::size_t D>
-void write_classic(std::ostream& out, const System<D>& system);
+void write_start(std::ostream& out, const System<D>& system, Rule rule);
 
 // One line naming an event: `Collision: particle 1 with particle 2` or
 // `Collision: particle 3 with wall -2 (right)`.

@@ -10,7 +10,8 @@
 
 namespace carom {
 
-// Frame `frame` (nullopt: the last) of the GSD file `path` as a start in a periodic box: the
+// Frame `frame` (nullopt: the last) of the GSD file `path` as a start in a periodic box (or with
+// walls, when carom wrote the frame for one), recorded for the elastic rule: the
 // dimension from configuration/dimensions (default 3), the box from configuration/box (no tilt),
 // positions (centred on the origin, as HOOMD's) moved into [0, L), velocities, diameters, masses
 // and image flags; a chunk missing from the frame is taken from frame 0, else HOOMD's default
@@ -20,7 +21,9 @@ namespace carom {
 AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint64_t> frame);
 
 // A start named on a command line: `FILE.gsd` or `FILE.gsd:K` (frame K) is read by
-// read_gsd_start, anything else as a classic file (read_any_classic_file) in `boundary`.
-AnyClassicInput read_any_start_file(const std::string& spec, Boundary boundary);
+// read_gsd_start, anything else as a classic file (read_any_classic_file) in `boundary`. A GSD
+// frame's box is its own: a `boundary` that differs from it is an InputError.
+AnyClassicInput read_any_start_file(const std::string& spec,
+                                    std::optional<Boundary> boundary = std::nullopt);
 
 }  // namespace carom

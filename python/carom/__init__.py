@@ -110,13 +110,13 @@ class Simulation:
     """A run of hard disks (dim 2) or spheres (dim 3): its state, its engine and its measurement.
 
     Simulation(positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
-               rule="swap", restitution=1.0, tc=1e-5, engine="fast")
+               rule="elastic", restitution=1.0, tc=1e-5, engine="fast")
 
     positions, velocities: (N, D) float64 arrays at t = 0 (D = 2 or 3); box: the D sides (the box
     is [0, Lx] x [0, Ly] [x [0, Lz]]); radii, masses: a number or an (N,) array. boundary:
-    "walls" (hard walls on every face) or "periodic". rule: "swap" (the classic assignment's: touching
-    particles exchange velocities) or "elastic" (momentum exchanged along the line of centres,
-    with masses); restitution < 1 makes elastic collisions inelastic, and a particle that
+    "walls" (hard walls on every face) or "periodic". rule: "elastic" (momentum exchanged along
+    the line of centres, with masses: real hard particles) or "swap" (the classic assignment's:
+    touching particles exchange whole velocities); restitution < 1 makes elastic collisions inelastic, and a particle that
     collided less than `tc` ago collides elastically (the TC model against inelastic collapse).
     engine: "fast" (O(1) per event) or "reference" (the classic assignment's O(N^2) algorithm, for checking).
 
@@ -129,7 +129,7 @@ class Simulation:
     """
 
     def __init__(self, positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
-                 rule="swap", restitution=1.0, tc=1e-5, engine="fast"):
+                 rule="elastic", restitution=1.0, tc=1e-5, engine="fast"):
         positions = _float_array("positions", positions)
         if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
             raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
@@ -297,19 +297,24 @@ class Simulation:
                 f"{self.boundary}, {self.rule}>")
 
 
-def read(path, rule="swap", boundary="walls", restitution=1.0, tc=1e-5, engine="fast"):
+def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast"):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
-    The options are `carom run`'s. A broken file raises carom.InputError naming the file and line.
+    The options are `carom run`'s. rule and boundary left None take what the file records
+    (carom init and carom compress write `# carom: boundary=... rule=...`; a GSD frame is
+    elastic in its own box); a plain classic file gets walls and the classic assignment's swap
+    rule, or elastic with boundary="periodic" or restitution < 1. sim.rule and sim.boundary say
+    which. A broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
-        str(path), _choice("boundary", boundary, _BOUNDARIES), _choice("rule", rule, _RULES),
+        str(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
+        None if rule is None else _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES)))
 
 
-def init(n, phi, seed=1, dim=2, boundary="walls", rule="swap", box=None, aspect=1.0,
+def init(n, phi, seed=1, dim=2, boundary="walls", rule="elastic", box=None, aspect=1.0,
          radius=None, polydispersity=0.0, kT=1.0, placement="auto", restitution=1.0, tc=1e-5,
          engine="fast"):
     """A Simulation of `carom init`'s start: the same particles, bit for bit.

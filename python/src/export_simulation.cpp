@@ -18,6 +18,13 @@ E choice(const std::string& option, const std::string& name) {
       fmt::format("{} must be {}, got '{}'", option, names_list<E>(), name));
 }
 
+// None (left to the file) or a choice.
+template <class E>
+std::optional<E> choice(const std::string& option, const std::optional<std::string>& name) {
+  if (!name) return std::nullopt;
+  return choice<E>(option, *name);
+}
+
 Settings settings_from(const std::string& rule, double restitution, double tc,
                        const std::string& engine) {
   Settings settings;
@@ -53,10 +60,12 @@ void export_simulation(py::module_& m) {
           "restitution"_a, "tc"_a, "engine"_a)
       .def_static(
           "read",
-          [](const std::string& path, const std::string& boundary, const std::string& rule,
-             double restitution, double tc, const std::string& engine) {
+          [](const std::string& path, const std::optional<std::string>& boundary,
+             const std::optional<std::string>& rule, double restitution, double tc,
+             const std::string& engine) {
             return PythonSimulation::read(path, choice<Boundary>("boundary", boundary),
-                                          settings_from(rule, restitution, tc, engine));
+                                          choice<Rule>("rule", rule),
+                                          settings_from("elastic", restitution, tc, engine));
           },
           "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a)
       .def_static(

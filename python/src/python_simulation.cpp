@@ -130,12 +130,15 @@ PythonSimulation PythonSimulation::from_arrays(const py::array_t<double>& positi
       "(arrays)"};
 }
 
-PythonSimulation PythonSimulation::read(const std::string& path, Boundary boundary,
-                                        const Settings& settings) {
+PythonSimulation PythonSimulation::read(const std::string& path, std::optional<Boundary> boundary,
+                                        std::optional<Rule> rule, Settings settings) {
+  if (rule) settings.rule.rule = *rule;
   check_settings(settings);
   return std::visit(
       [&](auto&& input) {
         using System = std::remove_cvref_t<decltype(input.system)>;
+        settings.rule.rule = rule.value_or(
+            default_rule(input.record, input.system.box.boundary, settings.rule.restitution));
         return PythonSimulation(AnySimulation(std::in_place_type<Simulation<System::dimension>>,
                                               std::move(input.system), settings),
                                 path);

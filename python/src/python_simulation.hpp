@@ -45,8 +45,10 @@ class PythonSimulation {
                                       const py::array_t<double>& radii,
                                       const py::array_t<double>& masses, Boundary boundary,
                                       const Settings& settings);
-  static PythonSimulation read(const std::string& path, Boundary boundary,
-                               const Settings& settings);
+  // From a start file: the boundary and rule asked for, else the file's (default_rule);
+  // `settings`' own rule is not used.
+  static PythonSimulation read(const std::string& path, std::optional<Boundary> boundary,
+                               std::optional<Rule> rule, Settings settings);
   static PythonSimulation init(const InitRequest& request, const Settings& settings);
   static PythonSimulation resume(const std::string& path);
 

@@ -107,7 +107,7 @@ def test_properties_reflect_the_arguments():
     assert "30 spheres" in text and "periodic" in text and "elastic" in text
     default = carom.init(n=10, phi=0.1)
     assert (default.dim, default.boundary, default.rule, default.restitution, default.tc,
-            default.engine) == (2, "walls", "swap", 1.0, 1e-5, "fast")
+            default.engine) == (2, "walls", "elastic", 1.0, 1e-5, "fast")
     assert "10 disks" in repr(default)
 
 
@@ -237,3 +237,26 @@ def test_read_starts_from_a_gsd_frame(tmp_path):
     assert np.allclose(again.velocities, frame.particles.velocity[:, :2])
     with pytest.raises(carom.InputError, match="frames 0 to 2, not 7"):
         carom.read(f"{tmp_path / 'm.gsd'}:7")
+
+
+def test_read_takes_the_box_and_rule_its_file_records(cli, cases, tmp_path):
+    # carom init records them in a `# carom:` line; a plain classic file is the classic
+    # assignment's (walls, swap); a periodic box without a record is elastic; asking wins.
+    start = tmp_path / "gas.txt"
+    cli("init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start)
+    recorded = carom.read(start)
+    assert (recorded.boundary, recorded.rule) == ("periodic", "elastic")
+    assert carom.read(start, rule="swap").rule == "swap"
+    plain = carom.read(cases / "normal.txt")
+    assert (plain.boundary, plain.rule) == ("walls", "swap")
+    bare = tmp_path / "bare.txt"
+    bare.write_text(start.read_text().split("\n", 1)[1])
+    assert carom.read(bare, boundary="periodic").rule == "elastic"
+    assert carom.read(cases / "normal.txt", restitution=0.9).rule == "elastic"
+    with pytest.raises(carom.InputError, match="run it with --boundary periodic"):
+        carom.read(bare)
+    recorded.run(1.0, dump=tmp_path / "m.gsd", every=1.0)
+    frame = carom.read(tmp_path / "m.gsd")
+    assert (frame.boundary, frame.rule) == ("periodic", "elastic")
+    with pytest.raises(carom.InputError, match="its box is periodic"):
+        carom.read(tmp_path / "m.gsd", boundary="walls")

@@ -11,13 +11,13 @@ from _support import (LOG_DTYPE, assert_bitwise_equal, assert_same_run, init_cli
 
 # (carom.init options, end time, frame period, trajectory ending).
 CHUNK_CASES = {
-    "swap-walls-2d": (dict(n=150, phi=0.35, seed=51), 6.0, 0.5, "xyz"),
+    "swap-walls-2d": (dict(n=150, phi=0.35, seed=51, rule="swap"), 6.0, 0.5, "xyz"),
     # more than the 10000 events the binding runs between looks at Python's signals
     "elastic-periodic-2d": (dict(n=1000, phi=0.5, seed=52, boundary="periodic", rule="elastic"),
                             4.0, 0.5, "lammpstrj"),
     "inelastic-tc-walls-2d": (dict(n=400, phi=0.5, seed=53, rule="elastic", restitution=0.5,
                                    tc=1e-3), 10.0, 1.0, "xyz"),
-    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=54), 5.0, 0.5, "lammpstrj"),
+    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=54, rule="swap"), 5.0, 0.5, "lammpstrj"),
     "elastic-periodic-3d": (dict(dim=3, n=256, phi=0.4, seed=55, boundary="periodic",
                                  rule="elastic"), 2.0, 0.25, "xyz"),
     "inelastic-tc-periodic-3d": (dict(dim=3, n=256, phi=0.4, seed=56, boundary="periodic",

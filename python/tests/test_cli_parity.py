@@ -64,13 +64,13 @@ def test_init_seeds_differ(cli, tmp_path):
 
 # (init options, run options, end time): the rules, boundaries, restitution, TC, engines, spheres.
 RUN_CASES = {
-    "swap-walls-2d": (dict(n=100, phi=0.3, seed=2), dict(), 5.0),
+    "swap-walls-2d": (dict(n=100, phi=0.3, seed=2), dict(rule="swap"), 5.0),
     "elastic-periodic-2d": (dict(n=200, phi=0.5, seed=3, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic"), 4.0),
     "restitution-0.8": (dict(n=150, phi=0.3, seed=4), dict(rule="elastic", restitution=0.8), 5.0),
     "restitution-0.5-tc": (dict(n=150, phi=0.4, seed=5),
                            dict(rule="elastic", restitution=0.5, tc=1e-3), 5.0),
-    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=6), dict(), 4.0),
+    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=6), dict(rule="swap"), 4.0),
     "elastic-periodic-3d": (dict(dim=3, n=256, phi=0.4, seed=7, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic"), 2.0),
     "inelastic-periodic-3d": (dict(dim=3, n=108, phi=0.3, seed=8, boundary="periodic"),
@@ -160,7 +160,7 @@ def test_equilibrate_equals_cli(cli, tmp_path, how):
 CHECKPOINT_CASES = {
     "elastic-periodic-2d": (dict(n=200, phi=0.5, seed=31, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic")),
-    "swap-walls-2d": (dict(n=100, phi=0.3, seed=32), dict()),
+    "swap-walls-2d": (dict(n=100, phi=0.3, seed=32), dict(rule="swap")),
     "inelastic-tc-walls-3d": (dict(dim=3, n=150, phi=0.25, seed=33),
                               dict(rule="elastic", restitution=0.5, tc=1e-3)),
     "elastic-periodic-3d-reference": (dict(dim=3, n=108, phi=0.3, seed=34, boundary="periodic"),
@@ -197,7 +197,7 @@ def test_cli_checkpoint_resumed_by_python(cli, tmp_path, checkpoint_case):
     resumed = carom.resume(checkpoint)
     assert resumed.time == 1.3
     assert resumed.events > 0
-    for key, default in (("rule", "swap"), ("boundary", "walls"), ("restitution", 1.0),
+    for key, default in (("rule", "elastic"), ("boundary", "walls"), ("restitution", 1.0),
                          ("tc", 1e-5), ("engine", "fast")):
         assert getattr(resumed, key) == options.get(key, default), key
     resumed.run(3.0)

@@ -63,7 +63,7 @@ BAD_ARGUMENTS = {
                              r"restitution"),
     "init-restitution-nan": (
         lambda: carom.init(n=10, phi=0.1, rule="elastic", restitution=math.nan), r"restitution"),
-    "init-restitution-with-swap": (lambda: carom.init(n=10, phi=0.1, restitution=0.8),
+    "init-restitution-with-swap": (lambda: carom.init(n=10, phi=0.1, rule="swap", restitution=0.8),
                                    r"restitution.*elastic"),
     "init-negative-tc": (
         lambda: carom.init(n=10, phi=0.1, rule="elastic", restitution=0.8, tc=-1e-3), r"TC"),
@@ -124,7 +124,8 @@ BAD_ARGUMENTS = {
     "simulation-unknown-engine": (simulation(engine="warp"), r"engine.*'warp'"),
     "simulation-restitution-0": (simulation(rule="elastic", restitution=0.0), r"restitution"),
     "simulation-restitution-1.5": (simulation(rule="elastic", restitution=1.5), r"restitution"),
-    "simulation-restitution-with-swap": (simulation(restitution=0.5), r"restitution.*elastic"),
+    "simulation-restitution-with-swap": (simulation(rule="swap", restitution=0.5),
+                                         r"restitution.*elastic"),
     "simulation-negative-tc": (simulation(rule="elastic", restitution=0.5, tc=-1.0), r"TC"),
     "simulation-restitution-bool": (simulation(rule="elastic", restitution=True),
                                     r"restitution must be a number"),
@@ -145,7 +146,7 @@ def test_bad_argument_raises_value_error(call, pattern):
     (dict(engine="warp"), r"engine.*'warp'"),
     (dict(rule="elastic", restitution=0.0), r"restitution"),
     (dict(rule="elastic", restitution=1.5), r"restitution"),
-    (dict(restitution=0.9), r"restitution.*elastic"),
+    (dict(rule="swap", restitution=0.9), r"restitution.*elastic"),
     (dict(rule="elastic", restitution=0.9, tc=-1.0), r"TC"),
     (dict(tc="small"), r"tc must be a number"),
 ], ids=["rule", "boundary", "engine", "restitution-0", "restitution-1.5", "restitution-swap",
