@@ -401,6 +401,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   simulation.set_stop_flag(&stop_signal());
 
   const auto started = std::chrono::steady_clock::now();
+  const std::uint64_t events_before = simulation.counts().events;
   RunStatus status = RunStatus::reached;
   try {
     status = simulation.run_until(end_time);
@@ -433,7 +434,7 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
                                                 interruption(simulation, args));
   }
 
-  const RunReport report{start.source, seconds};
+  const RunReport report{start.source, seconds, simulation.counts().events - events_before};
   if (trace) {
     trace->finish(simulation);
   } else if (args.format == Format::table) {

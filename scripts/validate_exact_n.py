@@ -83,7 +83,7 @@ def run_replica(carom, entry, seed, folder, eq_collisions, block_collisions, blo
         if s["boundary"] != "periodic" or s["rule"] != "elastic":
             raise RuntimeError(f"{tag}: not an elastic periodic run")
         values.append(s["compressibility_factor"] * n / (lx * ly))
-        events += s["pair_collisions"]
+        events += s["window_pair_collisions"]
     return {"values": values, "events": events, "eq_events": eq_events}
 
 

@@ -112,7 +112,8 @@ template <std::size_t D>
 void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles) {
   const System<D>& system = simulation.state();
-  const Counts& counts = simulation.measurement().counts;
+  const Counts& counts = simulation.counts();
+  const Counts& window = simulation.measurement().counts;
   const Observables<D> o = simulation.observables();
   const CollisionRule& rule = simulation.settings().rule;
   // Infinity (no collision yet) is not a json number: null says "undefined".
@@ -142,6 +143,10 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"pair_collisions", counts.pair_collisions},
       {"wall_collisions", counts.wall_collisions},
       {"elastic_by_tc", counts.elastic_by_tc},
+      {"window_events", window.events},
+      {"window_pair_collisions", window.pair_collisions},
+      {"window_wall_collisions", window.wall_collisions},
+      {"window_elastic_by_tc", window.elastic_by_tc},
       {"packing_fraction", o.packing_fraction},
       {"kinetic_energy_initial", o.kinetic_energy_initial},
       {"kinetic_energy_final", o.kinetic_energy_final},
@@ -157,7 +162,7 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"wall_seconds", report.wall_seconds},
       {"events_per_second",
        report.wall_seconds > 0.0
-           ? nlohmann::ordered_json(static_cast<double>(counts.events) / report.wall_seconds)
+           ? nlohmann::ordered_json(static_cast<double>(report.events) / report.wall_seconds)
            : nlohmann::ordered_json(nullptr)},
   };
   if (!particles) {

@@ -923,11 +923,22 @@ TEST_F(Cli, AResumedRunCanStartItsMeasurementAtAnyLaterTime) {
       carom({"run", "--resume", checkpoint, "20", "--equilibrate", "8", "--format", "json"});
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   const auto a = nlohmann::json::parse(whole.out), b = nlohmann::json::parse(resumed.out);
-  for (const char* same : {"equilibrate", "events", "pressure", "temperature",
+  for (const char* same : {"equilibrate", "events", "window_events", "pressure", "temperature",
                            "kinetic_energy_initial", "collision_rate"}) {
     EXPECT_EQ(a[same], b[same]) << same;
   }
   EXPECT_EQ(b["equilibrate"], 8.0);
+  EXPECT_LT(a["window_events"], a["events"]);
+  // Each rate is its own process's: every event of the run, or every event since the checkpoint.
+  const auto rate_of = [](const nlohmann::json& j, std::uint64_t events) {
+    return static_cast<double>(events) / j["wall_seconds"].get<double>();
+  };
+  EXPECT_DOUBLE_EQ(a["events_per_second"].get<double>(),
+                   rate_of(a, a["events"].get<std::uint64_t>()));
+  const auto saved = nlohmann::json::parse(read_file(checkpoint));
+  EXPECT_DOUBLE_EQ(b["events_per_second"].get<double>(),
+                   rate_of(b, b["events"].get<std::uint64_t>() -
+                                  saved["counts"]["events"].get<std::uint64_t>()));
   // Not before the checkpoint: that part of the run is not in it.
   const Result early = carom({"run", "--resume", checkpoint, "20", "--equilibrate", "3"});
   EXPECT_EQ(early.exit_code, 2);

@@ -90,6 +90,33 @@ TEST(Formats, ClassicFilesReadBackBitForBit) {
   }
 }
 
+TEST(Formats, JsonCountsTheWholeRunAndTheWindowApart) {
+  // One disk between two walls, 9 apart: wall collisions at t = 4.5, 13.5, 22.5.
+  System<2> system;
+  system.box.size = {10, 10};
+  Particle<2> p = sample();
+  p.position = {5.0, 5.0};
+  p.velocity = {1.0, 0.0};
+  p.radius = 0.5;
+  p.time = 0.0;
+  system.add(p);
+  Simulation<2> simulation(system);
+  simulation.run_until(10.0);
+  simulation.measure_from(10.0);
+  simulation.run_until(30.0);
+  std::ostringstream out;
+  write_json(out, simulation, {"in.txt", 2.0, 40}, false);
+  const auto json = nlohmann::json::parse(out.str());
+  EXPECT_EQ(json["events"], 3);
+  EXPECT_EQ(json["wall_collisions"], 3);
+  EXPECT_EQ(json["window_events"], 2);
+  EXPECT_EQ(json["window_wall_collisions"], 2);
+  EXPECT_EQ(json["window_pair_collisions"], 0);
+  EXPECT_EQ(json["equilibrate"], 10.0);
+  EXPECT_EQ(json["wall_seconds"], 2.0);
+  EXPECT_EQ(json["events_per_second"], 20.0);  // the report's events over its seconds
+}
+
 TEST(Formats, JsonIsValidAndKeepsEveryBit) {
   System<2> system;
   system.box.size = {10, 10};

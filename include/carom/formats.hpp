@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <ostream>
 #include <span>
 #include <string>
@@ -46,11 +47,13 @@ void write_csv(std::ostream& out, const Simulation<D>& simulation);
 // What a json result says beyond the simulation itself.
 struct RunReport {
   std::string input;          // the file the run began from
-  double wall_seconds = 0.0;  // wall-clock time of the simulation
+  double wall_seconds = 0.0;  // wall-clock time of the simulation (of this process)
+  std::uint64_t events = 0;   // the events processed in that time
 };
 
-// The settings, the measurement window's counts and observables and, with `particles`, every
-// particle at the simulation's time; numbers in full precision.
+// The settings, the whole run's counts (from t = 0, across resumes), the measurement window's
+// counts (window_*) and observables, the rate of this process's events and, with `particles`,
+// every particle at the simulation's time; numbers in full precision.
 template <std::size_t D>
 void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles = true);

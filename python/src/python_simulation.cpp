@@ -231,8 +231,11 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
       },
       simulation_);
   const auto start = std::chrono::steady_clock::now();
-  const auto elapsed = [&] {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::uint64_t events_before = events();
+  // The wall time and the events of this run, however it ends.
+  const auto account = [&] {
+    wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    events_run_ += events() - events_before;
   };
   // Only the main thread sees SIGINT in Python; a run in another thread is not interrupted.
   const bool main_thread = py::module_::import("threading")
@@ -253,18 +256,18 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
           simulation_);
     } catch (...) {
       std::visit([](auto& simulation) { simulation.set_stop_flag(nullptr); }, simulation_);
-      wall_seconds_ += elapsed();
+      account();
       throw;
     }
     if (status == RunStatus::reached) break;
     // Stopped by SIGINT: Python's own handler (back in place) gets it now.
     std::raise(SIGINT);
     if (PyErr_CheckSignals() != 0) {
-      wall_seconds_ += elapsed();
+      account();
       throw py::error_already_set();
     }
   }
-  wall_seconds_ += elapsed();
+  account();
 }
 
 std::pair<PythonSimulation, py::dict> PythonSimulation::compress(
@@ -436,7 +439,7 @@ std::string PythonSimulation::json(bool particles) const {
   std::ostringstream out;
   std::visit(
       [&](const auto& s) {
-        write_json(out, s, {source_, wall_seconds_}, particles);
+        write_json(out, s, {source_, wall_seconds_, events_run_}, particles);
       },
       simulation_);
   return out.str();
@@ -448,7 +451,7 @@ std::string PythonSimulation::text(Format format) const {
       [&](const auto& s) {
         if (format == Format::table) write_table(out, s);
         if (format == Format::csv) write_csv(out, s);
-        if (format == Format::json) write_json(out, s, {source_, wall_seconds_});
+        if (format == Format::json) write_json(out, s, {source_, wall_seconds_, events_run_});
       },
       simulation_);
   return out.str();

@@ -103,7 +103,8 @@ class PythonSimulation {
 
   AnySimulation simulation_;
   std::string source_;
-  double wall_seconds_ = 0.0;
+  double wall_seconds_ = 0.0;     // in run(), over this object's life
+  std::uint64_t events_run_ = 0;  // the events of that time
   std::unique_ptr<Dump> dump_;
   std::vector<LoggedCollision> log_;
   const void* logger_ = nullptr;  // the collision logger observing the simulation, if any
