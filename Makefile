@@ -10,23 +10,35 @@ PYTHON ?= /usr/bin/python3
 # /usr/local/lib/python3.X/dist-packages), else the user's own.
 PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps build demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd bench clean format python-install python-uninstall
+.PHONY: all deps deps-run build build-run demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd bench clean format python-install python-uninstall
 
 all: build
 
 deps:
 	@scripts/install-deps.sh
 
+deps-run:
+	@scripts/install-deps.sh run
+
+# Everything: the binary, the Python module, the tests and the benchmarks.
 build: deps
-	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DCAROM_BUILD_TESTS=ON -DCAROM_BUILD_BENCH=ON \
+	  > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
 	@cmake --build $(BUILD) -j $(JOBS)
 
-demo: build python-install
+# The binary and the Python module only, with only their packages: what `make demo` needs. A later
+# `make build` or `make test` in the same folder adds the rest.
+build-run: deps-run
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DCAROM_BUILD_TESTS=OFF -DCAROM_BUILD_BENCH=OFF \
+	  > $(BUILD).configure.log 2>&1 || { cat $(BUILD).configure.log; exit 1; }
+	@cmake --build $(BUILD) -j $(JOBS) --target carom carom_python_package
+
+demo: build-run python-install
 	$(BUILD)/carom run examples/walls_only.txt 20
 	cd /tmp && $(PYTHON) $(CURDIR)/examples/python/quickstart.py
 
 # Makes `import carom` work for $(PYTHON) from any folder.
-python-install: build
+python-install: build-run
 	@test -n "$(PYTHON_SITE)" || { echo "no site-packages folder for $(PYTHON)"; exit 1; }
 	@mkdir -p $(PYTHON_SITE)
 	@rm -rf $(PYTHON_SITE)/carom

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
 #include <atomic>
 #include <iostream>
 #include <memory>
@@ -62,6 +64,21 @@ CLI::Option* add_choice(CLI::App* app, const std::string& flag, Target& target,
           help)
       ->check(CLI::IsMember(keys, CLI::ignore_case))
       ->default_str(keys.front());
+}
+
+// --progress SECONDS: a status line on stderr every SECONDS, terminal or not.
+inline CLI::Option* add_progress_option(CLI::App* app, std::optional<double>& every) {
+  return app
+      ->add_option("--progress", every,
+                   "Print a status line to stderr every SECONDS, whatever stderr is (for batch "
+                   "jobs' logs; on a terminal one line is otherwise kept up to date)")
+      ->type_name("SECONDS");
+}
+
+inline void check_progress(const std::optional<double>& every) {
+  if (every && !(*every > 0.0 && *every <= 1e9)) {
+    throw UsageError(fmt::format("--progress must be a number of seconds above 0, got {}", *every));
+  }
 }
 
 // Where a command writes its result: standard output, or a file that appears only when complete.

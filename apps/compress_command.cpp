@@ -12,6 +12,7 @@
 #include "carom/gsd.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
+#include "progress.hpp"
 
 namespace carom::cli {
 
@@ -65,36 +66,11 @@ Examples:
   compress->add_option("--summary", args.summary,
                        "Also write the packing fraction, reduced pressure, rate and events (json)");
   compress->add_flag("-q,--quiet", args.quiet, "No progress line on a terminal");
+  add_progress_option(compress, args.progress);
   return compress;
 }
 
 namespace {
-
-// The packing fraction and pressure as the compression goes, on a terminal only.
-class CompressProgress {
- public:
-  explicit CompressProgress(bool quiet) : shown_(!quiet && ::isatty(STDERR_FILENO) == 1) {}
-  ~CompressProgress() {
-    if (printed_) std::fprintf(stderr, "\r%*s\r", 90, "");
-  }
-  CompressProgress(const CompressProgress&) = delete;
-  CompressProgress& operator=(const CompressProgress&) = delete;
-  template <std::size_t D>
-  void show(const Compression<D>& c) {
-    const auto now = std::chrono::steady_clock::now();
-    if (!shown_ || now - last_ < std::chrono::milliseconds(250)) return;
-    last_ = now;
-    printed_ = true;
-    std::fprintf(stderr, "\rpacking fraction %.6f  Z = %-10.4g  t = %-9.4g  %.3g events   ",
-                 c.packing_fraction(), c.reduced_pressure(), c.time(),
-                 static_cast<double>(c.events()));
-    std::fflush(stderr);
-  }
-
- private:
-  bool shown_, printed_ = false;
-  std::chrono::steady_clock::time_point last_{};
-};
 
 std::string_view status_name(CompressionStatus status) {
   switch (status) {
@@ -122,10 +98,15 @@ void compress(const CompressArguments& args, System<D> start) {
   std::optional<Output> summary;
   if (!args.summary.empty()) summary.emplace(args.summary);
   {
-    CompressProgress progress(args.quiet);
+    StatusLine progress(args.quiet, args.progress);
     while (compression->status() == CompressionStatus::running && stop_signal().load() == 0) {
       compression->run(compression->system().size());
-      progress.show(*compression);
+      if (progress.due()) {
+        const Compression<D>& c = *compression;
+        progress.print(fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
+                                   c.packing_fraction(), c.reduced_pressure(), c.time(),
+                                   static_cast<double>(c.events())));
+      }
     }
   }
   const Compression<D>& c = *compression;
@@ -182,6 +163,7 @@ void compress_command(CompressArguments args) {
     if (!path->empty() && *path != "-") check_writable(*path);
   }
   if (!args.jam && !(args.target > 0.0)) throw UsageError("give --phi TARGET or --jam");
+  check_progress(args.progress);
   AnyClassicInput input = read_any_start_file(args.input, args.boundary);
   std::visit([&](auto& in) { compress(args, std::move(in.system)); }, input);
 }

@@ -18,6 +18,7 @@ struct CompressArguments {
   std::string output;
   std::string summary;
   bool quiet = false;
+  std::optional<double> progress;  // seconds between status lines, whatever stderr is
 };
 
 // Declares `carom compress` on `app`, filling `args` when parsed.

@@ -1,7 +1,7 @@
-// Progress of a long run on stderr: simulated time, percent, events per second, the time left
-// and the compressibility factor Z measured so far. Shown only when stderr is a terminal, only
-// once a run has taken more than a second, and never with --quiet; the line is cleared at the
-// end, so nothing remains in the output.
+// Progress of a long command on stderr. On a terminal, one line rewritten in place every 250 ms
+// once the work has taken more than a second, cleared at the end so that nothing remains; with
+// --progress SECONDS, a whole line every SECONDS whatever stderr is (a batch job's log, like
+// LAMMPS' thermo output). Never with --quiet unless --progress asks for it.
 #pragma once
 
 #include <fmt/format.h>
@@ -10,54 +10,103 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "carom/simulation.hpp"
 
 namespace carom::cli {
 
+// Where the status goes, and when.
+class StatusLine {
+ public:
+  // `every`: --progress's period in seconds, if given.
+  StatusLine(bool quiet, std::optional<double> every)
+      : every_(every), live_(!every && !quiet && ::isatty(STDERR_FILENO) == 1) {}
+  ~StatusLine() {
+    if (shown_) std::fprintf(stderr, "\r%*s\r", 100, "");
+  }
+  StatusLine(const StatusLine&) = delete;
+  StatusLine& operator=(const StatusLine&) = delete;
+
+  bool active() const { return live_ || every_.has_value(); }
+
+  // Whether a line is due now; the caller then makes it and calls print.
+  bool due() {
+    if (!active()) return false;
+    const auto now = Clock::now();
+    const double elapsed = seconds_since(began_, now);
+    const bool due = every_ ? seconds_since(last_, now) >= *every_
+                            : elapsed >= 1.0 && seconds_since(last_, now) >= 0.25;
+    if (due) last_ = now;
+    return due;
+  }
+
+  void print(const std::string& text) {
+    if (live_) {
+      shown_ = true;
+      std::fprintf(stderr, "\r%s   ", text.c_str());
+    } else {
+      std::fprintf(stderr, "%s\n", text.c_str());
+    }
+    std::fflush(stderr);
+  }
+
+  double elapsed() const { return seconds_since(began_, Clock::now()); }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  static double seconds_since(Clock::time_point then, Clock::time_point now) {
+    return std::chrono::duration<double>(now - then).count();
+  }
+  std::optional<double> every_;
+  bool live_;
+  bool shown_ = false;
+  Clock::time_point began_ = Clock::now(), last_ = began_;
+};
+
+// A duration as 0:42, 12:05 or 3:07:59.
+inline std::string clock_time(double seconds) {
+  const auto s = static_cast<long long>(seconds);
+  if (s >= 3600) return fmt::format("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60);
+  return fmt::format("{}:{:02}", s / 60, s % 60);
+}
+
+// A run's status: simulated time, percent, events per second, the time left and the
+// compressibility factor Z measured so far.
 template <std::size_t D>
 class Progress final : public Observer<D> {
  public:
   // Looks at the clock every few thousand events.
   static constexpr std::uint64_t kEvery = 4096;
-  Progress(double start, double end)
-      : Observer<D>(Trigger::every_events(kEvery)), start_(start), end_(end) {}
-  ~Progress() override {
-    if (shown_) std::fprintf(stderr, "\r%*s\r", 100, "");
-  }
-  Progress(const Progress&) = delete;
-  Progress& operator=(const Progress&) = delete;
+  Progress(double start, double end, bool quiet, std::optional<double> every)
+      : Observer<D>(Trigger::every_events(kEvery)), start_(start), end_(end), line_(quiet, every) {}
 
-  // Whether a progress line belongs on this stderr.
-  static bool wanted(bool quiet) { return !quiet && ::isatty(STDERR_FILENO) == 1; }
+  // Whether a status belongs on this stderr at all.
+  static bool wanted(bool quiet, std::optional<double> every) {
+    return StatusLine(quiet, every).active();
+  }
 
   void observe(const Simulation<D>& simulation) override {
     events_ += kEvery;
-    const auto now = Clock::now();
-    const double elapsed = std::chrono::duration<double>(now - began_).count();
-    if (elapsed < 1.0 || now - last_ < std::chrono::milliseconds(250)) return;
-    last_ = now;
-    shown_ = true;
+    if (!line_.due()) return;
+    const double elapsed = line_.elapsed();
     const double time = simulation.time();
     const double done = end_ > start_ ? (time - start_) / (end_ - start_) : 1.0;
     const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
-    // The compressibility factor over the measurement window so far (O(N): every 250 ms at most).
+    // The compressibility factor over the measurement window so far (O(N), once a line).
     const Observables<D> o = simulation.observables();
     const std::string z =
         o.elapsed > 0.0 ? fmt::format("  Z = {:.5g}", o.compressibility_factor) : std::string();
-    std::fprintf(stderr, "\rt = %.6g / %.6g (%4.1f%%)  %.3g events/s  %d:%02d left%s   ", time,
-                 end_, 100.0 * done, static_cast<double>(events_) / elapsed,
-                 static_cast<int>(left) / 60, static_cast<int>(left) % 60, z.c_str());
-    std::fflush(stderr);
+    line_.print(fmt::format("t = {:.6g} / {:.6g} ({:4.1f}%)  {:.3g} events/s  {} left{}", time,
+                            end_, 100.0 * done, static_cast<double>(events_) / elapsed,
+                            clock_time(left), z));
   }
 
  private:
-  using Clock = std::chrono::steady_clock;
   double start_, end_;
-  bool shown_ = false;
+  StatusLine line_;
   std::uint64_t events_ = 0;
-  Clock::time_point began_ = Clock::now(), last_ = began_;
 };
 
 }  // namespace carom::cli

@@ -137,6 +137,7 @@ void check(const RunArguments& args) {
   if (args.equilibrate && !(*args.equilibrate >= 0.0)) {
     throw UsageError(fmt::format("--equilibrate must be >= 0, got {}", *args.equilibrate));
   }
+  check_progress(args.progress);
 }
 
 // The Simulation for what was read (a ClassicInput or a Checkpoint of either dimension).
@@ -181,7 +182,8 @@ Start load(const RunArguments& args) {
     return std::visit(
         [&](const auto& checkpoint) {
           using Sim = SimulationFor<decltype(checkpoint)>;
-          return Start{AnySimulation(std::in_place_type<Sim>, checkpoint), checkpoint.source, true};
+          return Start{AnySimulation(std::in_place_type<Sim>, checkpoint), checkpoint.source, true,
+                       ""};
         },
         read_checkpoint(file, args.input));
   }
@@ -395,8 +397,9 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     simulation.add_observer(std::make_shared<CheckpointWriter<D>>(
         args.checkpoint, start.source, checkpoint_trigger(args.checkpoint_every)));
   }
-  if (Progress<D>::wanted(args.quiet)) {
-    simulation.add_observer(std::make_shared<Progress<D>>(simulation.time(), end_time));
+  if (Progress<D>::wanted(args.quiet, args.progress)) {
+    simulation.add_observer(
+        std::make_shared<Progress<D>>(simulation.time(), end_time, args.quiet, args.progress));
   }
   simulation.set_stop_flag(&stop_signal());
 
@@ -525,6 +528,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_flag("-q,--quiet", args.quiet,
                 "No progress line (shown on stderr during long runs when it is a terminal) and "
                 "no notes");
+  add_progress_option(run, args.progress);
   add_choice<EngineKind>(run, "--engine", args.engine,
                          "fast: neighbour lists (dense systems) or a cell grid, and an event "
                          "calendar, O(1) per event; reference: the classic assignment's "

@@ -34,6 +34,7 @@ struct RunArguments {
   std::optional<double> equilibrate;
   EngineKind engine = EngineKind::fast;
   bool quiet = false;
+  std::optional<double> progress;  // seconds between status lines, whatever stderr is
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

@@ -1,15 +1,25 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages carom needs to build and test, if any are missing.
+# Installs the Debian 12 packages carom needs, if any are missing.
+#   scripts/install-deps.sh run    what the binary and the Python module need (make demo)
+#   scripts/install-deps.sh        all of that, and what the tests and benchmarks need (make test)
 set -euo pipefail
 
+what="${1:-test}"
 packages=(
   g++ cmake make
-  libfmt-dev nlohmann-json3-dev libcli11-dev
-  libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-ase
-  pybind11-dev python3-pybind11 python3-dev python3-pytest python3-matplotlib python3-gsd
-  libpcg-cpp-dev librapidcheck-dev
-  chromium nodejs
+  libfmt-dev nlohmann-json3-dev libcli11-dev libpcg-cpp-dev
+  python3 python3-dev python3-numpy pybind11-dev
 )
+case "$what" in
+  run) ;;
+  test)
+    packages+=(
+      libgtest-dev libgmock-dev libbenchmark-dev librapidcheck-dev
+      python3-ase python3-pybind11 python3-pytest python3-matplotlib python3-gsd
+      chromium nodejs
+    ) ;;
+  *) echo "usage: $0 [run|test]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${packages[@]}"; do
@@ -18,7 +28,8 @@ for p in "${packages[@]}"; do
   fi
 done
 # Some nodejs builds bundle npm; Debian's does not.
-if ! command -v npm > /dev/null && ! printf '%s\n' "${missing[@]}" | grep -qx nodejs; then
+if [ "$what" = test ] && ! command -v npm > /dev/null &&
+   ! printf '%s\n' "${missing[@]}" | grep -qx nodejs; then
   missing+=(npm)
 fi
 
@@ -29,8 +40,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   export DEBIAN_FRONTEND=noninteractive
   $sudo apt-get update -qq
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
-  command -v npm > /dev/null || $sudo apt-get install -y -qq --no-install-recommends npm
+  if [ "$what" = test ]; then
+    command -v npm > /dev/null || $sudo apt-get install -y -qq --no-install-recommends npm
+  fi
 fi
+[ "$what" = test ] || exit 0
 
 # The browser tests' driver, playwright-core, from the npm registry (it drives Debian's
 # chromium; no browser is downloaded).

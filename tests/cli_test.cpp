@@ -602,6 +602,38 @@ TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 }
 
+// --progress: whole lines at the period asked for, terminal or not (a batch job's log).
+TEST_F(Cli, BatchJobsGetProgressLinesOnRequest) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  const auto lines_of = [](const std::string& err, const std::string& word) {
+    EXPECT_EQ(err.find('\r'), std::string::npos) << err;
+    std::size_t count = 0;
+    std::istringstream in(err);
+    for (std::string line; std::getline(in, line);) count += line.find(word) != std::string::npos;
+    return count;
+  };
+  const Result run = carom({"run", start, "30", "--format", "csv", "-o",
+                            (dir_ / "out.csv").string(), "--progress", "0.1", "-q"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_GE(lines_of(run.err, "events/s"), 1u) << run.err;
+  EXPECT_NE(run.err.find(" left  Z = "), std::string::npos) << run.err;
+  const Result compress = carom({"compress", start, "--phi", "0.6", "-o",
+                                 (dir_ / "dense.txt").string(), "--progress", "0.05"});
+  ASSERT_EQ(compress.exit_code, 0) << compress.err;
+  EXPECT_GE(lines_of(compress.err, "packing fraction"), 1u) << compress.err;
+  for (const char* command : {"run gas 1", "compress gas --jam"}) {
+    std::vector<std::string> args;
+    std::istringstream words(command);
+    for (std::string word; words >> word;) args.push_back(word == "gas" ? start.string() : word);
+    args.insert(args.end(), {"--progress", "0"});
+    const Result bad = carom(args);
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.err.find("--progress must be a number of seconds above 0"), std::string::npos)
+        << bad.err;
+  }
+}
+
 TEST_F(Cli, InitWritesAReproducibleValidStartFile) {
   const Result a = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});
   const Result b = carom({"init", "--n", "300", "--phi", "0.5", "--seed", "42"});
