@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <optional>
@@ -97,7 +98,9 @@ class Progress final : public Observer<D> {
     // The compressibility factor over the measurement window so far (O(N), once a line).
     const Observables<D> o = simulation.observables();
     const std::string z =
-        o.elapsed > 0.0 ? fmt::format("  Z = {:.5g}", o.compressibility_factor) : std::string();
+        o.elapsed > 0.0 && std::isfinite(o.compressibility_factor)
+            ? fmt::format("  Z = {:.5g}", o.compressibility_factor)
+            : std::string();
     line_.print(fmt::format("t = {:.6g} / {:.6g} ({:4.1f}%)  {:.3g} events/s  {} left{}", time,
                             end_, 100.0 * done, static_cast<double>(events_) / elapsed,
                             clock_time(left), z));

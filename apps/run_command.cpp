@@ -14,6 +14,8 @@
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/gsd.hpp"
+#include "carom/initial.hpp"
+#include "carom/observables.hpp"
 #include "carom/overlap.hpp"
 #include "carom/simulation.hpp"
 #include "carom/time_series.hpp"
@@ -151,7 +153,7 @@ struct Start {
   AnySimulation simulation;
   std::string source;  // the file the run began from
   bool resumed = false;
-  std::string defaults;  // which rule and boundary the run took without being asked, and why
+  std::string note;  // what the start's reading decided without being asked, and why
 };
 
 // Says which of the run's boundary and rule were not asked for and are not the classic
@@ -194,12 +196,23 @@ Start load(const RunArguments& args) {
         const Rule rule =
             args.rule.value_or(default_rule(input.record, boundary, args.restitution));
         const Settings settings{{rule, args.restitution, args.tc}, args.engine};
-        std::string defaults = describe_defaults(args, input.record, boundary, rule);
+        std::string note = describe_defaults(args, input.record, boundary, rule);
+        if (args.temperature) {
+          try {
+            draw_velocities(input.system, *args.temperature, args.seed);
+          } catch (const std::invalid_argument& e) {
+            throw UsageError(fmt::format("--kT: {}", e.what()));
+          }
+        } else if (kinetic_energy(input.system) == 0.0) {
+          note += std::string(note.empty() ? "" : "; ") +
+                      "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
+                      "Maxwell-Boltzmann velocities";
+        }
         // Only for the reader's messages: not held while the engine is made (a move frees it; `= {}`
         // would keep its capacity).
         input.line_of = std::vector<std::size_t>();
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
-                     args.input, false, std::move(defaults)};
+                     args.input, false, std::move(note)};
       },
       read_any_start_file(args.input, args.boundary));
 }
@@ -359,8 +372,8 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     }
     simulation.measure_from(from);
   }
-  if (!start.defaults.empty() && !args.quiet) {
-    std::cerr << "carom: note: " << start.defaults << '\n';
+  if (!start.note.empty() && !args.quiet) {
+    std::cerr << "carom: note: " << start.note << '\n';
   }
   const bool periodic = simulation.state().box.periodic();
   if (periodic && simulation.settings().rule.rule == Rule::swap && !args.quiet) {
@@ -437,7 +450,9 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
                                                 interruption(simulation, args));
   }
 
-  const RunReport report{start.source, seconds, simulation.counts().events - events_before};
+  RunReport report{start.source, seconds, simulation.counts().events - events_before,
+                   std::nullopt};
+  if (args.temperature) report.seed = args.seed;
   if (trace) {
     trace->finish(simulation);
   } else if (args.format == Format::table) {
@@ -529,6 +544,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                 "No progress line (shown on stderr during long runs when it is a terminal) and "
                 "no notes");
   add_progress_option(run, args.progress);
+  run->add_option("--kT", args.temperature,
+                  "Give every particle a new velocity, Maxwell-Boltzmann at this temperature "
+                  "(zero total momentum, kT exact), as carom init does: for a start without "
+                  "velocities, or to rethermalise one")
+      ->check(finite_number());
+  run->add_option("--seed", args.seed, "Random seed of --kT's velocities")->default_str("1");
   add_choice<EngineKind>(run, "--engine", args.engine,
                          "fast: neighbour lists (dense systems) or a cell grid, and an event "
                          "calendar, O(1) per event; reference: the classic assignment's "
@@ -542,8 +563,9 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   auto* resume = run->add_flag("--resume", args.resume,
                                "FILE is a checkpoint: continue that run to END_TIME, exactly as "
                                "if it had never stopped (its rule, boundary and engine apply)");
+  run->get_option("--seed")->needs(run->get_option("--kT"));
   for (const char* fixed_by_checkpoint :
-       {"--rule", "--restitution", "--tc", "--boundary", "--engine"}) {
+       {"--rule", "--restitution", "--tc", "--boundary", "--engine", "--kT"}) {
     run->get_option(fixed_by_checkpoint)->excludes(resume);
   }
   return run;

@@ -136,7 +136,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"restitution", rule.restitution},
       {"tc", rule.elastic_within},
       {"engine", name_of(simulation.settings().engine)},
-      {"seed", nullptr},  // a run draws no random numbers; the start file's seed is carom init's
+      // A run draws random numbers only for --kT; the start file's seed is carom init's.
+      {"seed", report.seed ? nlohmann::ordered_json(*report.seed) : nlohmann::ordered_json(nullptr)},
       {"end_time", simulation.time()},
       {"equilibrate", simulation.measurement().start_time},
       {"events", counts.events},
@@ -156,7 +157,7 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"pressure", o.pressure},
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
                                               : nlohmann::ordered_json(o.wall_pressure)},
-      {"compressibility_factor", o.compressibility_factor},
+      {"compressibility_factor", number(o.compressibility_factor)},
       {"collision_rate", o.collision_rate},
       {"mean_free_time", number(o.mean_free_time)},
       {"wall_seconds", report.wall_seconds},

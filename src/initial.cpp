@@ -424,7 +424,19 @@ System<D> make_initial(const InitialOptions& o) {
   return system;
 }
 
+template <std::size_t D>
+void draw_velocities(System<D>& system, double temperature, std::uint64_t seed) {
+  if (!(temperature > 0.0)) {
+    throw std::invalid_argument(fmt::format("kT must be greater than 0, got {}", temperature));
+  }
+  check_number(temperature, "kT");
+  pcg32 rng(seed);
+  draw_velocities(system, temperature, rng);
+}
+
 template System<2> make_initial(const InitialOptions&);
 template System<3> make_initial(const InitialOptions&);
+template void draw_velocities(System<2>&, double, std::uint64_t);
+template void draw_velocities(System<3>&, double, std::uint64_t);
 
 }  // namespace carom

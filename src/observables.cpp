@@ -1,6 +1,7 @@
 #include "carom/observables.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "carom/physics.hpp"
@@ -74,7 +75,8 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
   if (o.elapsed > 0.0) {
     const double kinetic = n * o.temperature;
     o.pressure = (kinetic + counts.virial / (static_cast<double>(D) * o.elapsed)) / volume;
-    o.compressibility_factor = kinetic > 0.0 ? o.pressure * volume / kinetic : 0.0;
+    o.compressibility_factor =
+        kinetic > 0.0 ? o.pressure * volume / kinetic : std::numeric_limits<double>::quiet_NaN();
     o.wall_pressure =
         system.box.periodic() ? 0.0 : counts.wall_momentum / (o.elapsed * wall_measure);
     o.collision_rate = 2.0 * static_cast<double>(counts.pair_collisions) / (n * o.elapsed);

@@ -602,6 +602,42 @@ TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 }
 
+// A start at rest (a GSD frame without velocities, say) does nothing: said so, Z undefined (null),
+// and --kT gives it Maxwell-Boltzmann velocities, reproducibly.
+TEST_F(Cli, AStartAtRestIsNotedAndKTGivesItVelocities) {
+  const fs::path rest = write("rest.txt",
+                              "# carom: boundary=periodic rule=elastic\n4\n0.5\n6 6\n"
+                              "1 1 0 0\n4 1 0 0\n1 4 0 0\n4 4 0 0\n");
+  const Result still = carom({"run", rest, "5", "--format", "json"});
+  ASSERT_EQ(still.exit_code, 0) << still.err;
+  EXPECT_NE(still.err.find("every particle is at rest (kT = 0)"), std::string::npos) << still.err;
+  const auto at_rest = nlohmann::json::parse(still.out);
+  EXPECT_EQ(at_rest["events"], 0);
+  EXPECT_TRUE(at_rest["compressibility_factor"].is_null());
+  const auto thermal = [&](const std::string& seed) {
+    const Result r = carom({"run", rest, "5", "--kT", "2", "--seed", seed, "--format", "json"});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(r.err.find("at rest"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("\"seed\": " + seed), std::string::npos);
+    return r.out.substr(r.out.find("\"particles\""));
+  };
+  const Result first = carom({"run", rest, "5", "--kT", "2", "--seed", "3", "--format", "json"});
+  const auto moving = nlohmann::json::parse(first.out);
+  EXPECT_GT(moving["events"], 0);
+  // kT exactly (to round-off) over D (N - 1) degrees of freedom, conserved by elastic collisions.
+  EXPECT_NEAR(moving["temperature"].get<double>(), 2.0, 1e-12);
+  EXPECT_NEAR(moving["kinetic_energy_initial"].get<double>(), 0.5 * 2.0 * 6.0, 1e-12);
+  EXPECT_TRUE(moving["compressibility_factor"].is_number());
+  EXPECT_EQ(thermal("3"), thermal("3"));
+  EXPECT_NE(thermal("3"), thermal("4"));
+  EXPECT_EQ(carom({"run", rest, "5", "--seed", "3"}).exit_code, 2);  // --seed needs --kT
+  EXPECT_EQ(carom({"run", rest, "5", "--kT", "0"}).exit_code, 2);
+  EXPECT_EQ(carom({"run", rest, "5", "--kT", "-1"}).exit_code, 2);
+  const fs::path checkpoint = dir_ / "ck";
+  ASSERT_EQ(carom({"run", rest, "1", "--kT", "1", "--checkpoint", checkpoint, "-q"}).exit_code, 0);
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "2", "--kT", "1"}).exit_code, 2);
+}
+
 // --progress: whole lines at the period asked for, terminal or not (a batch job's log).
 TEST_F(Cli, BatchJobsGetProgressLinesOnRequest) {
   const fs::path start = dir_ / "gas.txt";

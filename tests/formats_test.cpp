@@ -105,7 +105,7 @@ TEST(Formats, JsonCountsTheWholeRunAndTheWindowApart) {
   simulation.measure_from(10.0);
   simulation.run_until(30.0);
   std::ostringstream out;
-  write_json(out, simulation, {"in.txt", 2.0, 40}, false);
+  write_json(out, simulation, {"in.txt", 2.0, 40, std::nullopt}, false);
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["events"], 3);
   EXPECT_EQ(json["wall_collisions"], 3);
@@ -133,7 +133,7 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
   Simulation<2> simulation(system);
   simulation.run_until(12.5);
   std::ostringstream out;
-  write_json(out, simulation, {"in.txt", 0.0});
+  write_json(out, simulation, {"in.txt", 0.0, 0, std::nullopt});
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["input"], "in.txt");
   EXPECT_EQ(json["end_time"], 12.5);

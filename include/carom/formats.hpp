@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <span>
 #include <string>
@@ -49,6 +50,7 @@ struct RunReport {
   std::string input;          // the file the run began from
   double wall_seconds = 0.0;  // wall-clock time of the simulation (of this process)
   std::uint64_t events = 0;   // the events processed in that time
+  std::optional<std::uint64_t> seed;  // of the velocities the run drew, if it drew any
 };
 
 // The settings, the whole run's counts (from t = 0, across resumes), the measurement window's

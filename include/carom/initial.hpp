@@ -59,4 +59,11 @@ constexpr double random_placement_limit(std::size_t dimension) {
 template <std::size_t D>
 System<D> make_initial(const InitialOptions& options);
 
+// Gives every particle of `system` a velocity as make_initial does (Maxwell-Boltzmann at
+// `temperature` over each mass, zero total momentum, kinetic temperature kT exactly), from pcg32
+// seeded with `seed`: for a start that has none, or is to be rethermalised. Throws
+// std::invalid_argument for a temperature that is not a number above 0.
+template <std::size_t D>
+void draw_velocities(System<D>& system, double temperature, std::uint64_t seed);
+
 }  // namespace carom

@@ -43,7 +43,7 @@ struct Observables {
   // With the D (N - 1) temperature in a periodic box this is the exact-N pressure that Monte
   // Carlo gives at the same N (Li et al. 2022), not one biased by 1/N.
   double pressure = 0.0;
-  double compressibility_factor = 0.0;  // Z = P V / (N kT)
+  double compressibility_factor = 0.0;  // Z = P V / (N kT); NaN (undefined) when kT = 0
   // Box with walls: the momentum given to the walls per unit time and unit wall length (area).
   double wall_pressure = 0.0;
   double collision_rate = 0.0;     // pair collisions per particle per unit time: 2 C / (N elapsed)

@@ -297,7 +297,8 @@ class Simulation:
                 f"{self.boundary}, {self.rule}>")
 
 
-def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast"):
+def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast", kT=None,
+         seed=1):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
@@ -305,13 +306,16 @@ def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast"
     (carom init and carom compress write `# carom: boundary=... rule=...`; a GSD frame is
     elastic in its own box); a plain classic file gets walls and the classic assignment's swap
     rule, or elastic with boundary="periodic" or restitution < 1. sim.rule and sim.boundary say
-    which. A broken file raises carom.InputError naming the file and line.
+    which. kT: new Maxwell-Boltzmann velocities at that temperature, reproducible from seed, as
+    `carom run --kT T --seed S` (for a start without velocities, or to rethermalise one). A
+    broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
         str(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
         None if rule is None else _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
-        _choice("engine", engine, _ENGINES)))
+        _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
+        _whole("seed", seed, 0, 2**64 - 1)))
 
 
 def init(n, phi, seed=1, dim=2, boundary="walls", rule="elastic", box=None, aspect=1.0,

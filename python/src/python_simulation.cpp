@@ -131,7 +131,8 @@ PythonSimulation PythonSimulation::from_arrays(const py::array_t<double>& positi
 }
 
 PythonSimulation PythonSimulation::read(const std::string& path, std::optional<Boundary> boundary,
-                                        std::optional<Rule> rule, Settings settings) {
+                                        std::optional<Rule> rule, Settings settings,
+                                        std::optional<double> temperature, std::uint64_t seed) {
   if (rule) settings.rule.rule = *rule;
   check_settings(settings);
   return std::visit(
@@ -139,6 +140,7 @@ PythonSimulation PythonSimulation::read(const std::string& path, std::optional<B
         using System = std::remove_cvref_t<decltype(input.system)>;
         settings.rule.rule = rule.value_or(
             default_rule(input.record, input.system.box.boundary, settings.rule.restitution));
+        if (temperature) draw_velocities(input.system, *temperature, seed);
         return PythonSimulation(AnySimulation(std::in_place_type<Simulation<System::dimension>>,
                                               std::move(input.system), settings),
                                 path);
@@ -439,7 +441,7 @@ std::string PythonSimulation::json(bool particles) const {
   std::ostringstream out;
   std::visit(
       [&](const auto& s) {
-        write_json(out, s, {source_, wall_seconds_, events_run_}, particles);
+        write_json(out, s, {source_, wall_seconds_, events_run_, std::nullopt}, particles);
       },
       simulation_);
   return out.str();
@@ -451,7 +453,7 @@ std::string PythonSimulation::text(Format format) const {
       [&](const auto& s) {
         if (format == Format::table) write_table(out, s);
         if (format == Format::csv) write_csv(out, s);
-        if (format == Format::json) write_json(out, s, {source_, wall_seconds_, events_run_});
+        if (format == Format::json) write_json(out, s, {source_, wall_seconds_, events_run_, std::nullopt});
       },
       simulation_);
   return out.str();

@@ -46,9 +46,10 @@ class PythonSimulation {
                                       const py::array_t<double>& masses, Boundary boundary,
                                       const Settings& settings);
   // From a start file: the boundary and rule asked for, else the file's (default_rule);
-  // `settings`' own rule is not used.
+  // `settings`' own rule is not used. With a temperature, new velocities (draw_velocities).
   static PythonSimulation read(const std::string& path, std::optional<Boundary> boundary,
-                               std::optional<Rule> rule, Settings settings);
+                               std::optional<Rule> rule, Settings settings,
+                               std::optional<double> temperature, std::uint64_t seed);
   static PythonSimulation init(const InitRequest& request, const Settings& settings);
   static PythonSimulation resume(const std::string& path);
 

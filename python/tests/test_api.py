@@ -260,3 +260,22 @@ def test_read_takes_the_box_and_rule_its_file_records(cli, cases, tmp_path):
     assert (frame.boundary, frame.rule) == ("periodic", "elastic")
     with pytest.raises(carom.InputError, match="its box is periodic"):
         carom.read(tmp_path / "m.gsd", boundary="walls")
+
+
+def test_read_can_draw_velocities_as_the_cli_does(cli, tmp_path):
+    # A start at rest does nothing (Z undefined: None); kT gives it `carom run --kT`'s velocities.
+    rest = tmp_path / "rest.txt"
+    rest.write_text("# carom: boundary=periodic rule=elastic\n4\n0.5\n6 6\n"
+                    "1 1 0 0\n4 1 0 0\n1 4 0 0\n4 4 0 0\n")
+    still = carom.read(rest)
+    still.run(5.0)
+    assert still.events == 0 and still.observables()["compressibility_factor"] is None
+    sim = carom.read(rest, kT=2.0, seed=3)
+    sim.run(5.0)
+    assert sim.events > 0
+    out = json.loads(cli("run", rest, "5", "--kT", "2", "--seed", "3", "--format", "json"))
+    assert json.loads(sim.format("json"))["particles"] == out["particles"]
+    assert not np.array_equal(carom.read(rest, kT=2.0, seed=4).velocities,
+                              carom.read(rest, kT=2.0, seed=3).velocities)
+    with pytest.raises(ValueError, match="kT must be greater than 0"):
+        carom.read(rest, kT=0.0)
