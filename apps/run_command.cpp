@@ -397,7 +397,13 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     trace->start(args.input, end_time, simulation);
     simulation.add_observer(trace);
   }
-  if (outputs.frames) simulation.add_observer(outputs.frames);
+  if (outputs.frames) {
+    // A dump that begins here (not one a resumed run continues) starts with a frame now, when
+    // now is on its grid.
+    simulation.add_observer(outputs.frames, outputs.dump.tellp() == 0
+                                                ? Simulation<D>::FirstLook::now
+                                                : Simulation<D>::FirstLook::next);
+  }
   if (outputs.event_log) simulation.add_observer(outputs.event_log);
   if (outputs.time_series) simulation.add_observer(outputs.time_series);
   if (args.check) {

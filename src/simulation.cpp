@@ -238,7 +238,7 @@ void Simulation<D>::schedule(Scheduled& entry) const {
 }
 
 template <std::size_t D>
-void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer) {
+void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer, FirstLook first) {
   const Trigger& trigger = observer->trigger();
   const bool positive = trigger.period > 0.0 && std::isfinite(trigger.period);
   if (trigger.kind == Trigger::Kind::events && !(positive && trigger.period >= 1.0)) {
@@ -249,6 +249,10 @@ void Simulation<D>::add_observer(std::shared_ptr<Observer<D>> observer) {
   }
   Scheduled entry{std::move(observer), 0.0, 0, {}};
   schedule(entry);
+  if (first == FirstLook::now && settled_ && trigger.kind == Trigger::Kind::time &&
+      std::ceil(time_ / trigger.period) * trigger.period == time_) {
+    entry.observer->observe(*this);
+  }
   watch_events_ = watch_events_ || trigger.kind != Trigger::Kind::time;
   observers_.push_back(std::move(entry));
 }

@@ -602,6 +602,30 @@ TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 }
 
+// A dump that a resumed run begins (not one it continues) starts with a frame at the resumed
+// time when that is a multiple of --every, as any new dump's first frame is at its first instant.
+TEST_F(Cli, ADumpBegunByAResumedRunStartsAtItsTime) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "ck", movie = dir_ / "late.xyz";
+  ASSERT_EQ(carom({"init", "--n", "60", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--checkpoint", checkpoint, "-q"}).exit_code, 0);
+  ASSERT_EQ(carom({"run", "--resume", checkpoint, "4", "--dump", movie, "--every", "0.5", "-q"})
+                .exit_code,
+            0);
+  const std::string frames = read_file(movie);
+  EXPECT_EQ(frames.find("Time=1.5"), std::string::npos);
+  const std::size_t first = frames.find("Time=");
+  ASSERT_NE(first, std::string::npos);
+  EXPECT_EQ(frames.substr(first, 7), "Time=2\n");
+  std::size_t count = 0;
+  for (std::size_t at = frames.find("Time="); at != std::string::npos;
+       at = frames.find("Time=", at + 1)) {
+    ++count;
+  }
+  EXPECT_EQ(count, 5u);  // 2, 2.5, 3, 3.5, 4
+}
+
 // A start at rest (a GSD frame without velocities, say) does nothing: said so, Z undefined (null),
 // and --kT gives it Maxwell-Boltzmann velocities, reproducibly.
 TEST_F(Cli, AStartAtRestIsNotedAndKTGivesItVelocities) {

@@ -161,8 +161,12 @@ class Simulation {
   std::optional<double> pending_measurement() const { return measure_from_; }
 
   // Observers are called in the order they were added; adding one at a time it is due (a frame
-  // at t = 0) calls it at the next run_until.
-  void add_observer(std::shared_ptr<Observer<D>> observer);
+  // at t = 0) calls it at the next run_until. A run already whole at its time (settled: what is
+  // due then has been observed) has a time-triggered observer start at the next multiple of its
+  // period, as a continued output does; `first` = FirstLook::now calls a new output (a file
+  // that begins here) now as well when now is such a multiple.
+  enum class FirstLook { next, now };
+  void add_observer(std::shared_ptr<Observer<D>> observer, FirstLook first = FirstLook::next);
   // Stops calling `observer` (a front end's per-call trajectory or collision log, say).
   void remove_observer(const Observer<D>* observer);
   // A flag the caller owns (and may set from a signal handler): nonzero stops run_until after

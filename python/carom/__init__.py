@@ -166,8 +166,10 @@ class Simulation:
         run to the last time would. The GIL is released while the engine works.
 
         dump: a trajectory file written as the run goes, a frame every `every` time units (at
-        multiples of `every`): ".xyz" (extended XYZ, for ASE and OVITO) or ".lammpstrj". The
-        next run with the same dump and every continues the file; a different one starts anew.
+        multiples of `every`, so frames stay evenly spaced: a new dump's first frame is at
+        sim.time when that is a multiple, else at the next one): ".xyz" (extended XYZ, for ASE
+        and OVITO), ".lammpstrj" or ".gsd". The next run with the same dump and every continues
+        the file; a different one starts anew.
         collisions: when True, returns a numpy structured array of this run's collisions with
         fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
         bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
@@ -188,6 +190,15 @@ class Simulation:
         finally:
             self._running = False
         return core.collisions() if collisions else None
+
+    def advance(self, dt, dump=None, every=None, collisions=False):
+        """Runs for dt more time units (HOOMD's sim.run(steps) habit): sim.run(sim.time + dt, ...).
+        The end time is the double sim.time + dt, so many small advances can land a hair off
+        round times; run(t) names a time exactly."""
+        dt = _number("dt", dt)
+        if not dt >= 0.0:
+            raise ValueError(f"dt must be >= 0, got {dt}")
+        return self.run(self.time + dt, dump=dump, every=every, collisions=collisions)
 
     def collisions(self):
         """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""
@@ -242,6 +253,19 @@ class Simulation:
     def positions(self):
         """Every particle's centre at sim.time, wrapped into a periodic box: (N, D) float64 (a copy)."""
         return self._idle.positions
+
+    @property
+    def images(self):
+        """Every particle's image flags at sim.time: (N, D) int32, the box sides it has crossed
+        (HOOMD's and LAMMPS' convention; zero with walls)."""
+        return self._idle.images
+
+    @property
+    def unwrapped_positions(self):
+        """positions + images * box: where each particle would be had the box not wrapped it,
+        (N, D) float64 (for displacements and the mean squared displacement)."""
+        core = self._idle
+        return core.positions + core.images * _np.asarray(core.box)
 
     @property
     def velocities(self):

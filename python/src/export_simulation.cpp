@@ -120,6 +120,7 @@ void export_simulation(py::module_& m) {
       .def_property_readonly("engine", &PythonSimulation::engine)
       .def_property_readonly("source", &PythonSimulation::source)
       .def_property_readonly("positions", &PythonSimulation::positions)
+      .def_property_readonly("images", &PythonSimulation::images)
       .def_property_readonly("velocities", &PythonSimulation::velocities)
       .def_property_readonly("radii", &PythonSimulation::radii)
       .def_property_readonly("masses", &PythonSimulation::masses)

@@ -194,7 +194,9 @@ void PythonSimulation::open_dump(const std::string& path, double every) {
         close_dump();
         auto writer = std::make_shared<FrameWriter<D>>(dump->file, std::move(format), every);
         dump->writer = writer.get();
-        simulation.add_observer(std::move(writer));
+        // A new file: its first frame is now, when now is on its grid.
+        simulation.add_observer(std::move(writer), std::remove_reference_t<
+                                                       decltype(simulation)>::FirstLook::now);
       },
       simulation_);
   dump_ = std::move(dump);
@@ -422,6 +424,26 @@ py::array_t<double> PythonSimulation::velocities() const {
   return per_particle_vectors(
       simulation_, [](const auto& p) -> const auto& { return p.velocity; });
 }
+py::array_t<std::int32_t> PythonSimulation::images() const {
+  return std::visit(
+      [&](const auto& s) {
+        const auto& system = s.state();
+        constexpr std::size_t D = std::remove_cvref_t<decltype(system)>::dimension;
+        py::array_t<std::int32_t> out(
+            {static_cast<py::ssize_t>(system.size()), static_cast<py::ssize_t>(D)});
+        std::int32_t* data = out.mutable_data();
+        const double now_stored = s.stored_time();
+        for (std::size_t i = 0; i < system.size(); ++i) {
+          // The flags as the particle's flight to now wraps it, as a trajectory frame has them.
+          std::array<std::int32_t, 3> image = system.records[i].image;
+          synchronised(system.particles[i], system.box, now_stored, image);
+          for (std::size_t k = 0; k < D; ++k) data[i * D + k] = image[k];
+        }
+        return out;
+      },
+      simulation_);
+}
+
 py::array_t<double> PythonSimulation::radii() const {
   return per_particle<double>(simulation_, [](const auto& p, const auto&) { return p.radius; });
 }

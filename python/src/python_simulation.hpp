@@ -79,6 +79,9 @@ class PythonSimulation {
   // Every particle at time(): (N, D) arrays, copies (the stored states are lazy).
   py::array_t<double> positions() const;
   py::array_t<double> velocities() const;
+  // Image flags at the simulation's time, (N, D) int32: the unwrapped position is the position
+  // plus image times the box (always 0 with walls).
+  py::array_t<std::int32_t> images() const;
   py::array_t<double> radii() const;
   py::array_t<double> masses() const;
   py::array_t<std::uint64_t> wall_collisions() const;

@@ -279,3 +279,47 @@ def test_read_can_draw_velocities_as_the_cli_does(cli, tmp_path):
                               carom.read(rest, kT=2.0, seed=3).velocities)
     with pytest.raises(ValueError, match="kT must be greater than 0"):
         carom.read(rest, kT=0.0)
+
+
+def test_advance_runs_for_a_duration():
+    # HOOMD's habit: run(10); run(10) is 20 time units. advance(dt) is that; run(t) is absolute.
+    a = carom.init(n=100, phi=0.3, seed=5, boundary="periodic")
+    a.advance(1.5)
+    a.advance(1.5)
+    assert a.time == 3.0
+    b = carom.init(n=100, phi=0.3, seed=5, boundary="periodic")
+    b.run(3.0)
+    assert_same_run(a, b)
+    log = a.advance(0.5, collisions=True)
+    assert a.time == 3.5 and len(log) > 0 and log["time"].min() >= 3.0
+    with pytest.raises(ValueError, match="dt must be >= 0"):
+        a.advance(-1.0)
+
+
+def test_images_unwrap_the_periodic_box():
+    # A dilute gas: particles cross the box, and the unwrapped displacement says how far.
+    sim = carom.init(n=50, phi=0.05, seed=8, boundary="periodic")
+    start = sim.unwrapped_positions
+    assert sim.images.dtype == np.int32 and sim.images.shape == (50, 2)
+    assert not sim.images.any()
+    sim.run(40.0)
+    assert sim.images.any()  # some crossed the box
+    assert np.array_equal(sim.unwrapped_positions, sim.positions + sim.images * sim.box)
+    travelled = np.linalg.norm(sim.unwrapped_positions - start, axis=1)
+    assert travelled.max() > sim.box.max()
+    walls = carom.init(n=50, phi=0.05, seed=8)
+    walls.run(40.0)
+    assert not walls.images.any()
+    assert np.array_equal(walls.unwrapped_positions, walls.positions)
+
+
+def test_a_new_dump_keeps_frames_on_multiples_of_every(tmp_path):
+    # Frames stay evenly spaced (the MSD needs it): a dump opened mid-run starts at the first
+    # multiple of `every` from its start on, the start itself when it is one.
+    import re
+    for begin, first in ((1.0, "1"), (1.3, "1.5")):
+        sim = carom.init(n=40, phi=0.2, seed=9, boundary="periodic")
+        sim.run(begin)
+        path = tmp_path / f"from-{begin}.xyz"
+        sim.run(3.0, dump=path, every=0.5)
+        assert re.findall(r"Time=([0-9.e+-]+)", path.read_text())[0] == first
