@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
+#include <cmath>
+
 #include "carom/classic_input.hpp"
 #include "carom/viewer.hpp"
 #include "cli_support.hpp"
@@ -19,22 +22,79 @@ play/pause, a time slider, speed, colour by speed or by collision count, and the
 against the Maxwell-Boltzmann distribution (2D or 3D). Spheres (a trajectory with any nonzero z)
 are drawn shaded and depth-sorted in their box, which dragging rotates (double-click resets).
 
-Example:
-  carom run gas.txt 50 --rule elastic --dump movie.xyz --every 0.25
-  carom view movie.xyz -o movie.html)");
+A page above about 50 MB loads slowly in a browser: carom says so and how much --stride would
+keep. --frames A:B and --stride K choose what goes in (frames counted from 0, B not included,
+either end may be left out).
+
+Examples:
+  carom run gas.txt 50 --dump movie.xyz --every 0.25
+  carom view movie.xyz -o movie.html
+  carom view movie.xyz -o late.html --frames 100: --stride 4)");
   view->add_option("TRAJECTORY", args.trajectory, "An extended XYZ or GSD trajectory")->required();
   view->add_option("-o,--output", args.output, "The HTML file to write")->required();
+  view->add_option("--stride", args.stride, "Keep every K-th frame of those chosen")
+      ->type_name("K")
+      ->check(CLI::PositiveNumber)
+      ->default_str("1");
+  view->add_option("--frames", args.frames, "Keep frames A to B - 1 (A:B, A:, :B)")
+      ->type_name("A:B");
   return view;
 }
+
+namespace {
+
+// The frames --frames and --stride keep.
+std::vector<Frame> chosen(std::vector<Frame> frames, const ViewArguments& args) {
+  std::size_t from = 0, to = frames.size();
+  if (!args.frames.empty()) {
+    const std::size_t colon = args.frames.find(':');
+    const auto bound = [&](const std::string& text, std::size_t fallback) -> std::size_t {
+      if (text.empty()) return fallback;
+      std::size_t value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error != std::errc() || end != text.data() + text.size()) {
+        throw UsageError(fmt::format("--frames takes A:B (whole numbers), got '{}'", args.frames));
+      }
+      return value;
+    };
+    if (colon == std::string::npos) {
+      throw UsageError(fmt::format("--frames takes A:B (whole numbers), got '{}'", args.frames));
+    }
+    from = bound(args.frames.substr(0, colon), 0);
+    to = std::min(bound(args.frames.substr(colon + 1), frames.size()), frames.size());
+    if (from >= to) {
+      throw UsageError(fmt::format("--frames {} keeps none of the {} frames of {}", args.frames,
+                                   frames.size(), args.trajectory));
+    }
+  }
+  std::vector<Frame> kept;
+  for (std::size_t f = from; f < to; f += args.stride) kept.push_back(std::move(frames[f]));
+  return kept;
+}
+
+}  // namespace
 
 void view_command(const ViewArguments& args) {
   // The page is created only once the frames are read (a stop meanwhile leaves nothing), but
   // where it goes is checked first.
   if (args.output != "-") check_writable(args.output);
-  const std::vector<Frame> frames = read_trajectory_frames(args.trajectory);
+  const std::vector<Frame> frames = chosen(read_trajectory_frames(args.trajectory), args);
   Output out(args.output);
   write_viewer_html(out.stream(), frames);
+  const std::streamoff bytes = out.stream().tellp();
   out.commit();
+  constexpr double kSlowPage = 50e6;
+  if (bytes > 0 && static_cast<double>(bytes) > kSlowPage) {
+    const auto stride =
+        static_cast<std::uint64_t>(std::ceil(static_cast<double>(bytes) / kSlowPage));
+    std::cerr << fmt::format(
+        "carom: note: {} is {:.0f} MB ({} frames of {} particles) and will load slowly in a "
+        "browser: --stride {} (one frame in {}) makes it about {:.0f} MB, and --frames A:B keeps "
+        "a part\n",
+        args.output, static_cast<double>(bytes) / 1e6, frames.size(),
+        frames.front().radius.size(), args.stride * stride, args.stride * stride,
+        static_cast<double>(bytes) / 1e6 / static_cast<double>(stride));
+  }
 }
 
 }  // namespace carom::cli

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <string>
 
 namespace carom::cli {
@@ -8,6 +9,8 @@ namespace carom::cli {
 struct ViewArguments {
   std::string trajectory;
   std::string output;
+  std::uint64_t stride = 1;  // every stride-th frame
+  std::string frames;        // A:B, the frames from A up to (not including) B
 };
 
 // Declares `carom view` on `app`, filling `args` when parsed.

@@ -1085,6 +1085,23 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
   EXPECT_NE(html.find("<canvas id=\"box\""), std::string::npos);
   EXPECT_NE(html.find("\"n\":5"), std::string::npos);
   EXPECT_EQ(html.find("http"), std::string::npos);  // nothing fetched from the network
+  EXPECT_NE(html.find("\"times\":[0.0,1.0,2.0,3.0,4.0,5.0,6.0,7.0,8.0,9.0,10.0]"),
+            std::string::npos);
+  // --frames A:B and --stride K choose the frames; nothing is said of a small page.
+  const Result part = carom({"view", movie, "-o", page, "--frames", "2:9", "--stride", "3"});
+  ASSERT_EQ(part.exit_code, 0) << part.err;
+  EXPECT_EQ(part.err, "");
+  EXPECT_NE(read_file(page).find("\"times\":[2.0,5.0,8.0]"), std::string::npos);
+  EXPECT_NE(carom({"view", movie, "-o", page, "--frames", ":2"}).exit_code, 2);
+  EXPECT_NE(read_file(page).find("\"times\":[0.0,1.0]"), std::string::npos);
+  for (const std::vector<std::string>& bad_choice :
+       {std::vector<std::string>{"--frames", "5:5"}, {"--frames", "20:"}, {"--frames", "3"},
+        {"--frames", "a:b"}, {"--stride", "0"}}) {
+    std::vector<std::string> command = {"view", movie, "-o", (dir_ / "none.html").string()};
+    command.insert(command.end(), bad_choice.begin(), bad_choice.end());
+    EXPECT_EQ(carom(command).exit_code, 2) << bad_choice[1];
+    EXPECT_FALSE(fs::exists(dir_ / "none.html"));
+  }
   for (const std::string& bad : {std::string("not a trajectory\n"),
                                  std::string("2\nLattice=\"1 0 0 0 1 0 0 0 1\"\nH 0.5 0.5 0\n"),
                                  std::string("1\nno box here\nH 0 0 0\n")}) {
@@ -1093,6 +1110,27 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
     EXPECT_NE(r.err.find("bad.xyz:"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad.html"));
   }
+}
+
+// A page a browser loads slowly gets a note saying how much --stride would keep.
+TEST_F(Cli, ViewSaysWhenAPageIsLarge) {
+  const fs::path start = dir_ / "gas.txt", movie = dir_ / "big.gsd", page = dir_ / "big.html";
+  ASSERT_EQ(carom({"init", "--n", "2000", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "100", "--dump", movie, "--every", "0.1", "-q", "-o",
+                   (dir_ / "end.txt").string()})
+                .exit_code,
+            0);
+  const Result big = carom({"view", movie, "-o", page});
+  ASSERT_EQ(big.exit_code, 0) << big.err;
+  EXPECT_NE(big.err.find("(1001 frames of 2000 particles) and will load slowly in a browser: "
+                         "--stride 2 (one frame in 2)"),
+            std::string::npos)
+      << big.err;
+  const Result thinned = carom({"view", movie, "-o", page, "--stride", "2"});
+  EXPECT_EQ(thinned.err, "");
+  EXPECT_LT(fs::file_size(page), 50'000'000u);
 }
 
 TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
