@@ -10,6 +10,7 @@
 
 #include "carom/formats.hpp"
 #include "carom/gsd.hpp"
+#include "carom/initial.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
@@ -25,7 +26,7 @@ CLI::App* add_compress_command(CLI::App& app, CompressArguments& args) {
       R"(Every radius grows as r(t) = r(0) (1 + RATE t), size ratios kept, while the particles
 move and collide (elastically in the frame of their growing surfaces); the velocities are
 rescaled to kT every N collisions. --phi stops exactly at the target packing fraction; --jam
-grows until the reduced pressure Z = PV/NkT passes {:g} and reports the jamming packing
+grows until the compressibility factor Z = PV/NkT passes {:g} and reports the jamming packing
 fraction. The output is a classic start file (radii in a column when they differ) that
 'carom run' takes as it is. Slower rates give denser packings: equal spheres crystallise when
 compressed slowly, and jam near random close packing (0.64) at the default rate.
@@ -56,7 +57,7 @@ Examples:
       ->default_str("1");
   compress
       ->add_option("--jam-pressure", args.settings.jammed_pressure,
-                   "The reduced pressure Z at which --jam stops")
+                   "The compressibility factor Z at which --jam stops")
       ->check(finite_number())
       ->default_str(fmt::format("{:g}", kJammedPressure));
   add_choice<EngineKind>(compress, "--engine", args.settings.engine,
@@ -64,8 +65,12 @@ Examples:
   compress->add_option("-o,--output", args.output,
                        "Write the packing to this file (default: stdout)");
   compress->add_option("--summary", args.summary,
-                       "Also write the packing fraction, reduced pressure, rate and events (json)");
-  compress->add_flag("-q,--quiet", args.quiet, "No progress line on a terminal");
+                       "Also write the packing fraction, compressibility factor, rate and events (json)");
+  compress->add_flag("--unit-diameter", args.unit_diameter,
+                     "Rescale the packing to a mean diameter of 1 (the box shrinks with it; the "
+                     "packing fraction and Z are unchanged); otherwise lengths keep the start's "
+                     "unit and the diameters end larger");
+  compress->add_flag("-q,--quiet", args.quiet, "No progress line on a terminal, and no notes");
   add_progress_option(compress, args.progress);
   return compress;
 }
@@ -104,14 +109,16 @@ void compress(const CompressArguments& args, System<D> start) {
       if (progress.due()) {
         const Compression<D>& c = *compression;
         progress.print(fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
-                                   c.packing_fraction(), c.reduced_pressure(), c.time(),
+                                   c.packing_fraction(), c.compressibility_factor(), c.time(),
                                    static_cast<double>(c.events())));
       }
     }
   }
   const Compression<D>& c = *compression;
   // The packing so far is a valid start, whatever stopped the compression: it is kept.
-  const System<D>& system = c.system();
+  System<D> system = c.system();
+  const double grown_diameter = mean_diameter(system);
+  if (args.unit_diameter) scale_lengths(system, 1.0 / grown_diameter);
   write_start(out.stream(), system, Rule::elastic);
   const int signal = stop_signal().load();
   if (summary) {
@@ -126,12 +133,15 @@ void compress(const CompressArguments& args, System<D> start) {
         {"status", status_name(c.status())},
         {"target", settings.target ? nlohmann::json(*settings.target) : nlohmann::json(nullptr)},
         {"packing_fraction", c.packing_fraction()},
-        {"reduced_pressure", c.reduced_pressure()},
+        {"compressibility_factor", c.compressibility_factor()},
         {"rate", settings.rate},
         {"kT", settings.temperature},
         {"jam_pressure", settings.jammed_pressure},
         {"time", c.time()},
         {"events", c.events()},
+        {"mean_diameter", mean_diameter(system)},
+        {"unit_diameter", args.unit_diameter},
+        {"box", system.box.size.c},
         {"wall_seconds", seconds}};
     summary->stream() << json.dump(2) << '\n';
   }
@@ -147,11 +157,17 @@ void compress(const CompressArguments& args, System<D> start) {
                                   describe_signal(signal), c.packing_fraction(),
                                   args.output.empty() ? "the output" : args.output));
   }
+  if (!args.unit_diameter && !args.quiet) {
+    std::cerr << fmt::format(
+        "carom: note: the {} grew to a mean diameter of {:.6g}, the packing's unit of length "
+        "(--unit-diameter rescales it to 1, the box with it)\n",
+        kParticlesName<D>, grown_diameter);
+  }
   if (settings.target && c.status() == CompressionStatus::jammed) {
     throw std::runtime_error(fmt::format(
         "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
         "packing is in {}",
-        kParticlesName<D>, c.packing_fraction(), c.reduced_pressure(), *settings.target,
+        kParticlesName<D>, c.packing_fraction(), c.compressibility_factor(), *settings.target,
         args.output.empty() ? "the output" : args.output));
   }
 }

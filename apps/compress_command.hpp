@@ -17,6 +17,7 @@ struct CompressArguments {
   CompressionSettings settings;
   std::string output;
   std::string summary;
+  bool unit_diameter = false;  // rescale the result to a mean diameter of 1
   bool quiet = false;
   std::optional<double> progress;  // seconds between status lines, whatever stderr is
 };

@@ -126,7 +126,7 @@ def row(name, n, rate, runs, reference):
     seconds = sum(s["seconds"] for s in runs)
     print(f"| {name} | {n} | {rate:g} | {' '.join(f'{p:.4f}' for p in phis)} | {mean:.4f}{spread} "
           f"| {q6} | {max(s['overlap'] for s in runs):.1e} "
-          f"| {max(s['reduced_pressure'] for s in runs):.1e} "
+          f"| {max(s['compressibility_factor'] for s in runs):.1e} "
           f"| {statistics.mean(s['events'] for s in runs):.3g} | {seconds:.0f} s | {reference} |",
           flush=True)
 

@@ -153,14 +153,14 @@ void Compression<D>::stretch() {
   const double temperature = kinetic_temperature(system_);
   if (stop > 0.0) {
     const double mean_temperature = 0.5 * (settings_.temperature + temperature);
-    reduced_pressure_ =
+    compressibility_factor_ =
         1.0 + virial / (static_cast<double>(D) * static_cast<double>(n) * mean_temperature * stop);
   }
   const double factor = std::sqrt(settings_.temperature / temperature);
   for (Particle<D>& p : system_.particles) p.velocity *= factor;
   if (reached) {
     status_ = CompressionStatus::reached_target;
-  } else if (reduced_pressure_ > settings_.jammed_pressure) {
+  } else if (compressibility_factor_ > settings_.jammed_pressure) {
     status_ = CompressionStatus::jammed;
   }
 }

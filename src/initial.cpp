@@ -434,9 +434,34 @@ void draw_velocities(System<D>& system, double temperature, std::uint64_t seed) 
   draw_velocities(system, temperature, rng);
 }
 
+template <std::size_t D>
+double mean_diameter(const System<D>& system) {
+  double sum = 0.0;
+  for (const Particle<D>& p : system.particles) sum += 2.0 * p.radius;
+  return sum / static_cast<double>(system.size());
+}
+
+template <std::size_t D>
+void scale_lengths(System<D>& system, double factor) {
+  if (!(factor > 0.0 && std::isfinite(factor))) {
+    throw std::invalid_argument(fmt::format("a length factor must be above 0, got {}", factor));
+  }
+  // Multiplying by one factor keeps every order (inside the box, clear of a wall) that held;
+  // sums of scaled lengths may differ from scaled sums by an ulp, which readers count as touching.
+  system.box.size *= factor;
+  for (Particle<D>& p : system.particles) {
+    p.position *= factor;
+    p.radius *= factor;
+  }
+}
+
 template System<2> make_initial(const InitialOptions&);
 template System<3> make_initial(const InitialOptions&);
 template void draw_velocities(System<2>&, double, std::uint64_t);
 template void draw_velocities(System<3>&, double, std::uint64_t);
+template double mean_diameter(const System<2>&);
+template double mean_diameter(const System<3>&);
+template void scale_lengths(System<2>&, double);
+template void scale_lengths(System<3>&, double);
 
 }  // namespace carom

@@ -1224,6 +1224,23 @@ TEST_F(Cli, CompressWritesAStartThatRunsAndRefusesWhatCannotBe) {
   EXPECT_NEAR(s["packing_fraction"].get<double>(), 0.75, 1e-13);
   EXPECT_EQ(s["n"], 300);
   EXPECT_GT(s["events"].get<std::uint64_t>(), 0u);
+  // The diameters grew: the note and the summary say by how much, --unit-diameter undoes it.
+  EXPECT_GT(s["mean_diameter"].get<double>(), 1.2);
+  EXPECT_EQ(s["unit_diameter"], false);
+  EXPECT_NE(ok.err.find("carom: note: the disks grew to a mean diameter of"), std::string::npos)
+      << ok.err;
+  const fs::path unit = dir_ / "unit.txt", unit_summary = dir_ / "u.json";
+  const Result rescaled = carom({"compress", start, "--phi", "0.75", "--unit-diameter", "-o",
+                                 unit, "--summary", unit_summary});
+  ASSERT_EQ(rescaled.exit_code, 0) << rescaled.err;
+  EXPECT_EQ(rescaled.err, "");
+  const nlohmann::json u = nlohmann::json::parse(read_file(unit_summary));
+  EXPECT_NEAR(u["mean_diameter"].get<double>(), 1.0, 1e-14);
+  EXPECT_EQ(u["unit_diameter"], true);
+  EXPECT_NEAR(u["box"][0].get<double>() * s["mean_diameter"].get<double>(),
+              s["box"][0].get<double>(), 1e-12);
+  EXPECT_NEAR(u["packing_fraction"].get<double>(), 0.75, 1e-13);
+  EXPECT_EQ(carom({"run", unit, "2", "--check", "-q", "-o", dir_ / "u.txt"}).exit_code, 0);
   // The packing runs as it is, checked for overlaps as it goes.
   const Result run = carom({"run", dense, "5", "--rule", "elastic", "--boundary", "periodic",
                             "--check", "--summary", dir_ / "run.json", "-o", dir_ / "end.txt"});

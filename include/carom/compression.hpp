@@ -8,7 +8,7 @@
 // The run goes in stretches: each starts an engine at the current radii (grown by the growth from
 // the start, not by accumulated rounding) and lasts N events, or until the radii have grown by
 // 2 %, or until the target; then every particle is brought to its end, the radii are set, the
-// velocities rescaled and the reduced pressure of the stretch measured. Everything the class
+// velocities rescaled and the compressibility factor of the stretch measured. Everything the class
 // reports is at the end of a stretch.
 #pragma once
 
@@ -24,7 +24,7 @@ namespace carom {
 // Fast enough that equal spheres jam amorphous (near random close packing, 0.64) rather than
 // crystallise; see docs/validation.md for what slower rates give.
 inline constexpr double kDefaultGrowthRate = 0.01;
-// The reduced pressure Z = PV / NkT at which a packing counts as jammed (Skoge et al.'s 10^12).
+// The compressibility factor Z = PV / NkT at which a packing counts as jammed (Skoge et al.'s 10^12).
 inline constexpr double kJammedPressure = 1e12;
 
 struct CompressionSettings {
@@ -40,7 +40,7 @@ struct CompressionSettings {
 enum class CompressionStatus {
   running,
   reached_target,  // the packing fraction is the target (to rounding)
-  jammed,          // the reduced pressure passed settings.jammed_pressure
+  jammed,          // the compressibility factor passed settings.jammed_pressure
 };
 
 template <std::size_t D>
@@ -64,7 +64,7 @@ class Compression {
   double time() const { return time_; }
   double packing_fraction() const;
   // Z = PV / NkT over the last stretch, from the collision virial; 0 before any.
-  double reduced_pressure() const { return reduced_pressure_; }
+  double compressibility_factor() const { return compressibility_factor_; }
   std::uint64_t events() const { return events_; }
 
  private:
@@ -79,7 +79,7 @@ class Compression {
   double initial_packing_ = 0.0;
   double target_time_ = 0.0;  // when the target is reached (infinite when jamming)
   double time_ = 0.0;
-  double reduced_pressure_ = 0.0;
+  double compressibility_factor_ = 0.0;
   std::uint64_t events_ = 0;
   CompressionStatus status_ = CompressionStatus::running;
 };

@@ -66,4 +66,14 @@ System<D> make_initial(const InitialOptions& options);
 template <std::size_t D>
 void draw_velocities(System<D>& system, double temperature, std::uint64_t seed);
 
+// The particles' mean diameter.
+template <std::size_t D>
+double mean_diameter(const System<D>& system);
+
+// The same configuration in another unit of length: the box, every position and radius times
+// `factor` (> 0), velocities kept (so kT, Z and the packing fraction are unchanged). A packing
+// compressed from diameter 1 is brought back to a mean diameter of 1 with 1 / mean_diameter.
+template <std::size_t D>
+void scale_lengths(System<D>& system, double factor);
+
 }  // namespace carom

@@ -365,14 +365,19 @@ def init(n, phi, seed=1, dim=2, boundary="walls", rule="elastic", box=None, aspe
         _choice("engine", engine, _ENGINES)))
 
 
-def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12):
+def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12,
+             unit_diameter=False):
     """`carom compress` of sim's particles at sim.time: a new Simulation (sim's rule, restitution,
-    tc and engine; time 0) and a summary dict (status, packing_fraction, reduced_pressure, rate,
-    time, events). sim is left as it was.
+    tc and engine; time 0) and a summary dict (status, packing_fraction, compressibility_factor,
+    rate, time, events, mean_diameter, unit_diameter). sim is left as it was.
+
+    The diameters grow, so the packing's unit of length is the start's and its mean diameter is
+    larger than the start's; unit_diameter=True rescales it (box, positions, radii) to a mean
+    diameter of 1, as `carom compress --unit-diameter`.
 
     Every radius grows as r(t) = r(0) (1 + rate t), size ratios kept, while the particles move and
     collide (Lubachevsky-Stillinger); the velocities are rescaled to kT every N collisions. Give
-    phi (stop exactly at that packing fraction) or jam=True (grow until the reduced pressure
+    phi (stop exactly at that packing fraction) or jam=True (grow until the compressibility factor
     passes jam_pressure). Impossible requests (phi beyond close packing, overlapping particles)
     raise ValueError; Ctrl-C raises KeyboardInterrupt.
     """
@@ -380,7 +385,7 @@ def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12):
         raise ValueError("give phi (a packing fraction to stop at) or jam=True, not both")
     core, summary = sim._core.compress(
         None if phi is None else _number("phi", phi), _number("rate", rate), _number("kT", kT),
-        _number("jam_pressure", jam_pressure))
+        _number("jam_pressure", jam_pressure), _flag("unit_diameter", unit_diameter))
     return Simulation._wrap(core), summary
 
 

@@ -99,15 +99,15 @@ void export_simulation(py::module_& m) {
       .def(
           "compress",
           [](const PythonSimulation& self, std::optional<double> target, double rate,
-             double temperature, double jammed_pressure) {
+             double temperature, double jammed_pressure, bool unit_diameter) {
             CompressionSettings settings;
             settings.target = target;
             settings.rate = rate;
             settings.temperature = temperature;
             settings.jammed_pressure = jammed_pressure;
-            return self.compress(settings);
+            return self.compress(settings, unit_diameter);
           },
-          "phi"_a, "rate"_a, "kT"_a, "jam_pressure"_a)
+          "phi"_a, "rate"_a, "kT"_a, "jam_pressure"_a, "unit_diameter"_a)
       .def_property_readonly("time", &PythonSimulation::time)
       .def_property_readonly("events", &PythonSimulation::events)
       .def_property_readonly("n", &PythonSimulation::size)

@@ -275,7 +275,7 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
 }
 
 std::pair<PythonSimulation, py::dict> PythonSimulation::compress(
-    const CompressionSettings& settings) const {
+    const CompressionSettings& settings, bool unit_diameter) const {
   return std::visit(
       [&](const auto& simulation) -> std::pair<PythonSimulation, py::dict> {
         using Sim = std::remove_cvref_t<decltype(simulation)>;
@@ -303,11 +303,15 @@ std::pair<PythonSimulation, py::dict> PythonSimulation::compress(
         summary["status"] =
             compression.status() == CompressionStatus::jammed ? "jammed" : "reached_target";
         summary["packing_fraction"] = compression.packing_fraction();
-        summary["reduced_pressure"] = compression.reduced_pressure();
+        summary["compressibility_factor"] = compression.compressibility_factor();
         summary["rate"] = settings.rate;
         summary["time"] = compression.time();
         summary["events"] = compression.events();
-        return {PythonSimulation(AnySimulation(std::in_place_type<Sim>, compression.system(),
+        System<D> packing = compression.system();
+        if (unit_diameter) scale_lengths(packing, 1.0 / mean_diameter(packing));
+        summary["mean_diameter"] = mean_diameter(packing);
+        summary["unit_diameter"] = unit_diameter;
+        return {PythonSimulation(AnySimulation(std::in_place_type<Sim>, std::move(packing),
                                                simulation.settings()),
                                  source_),
                 summary};

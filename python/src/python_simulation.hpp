@@ -63,7 +63,9 @@ class PythonSimulation {
   // A new simulation (the same settings, time 0) of this one's particles at time() compressed
   // as carom compress does, and its summary; the GIL is released while it works, and
   // Ctrl-C raises KeyboardInterrupt within a stretch of N events, leaving this one whole.
-  std::pair<PythonSimulation, py::dict> compress(const CompressionSettings& settings) const;
+  // With `unit_diameter`, the packing rescaled to a mean diameter of 1 (scale_lengths).
+  std::pair<PythonSimulation, py::dict> compress(const CompressionSettings& settings,
+                                                 bool unit_diameter) const;
 
   double time() const;
   std::uint64_t events() const;

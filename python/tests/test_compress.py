@@ -45,7 +45,7 @@ def test_compress_equals_cli_compress_and_overlaps_nothing(cli, tmp_path, init, 
         assert summary["status"] == "reached_target"
         assert abs(summary["packing_fraction"] - options["phi"]) < 1e-13
     else:
-        assert summary["status"] == "jammed" and summary["reduced_pressure"] > 1e12
+        assert summary["status"] == "jammed" and summary["compressibility_factor"] > 1e12
     # No overlap, checked without carom; size ratios kept.
     assert overlaps(dense) < 1e-12
     assert outside_walls(dense) < 1e-12
@@ -79,3 +79,29 @@ def test_compress_refuses_what_cannot_be_done():
         carom.compress(sim, phi=0.5, jam=True)
     with pytest.raises(ValueError, match="growth rate"):
         carom.compress(sim, jam=True, rate=0)
+
+
+@pytest.mark.parametrize("dim,boundary", [(2, "periodic"), (3, "walls")])
+def test_unit_diameter_rescales_the_packing_as_the_cli_does(cli, tmp_path, dim, boundary):
+    sim = carom.init(n=120, phi=0.3, dim=dim, boundary=boundary, polydispersity=0.1)
+    grown, summary = carom.compress(sim, phi=0.5)
+    unit, unit_summary = carom.compress(sim, phi=0.5, unit_diameter=True)
+    assert summary["mean_diameter"] > 1.1 and not summary["unit_diameter"]
+    assert abs(unit_summary["mean_diameter"] - 1.0) < 1e-14 and unit_summary["unit_diameter"]
+    assert abs(np.mean(2 * unit.radii) - 1.0) < 1e-14
+    factor = 1.0 / summary["mean_diameter"]
+    assert np.array_equal(unit.box, grown.box * factor)
+    assert np.array_equal(unit.positions, grown.positions * factor)
+    assert np.array_equal(unit.velocities, grown.velocities)
+    assert unit.observables()["packing_fraction"] == pytest.approx(0.5, rel=1e-13)
+    assert overlaps(unit) < 1e-12 and outside_walls(unit) < 1e-12
+    unit.run(0.5)
+    assert unit.events > 0
+    start, out = tmp_path / "start.txt", tmp_path / "out.txt"
+    cli("init", "--dim", dim, "--n", 120, "--phi", 0.3, "--polydispersity", 0.1,
+        "--boundary", boundary, "-o", start)
+    cli("compress", start, "--phi", 0.5, "--unit-diameter", "-o", out)
+    from_cli = carom.read(out)
+    assert np.array_equal(from_cli.positions, carom.compress(sim, phi=0.5,
+                                                              unit_diameter=True)[0].positions)
+    assert from_cli.boundary == boundary and from_cli.rule == "elastic"
