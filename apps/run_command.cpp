@@ -416,6 +416,14 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
     simulation.add_observer(std::make_shared<CheckpointWriter<D>>(
         args.checkpoint, start.source, checkpoint_trigger(args.checkpoint_every)));
   }
+  // Z over 20 intervals of the measurement window, first half against second.
+  std::shared_ptr<ZDrift<D>> drift;
+  const double window_start =
+      simulation.pending_measurement().value_or(simulation.measurement().start_time);
+  if (end_time > window_start) {
+    drift = std::make_shared<ZDrift<D>>((end_time - window_start) / ZDrift<D>::kIntervals);
+    simulation.add_observer(drift);
+  }
   if (Progress<D>::wanted(args.quiet, args.progress)) {
     simulation.add_observer(
         std::make_shared<Progress<D>>(simulation.time(), end_time, args.quiet, args.progress));
@@ -456,9 +464,19 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
                                                 interruption(simulation, args));
   }
 
-  RunReport report{start.source, seconds, simulation.counts().events - events_before,
-                   std::nullopt};
+  RunReport report;
+  report.input = start.source;
+  report.wall_seconds = seconds;
+  report.events = simulation.counts().events - events_before;
   if (args.temperature) report.seed = args.seed;
+  report.drift = drift ? drift->verdict() : std::nullopt;
+  if (report.drift && report.drift->drifted() && !args.quiet) {
+    std::cerr << fmt::format(
+        "carom: warning: Z drifted from {:.6g} (first half of the measurement window) to {:.6g} "
+        "(second half), {:.1f} standard errors: the system was still changing while measured "
+        "(equilibrate longer: --equilibrate)\n",
+        report.drift->first, report.drift->second, report.drift->sigmas);
+  }
   if (trace) {
     trace->finish(simulation);
   } else if (args.format == Format::table) {

@@ -158,6 +158,12 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
                                               : nlohmann::ordered_json(o.wall_pressure)},
       {"compressibility_factor", number(o.compressibility_factor)},
+      {"compressibility_factor_drift",
+       report.drift ? nlohmann::ordered_json{{"first_half", report.drift->first},
+                                             {"second_half", report.drift->second},
+                                             {"sigmas", report.drift->sigmas},
+                                             {"intervals", report.drift->intervals}}
+                    : nlohmann::ordered_json(nullptr)},
       {"collision_rate", o.collision_rate},
       {"mean_free_time", number(o.mean_free_time)},
       {"wall_seconds", report.wall_seconds},

@@ -159,6 +159,43 @@ std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclu
 template class TimeSeriesWriter<2>;
 template class TimeSeriesWriter<3>;
 
+template <std::size_t D>
+void ZDrift<D>::observe(const Simulation<D>& simulation) {
+  const double now = simulation.time();
+  const bool measuring = !simulation.pending_measurement();
+  if (last_time_ && measuring && *last_time_ >= simulation.measurement().start_time &&
+      now > *last_time_) {
+    const Measurement interval{*last_time_, 0.0, difference(simulation.counts(), last_totals_)};
+    const double z = measure(simulation.state(), interval, now).compressibility_factor;
+    if (std::isfinite(z)) z_.push_back(z);
+  }
+  last_time_ = now;
+  last_totals_ = simulation.counts();
+}
+
+template <std::size_t D>
+std::optional<DriftVerdict> ZDrift<D>::verdict() const {
+  const std::size_t half = z_.size() / 2;
+  if (half < kLeastPerHalf) return std::nullopt;
+  // The halves' means and the squared standard errors of those means.
+  const auto summary = [](auto begin, auto end) {
+    const auto n = static_cast<double>(end - begin);
+    double mean = 0.0, squares = 0.0;
+    for (auto it = begin; it != end; ++it) mean += *it / n;
+    for (auto it = begin; it != end; ++it) squares += (*it - mean) * (*it - mean);
+    return std::pair{mean, squares / (n - 1.0) / n};
+  };
+  // The middle interval of an odd count is in neither half.
+  const auto [first, first_variance] = summary(z_.begin(), z_.begin() + half);
+  const auto [second, second_variance] = summary(z_.end() - half, z_.end());
+  const double error = std::sqrt(first_variance + second_variance);
+  const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
+  return DriftVerdict{first, second, sigmas, z_.size()};
+}
+
+template class ZDrift<2>;
+template class ZDrift<3>;
+
 LogTable read_log_table(const std::string& path) {
   std::ifstream in = open_input(path);
   LogTable table;

@@ -602,6 +602,33 @@ TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 }
 
+// Z over the first half of the measurement window against the second: a run still changing is
+// told so; an equilibrated one is not.
+TEST_F(Cli, ARunSaysWhenZDriftedOverItsWindow) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(carom({"init", "--n", "500", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const Result steady = carom({"run", start, "60", "--equilibrate", "10", "--format", "json"});
+  ASSERT_EQ(steady.exit_code, 0) << steady.err;
+  EXPECT_EQ(steady.err.find("warning"), std::string::npos) << steady.err;
+  const auto calm = nlohmann::json::parse(steady.out)["compressibility_factor_drift"];
+  EXPECT_EQ(calm["intervals"], 20);
+  EXPECT_LT(std::abs(calm["sigmas"].get<double>()), 3.0);
+  // A cooling granular gas changes all along.
+  const Result cooling = carom({"run", start, "30", "--restitution", "0.5", "--format", "json"});
+  ASSERT_EQ(cooling.exit_code, 0) << cooling.err;
+  EXPECT_NE(cooling.err.find("carom: warning: Z drifted from"), std::string::npos) << cooling.err;
+  const auto drift = nlohmann::json::parse(cooling.out)["compressibility_factor_drift"];
+  EXPECT_LT(drift["sigmas"].get<double>(), -3.0);
+  EXPECT_GT(drift["first_half"].get<double>(), drift["second_half"].get<double>());
+  EXPECT_EQ(carom({"run", start, "30", "--restitution", "0.5", "-q", "-o", dir_ / "q.txt"}).err,
+            "");
+  // No window, no verdict.
+  const Result none = carom({"run", start, "5", "--equilibrate", "5", "--format", "json"});
+  EXPECT_TRUE(nlohmann::json::parse(none.out)["compressibility_factor_drift"].is_null());
+}
+
 // A dump that a resumed run begins (not one it continues) starts with a frame at the resumed
 // time when that is a multiple of --every, as any new dump's first frame is at its first instant.
 TEST_F(Cli, ADumpBegunByAResumedRunStartsAtItsTime) {

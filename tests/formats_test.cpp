@@ -105,7 +105,11 @@ TEST(Formats, JsonCountsTheWholeRunAndTheWindowApart) {
   simulation.measure_from(10.0);
   simulation.run_until(30.0);
   std::ostringstream out;
-  write_json(out, simulation, {"in.txt", 2.0, 40, std::nullopt}, false);
+  RunReport report;
+  report.input = "in.txt";
+  report.wall_seconds = 2.0;
+  report.events = 40;
+  write_json(out, simulation, report, false);
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["events"], 3);
   EXPECT_EQ(json["wall_collisions"], 3);
@@ -133,7 +137,9 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
   Simulation<2> simulation(system);
   simulation.run_until(12.5);
   std::ostringstream out;
-  write_json(out, simulation, {"in.txt", 0.0, 0, std::nullopt});
+  RunReport report;
+  report.input = "in.txt";
+  write_json(out, simulation, report);
   const auto json = nlohmann::json::parse(out.str());
   EXPECT_EQ(json["input"], "in.txt");
   EXPECT_EQ(json["end_time"], 12.5);

@@ -12,6 +12,7 @@
 #include "carom/event.hpp"
 #include "carom/simulation.hpp"
 #include "carom/system.hpp"
+#include "carom/time_series.hpp"
 
 namespace carom {
 
@@ -51,6 +52,7 @@ struct RunReport {
   double wall_seconds = 0.0;  // wall-clock time of the simulation (of this process)
   std::uint64_t events = 0;   // the events processed in that time
   std::optional<std::uint64_t> seed;  // of the velocities the run drew, if it drew any
+  std::optional<DriftVerdict> drift;  // of Z over the measurement window, if measured
 };
 
 // The settings, the whole run's counts (from t = 0, across resumes), the measurement window's

@@ -3,6 +3,7 @@
 // block-average error bar.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <istream>
@@ -82,6 +83,35 @@ class TimeSeriesWriter final : public Observer<D> {
   Row last_;                            // the previous row
   std::optional<double> window_start_;  // the measurement window the averages are over
   BlockAverage pressure_, z_;
+};
+
+// Whether Z settled over the measurement window: Z over equal intervals (between multiples of
+// `every`, counted from t = 0) that lie in the window, the first half of them against the
+// second. A run still equilibrating shows a drift of many standard errors.
+struct DriftVerdict {
+  double first = 0.0, second = 0.0;  // mean Z over each half's intervals
+  double sigmas = 0.0;               // (second - first) / the standard error of the difference
+  std::size_t intervals = 0;
+  // Past this many standard errors a run says it was not equilibrated.
+  static constexpr double kWarning = 3.0;
+  bool drifted() const { return std::abs(sigmas) > kWarning; }
+};
+
+template <std::size_t D>
+class ZDrift final : public Observer<D> {
+ public:
+  // Fewer intervals than this in a half give no verdict.
+  static constexpr std::size_t kLeastPerHalf = 4;
+  // Intervals a window is cut into when its length is known.
+  static constexpr double kIntervals = 20.0;
+  explicit ZDrift(double every) : Observer<D>(Trigger::every_time(every)) {}
+  void observe(const Simulation<D>& simulation) override;
+  std::optional<DriftVerdict> verdict() const;
+
+ private:
+  std::optional<double> last_time_;
+  Counts last_totals_;
+  std::vector<double> z_;
 };
 
 // A time-series log (carom run --log FILE.csv) as read back: its columns, and rows of numbers

@@ -463,11 +463,19 @@ py::array_t<std::uint64_t> PythonSimulation::pair_collisions() const {
                                      [](const auto&, const auto& r) { return r.pair_collisions; });
 }
 
+RunReport PythonSimulation::report() const {
+  RunReport report;
+  report.input = source_;
+  report.wall_seconds = wall_seconds_;
+  report.events = events_run_;
+  return report;
+}
+
 std::string PythonSimulation::json(bool particles) const {
   std::ostringstream out;
   std::visit(
       [&](const auto& s) {
-        write_json(out, s, {source_, wall_seconds_, events_run_, std::nullopt}, particles);
+        write_json(out, s, report(), particles);
       },
       simulation_);
   return out.str();
@@ -479,7 +487,7 @@ std::string PythonSimulation::text(Format format) const {
       [&](const auto& s) {
         if (format == Format::table) write_table(out, s);
         if (format == Format::csv) write_csv(out, s);
-        if (format == Format::json) write_json(out, s, {source_, wall_seconds_, events_run_, std::nullopt});
+        if (format == Format::json) write_json(out, s, report());
       },
       simulation_);
   return out.str();

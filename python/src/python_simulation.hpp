@@ -109,6 +109,8 @@ class PythonSimulation {
 
   AnySimulation simulation_;
   std::string source_;
+  RunReport report() const;  // what the json output says of the runs so far
+
   double wall_seconds_ = 0.0;     // in run(), over this object's life
   std::uint64_t events_run_ = 0;  // the events of that time
   std::unique_ptr<Dump> dump_;
