@@ -1139,6 +1139,17 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
   }
 }
 
+// Help names what an option takes: a number is not TEXT.
+TEST_F(Cli, AnalyzeHelpNamesWhatItsOptionsTake) {
+  const Result help = carom({"analyze", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* shown : {"--equilibrate T", "--bin WIDTH", "--r-max R", "--contact-width WIDTH",
+                            "--log FILE", "TRAJECTORY FILE"}) {
+    EXPECT_NE(help.out.find(shown), std::string::npos) << shown << "\n" << help.out;
+  }
+  EXPECT_EQ(help.out.find("TEXT"), std::string::npos) << help.out;
+}
+
 // A page a browser loads slowly gets a note saying how much --stride would keep.
 TEST_F(Cli, ViewSaysWhenAPageIsLarge) {
   const fs::path start = dir_ / "gas.txt", movie = dir_ / "big.gsd", page = dir_ / "big.html";
