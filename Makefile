@@ -41,6 +41,7 @@ demo: build-run python-install
 python-install: build-run
 	@test -n "$(PYTHON_SITE)" || { echo "no site-packages folder for $(PYTHON)"; exit 1; }
 	@mkdir -p $(PYTHON_SITE)
+	@if [ -e $(PYTHON_SITE)/carom ]; then echo "Replacing the carom Python module in $(PYTHON_SITE)/carom"; fi
 	@rm -rf $(PYTHON_SITE)/carom
 	@cp -r $(BUILD)/python/carom $(PYTHON_SITE)/carom
 	@echo "Installed the carom Python module for $(PYTHON) in $(PYTHON_SITE)/carom (make python-uninstall removes it)"
