@@ -76,6 +76,8 @@ test("the page loads from disk with every frame and no errors", async () => {
   assert.equal(await text("#frames"), "30");  // frames t = 0, 0.1, ..., 3
   assert.equal(await text("#frame"), "0");
   assert.match(await text("#info"), /2000 disks/);
+  // Box sides to 7 significant digits, not the 17 of a double (or the noise of a float32).
+  assert.match(await text("#info"), /^2000 disks, box \d{2}\.\d{1,5} x \d{2}\.\d{1,5} \(periodic\)$/);
   assert.equal(await page.getAttribute("body", "data-dimension"), "2");
   assert.deepEqual(errors, []);
 });
