@@ -231,22 +231,31 @@ class Simulation:
 
     @property
     def boundary(self):
+        """"walls" (hard walls on every face) or "periodic" (minimum image, no walls)."""
         return self._idle.boundary
 
     @property
     def rule(self):
+        """"elastic" (momentum exchanged along the line of centres, with masses) or "swap" (the
+        classic assignment's: whole velocities exchanged)."""
         return self._idle.rule
 
     @property
     def restitution(self):
+        """The coefficient of normal restitution: 1 elastic, below 1 inelastic (granular)."""
         return self._idle.restitution
 
     @property
     def tc(self):
+        """The TC model's time: a particle that collided less than tc ago collides elastically
+        (against inelastic collapse; no effect at restitution 1)."""
         return self._idle.tc
 
     @property
     def engine(self):
+        """"fast" (neighbour lists or cells and an event calendar) or "reference" (every pair
+        checked after every event: O(N^2), for checking); both give the same events, bit for
+        bit."""
         return self._idle.engine
 
     @property
@@ -274,10 +283,12 @@ class Simulation:
 
     @property
     def radii(self):
+        """Each particle's radius: (N,) float64 (a copy)."""
         return self._idle.radii
 
     @property
     def masses(self):
+        """Each particle's mass: (N,) float64 (a copy)."""
         return self._idle.masses
 
     @property

@@ -323,3 +323,22 @@ def test_a_new_dump_keeps_frames_on_multiples_of_every(tmp_path):
         path = tmp_path / f"from-{begin}.xyz"
         sim.run(3.0, dump=path, every=0.5)
         assert re.findall(r"Time=([0-9.e+-]+)", path.read_text())[0] == first
+
+
+def test_help_documents_every_public_name():
+    # help(carom.Simulation) answers every question: no public function, method or property
+    # without a docstring.
+    import inspect
+    missing = []
+    for name, value in vars(carom).items():
+        if name.startswith("_") or not (inspect.isfunction(value) or inspect.isclass(value)):
+            continue
+        if not inspect.getdoc(value):
+            missing.append(name)
+    for name, value in vars(carom.Simulation).items():
+        if name.startswith("_"):
+            continue
+        target = value.fget if isinstance(value, property) else value
+        if not inspect.getdoc(target):
+            missing.append(f"Simulation.{name}")
+    assert not missing, missing
