@@ -109,6 +109,10 @@ test("the disks and the histogram are drawn, in both colourings", async () => {
     await page.selectOption("#colour", colour);
     const box = await painted(page, "#box");
     assert.ok(box > 0.3, `${colour}: only ${box} of the box is painted`);  // eta = 0.5
+    // The legend says what the colours run up to in this frame.
+    assert.match(await text("#legend-high"),
+                 colour === "speed" ? /^\d\.\d\d \(speed\)$/ : /^\d+ collisions$/);
+    assert.ok((await page.getAttribute("#legend-bar", "style")).includes("linear-gradient"));
   }
   const bars = await painted(page, "#histogram");
   assert.ok(bars > 0.02, `only ${bars} of the histogram is painted`);
