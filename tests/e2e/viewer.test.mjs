@@ -104,15 +104,28 @@ test("the slider moves to a frame", async () => {
   assert.equal(await text("#time"), "2.00000");
 });
 
-test("the disks and the histogram are drawn, in both colourings", async () => {
-  for (const colour of ["speed", "collisions"]) {
+test("the disks and the histogram are drawn, in every colouring", async () => {
+  for (const colour of ["speed", "collisions", "psi6"]) {
     await page.selectOption("#colour", colour);
     const box = await painted(page, "#box");
     assert.ok(box > 0.3, `${colour}: only ${box} of the box is painted`);  // eta = 0.5
     // The legend says what the colours run up to in this frame.
     assert.match(await text("#legend-high"),
-                 colour === "speed" ? /^\d\.\d\d \(speed\)$/ : /^\d+ collisions$/);
+                 colour === "speed" ? /^\d\.\d\d \(speed\)$/
+                 : colour === "psi6" ? /the phase of psi6/ : /^\d+ collisions$/);
     assert.ok((await page.getAttribute("#legend-bar", "style")).includes("linear-gradient"));
+  }
+  // The page's psi6 is carom analyze's: the global |psi6| of the frame shown, and of frame 0
+  // (the lattice the start was, before it melted).
+  const analysis = JSON.parse(execFileSync(carom, ["analyze", join(folder, "movie.xyz"), "-o", "-"]));
+  const global = async () => Number((await text("#legend-high")).match(/global \|psi6\| = ([\d.]+)/)[1]);
+  for (const at of [Number(await text("#frame")), 0]) {
+    await page.evaluate((f) => {
+      slider.value = String(f);
+      slider.dispatchEvent(new Event("input"));
+    }, at);
+    const expected = analysis.psi6.global[at], shown = await global();
+    assert.ok(Math.abs(shown - expected) < 2e-3, `frame ${at}: ${shown} vs ${expected}`);
   }
   const bars = await painted(page, "#histogram");
   assert.ok(bars > 0.02, `only ${bars} of the histogram is painted`);
@@ -160,6 +173,7 @@ describe("spheres", () => {
   });
 
   test("the spheres, the box and the histogram are drawn, in both colourings", async () => {
+    assert.equal(await spheres.locator('#colour option[value="psi6"]').count(), 0);
     for (const colour of ["speed", "collisions"]) {
       await spheres.selectOption("#colour", colour);
       const box = await painted(spheres, "#box");
