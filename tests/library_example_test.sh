@@ -2,7 +2,7 @@
 # Builds examples/library (a program of a user's own, find_package(carom)) against a copy of carom
 # installed from a build dir, checks that the installed package hands -ffp-contract=off to the
 # consumer, and runs the program on the reference cases: its csv must equal the expected files
-# byte for byte; then builds every C++ block of README.md the same way and runs the first.
+# byte for byte; then builds every C++ block of docs/library.md the same way and runs the first.
 #
 #   library_example_test.sh SOURCE_DIR BUILD_DIR SCRATCH_DIR
 #
@@ -122,7 +122,7 @@ expect_usage_error "a negative END_TIME" "$cases/normal.txt" -1
 printf '2\n1\n10 10\n5 5 1 0\n5.5 5 0 1\n' > "$scratch/overlap.txt"
 expect_usage_error "overlapping disks" "$scratch/overlap.txt" 20
 
-# Every C++ block of the README, as written: each is a program of its own, built against the
+# Every C++ block of docs/library.md, as written: each is a program of its own, built against the
 # installed copy; the first (The library) must give carom run's final state, and its frames.
 readme=$scratch/readme
 mkdir -p "$readme"
@@ -130,10 +130,10 @@ awk -v dir="$readme" '
   /^```cpp$/ { n++; file = sprintf("%s/example_%d.cpp", dir, n); inside = 1; next }
   /^```/ { inside = 0 }
   inside { print > file }
-' "$source_dir/README.md"
+' "$source_dir/docs/library.md"
 blocks=$(find "$readme" -name 'example_*.cpp' | sort)
 if [[ -z $blocks ]]; then
-  echo "FAIL: no C++ block in README.md" >&2
+  echo "FAIL: no C++ block in docs/library.md" >&2
   failed=$((failed + 1))
 fi
 {
@@ -151,11 +151,11 @@ if cmake -S "$readme" -B "$readme/build" -DCMAKE_PREFIX_PATH="$prefix" \
      -DCMAKE_BUILD_TYPE="${build_type:-Release}" -DCMAKE_CXX_FLAGS="$cxx_flags" \
      -DCMAKE_EXE_LINKER_FLAGS="$linker_flags" > "$readme/configure.log" 2>&1 &&
    cmake --build "$readme/build" > "$readme/build.log" 2>&1; then
-  echo "ok: the README's $(echo "$blocks" | wc -l) C++ block(s) compile against the installed copy"
+  echo "ok: docs/library.md's $(echo "$blocks" | wc -l) C++ block(s) compile against the installed copy"
   passed=$((passed + 1))
 else
   cat "$readme/configure.log" "$readme/build.log" >&2
-  echo "FAIL: a C++ block of README.md does not build as written (log above)" >&2
+  echo "FAIL: a C++ block of docs/library.md does not build as written (log above)" >&2
   failed=$((failed + 1))
 fi
 (
@@ -167,10 +167,10 @@ fi
 if tail -n +2 "$scratch/measured.txt" | diff -q - "$scratch/run.csv" > /dev/null &&
    [[ $(grep -c '^200$' "$scratch/movie.xyz") -eq 201 ]] &&
    head -n 1 "$scratch/measured.txt" | grep -q '^Z = '; then
-  echo "ok: the README's library example = carom run, 201 frames"
+  echo "ok: docs/library.md's example = carom run, 201 frames"
   passed=$((passed + 1))
 else
-  echo "FAIL: the README's library example differs from carom run, or its frames are not t = 0, 0.5, ..., 100" >&2
+  echo "FAIL: docs/library.md's example differs from carom run, or its frames are not t = 0, 0.5, ..., 100" >&2
   failed=$((failed + 1))
 fi
 

@@ -1,4 +1,4 @@
-"""The Python examples run as the README shows them."""
+"""The Python examples run as docs/python.md shows them."""
 import os
 import pathlib
 import subprocess
