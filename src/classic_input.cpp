@@ -55,17 +55,6 @@ std::vector<std::string_view> split(std::string_view line) {
   return tokens;
 }
 
-// The names a choice can take, for a message: "walls or periodic".
-template <class E>
-std::string choices() {
-  std::string out;
-  for (const auto& [key, value] : EnumNames<E>::table) {
-    out += out.empty() ? "" : " or ";
-    out += key;
-  }
-  return out;
-}
-
 // One `key=value` of a record line, stored into `slot` once.
 template <class E>
 void set_once(std::optional<E>& slot, std::string_view key, std::string_view value) {
@@ -73,7 +62,7 @@ void set_once(std::optional<E>& slot, std::string_view key, std::string_view val
   slot = from_name<E>(value);
   if (!slot) {
     throw std::invalid_argument(
-        fmt::format("{} is not a {}: {} are", shown(value), key, choices<E>()));
+        fmt::format("{} is not a {}: {} are", shown(value), key, names_list<E>()));
   }
 }
 
