@@ -38,21 +38,25 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->type_name("FILE");
   analyze->add_option("-o,--output", args.output, "Write the analysis as JSON here ('-': stdout)")
       ->type_name("FILE");
-  analyze->add_option("--html", args.html,
-                      "Write the report page here: plots and a snapshot coloured by local psi6")
+  analyze
+      ->add_option("--html", args.html,
+                   "Write the report page here: plots and a snapshot coloured by local psi6")
       ->type_name("FILE");
   analyze->add_option("--log", args.log, "A time-series log of the run (carom run --log) to plot")
       ->type_name("FILE");
-  analyze->add_option("--equilibrate", args.from_time,
-                      "Analyse only the frames from this time on (as carom run --equilibrate)")
+  analyze
+      ->add_option("--equilibrate", args.from_time,
+                   "Analyse only the frames from this time on (as carom run --equilibrate)")
       ->type_name("T");
   analyze->add_option("--bin", args.bin_width, "The width of g(r)'s bins (default: d / 50)")
       ->type_name("WIDTH");
-  analyze->add_option("--r-max", args.r_max,
-                      "How far g(r) reaches (default: 5 d, at most half the box)")
+  analyze
+      ->add_option("--r-max", args.r_max,
+                   "How far g(r) reaches (default: 5 d, at most half the box)")
       ->type_name("R");
-  analyze->add_option("--contact-width", args.contact_width,
-                      "The range above contact g(d+) is fitted on (default: d / 10)")
+  analyze
+      ->add_option("--contact-width", args.contact_width,
+                   "The range above contact g(d+) is fitted on (default: d / 10)")
       ->type_name("WIDTH");
   return analyze;
 }

@@ -1,9 +1,9 @@
 // Pieces the carom subcommands share: usage errors, the stop signal, named choices, output files.
 #pragma once
 
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <atomic>
 #include <iostream>
 #include <memory>

@@ -64,8 +64,9 @@ Examples:
                          "fast, or reference (O(N^2) an event: for checking)");
   compress->add_option("-o,--output", args.output,
                        "Write the packing to this file (default: stdout)");
-  compress->add_option("--summary", args.summary,
-                       "Also write the packing fraction, compressibility factor, rate and events (json)");
+  compress->add_option(
+      "--summary", args.summary,
+      "Also write the packing fraction, compressibility factor, rate and events (json)");
   compress->add_flag("--unit-diameter", args.unit_diameter,
                      "Rescale the packing to a mean diameter of 1 (the box shrinks with it; the "
                      "packing fraction and Z are unchanged); otherwise lengths keep the start's "
@@ -108,9 +109,10 @@ void compress(const CompressArguments& args, System<D> start) {
       compression->run(compression->system().size());
       if (progress.due()) {
         const Compression<D>& c = *compression;
-        progress.print(fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
-                                   c.packing_fraction(), c.compressibility_factor(), c.time(),
-                                   static_cast<double>(c.events())));
+        progress.print(
+            fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
+                        c.packing_fraction(), c.compressibility_factor(), c.time(),
+                        static_cast<double>(c.events())));
       }
     }
   }

@@ -97,10 +97,9 @@ class Progress final : public Observer<D> {
     const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
     // The compressibility factor over the measurement window so far (O(N), once a line).
     const Observables<D> o = simulation.observables();
-    const std::string z =
-        o.elapsed > 0.0 && std::isfinite(o.compressibility_factor)
-            ? fmt::format("  Z = {:.5g}", o.compressibility_factor)
-            : std::string();
+    const std::string z = o.elapsed > 0.0 && std::isfinite(o.compressibility_factor)
+                              ? fmt::format("  Z = {:.5g}", o.compressibility_factor)
+                              : std::string();
     line_.print(fmt::format("t = {:.6g} / {:.6g} ({:4.1f}%)  {:.3g} events/s  {} left{}", time,
                             end_, 100.0 * done, static_cast<double>(events_) / elapsed,
                             clock_time(left), z));

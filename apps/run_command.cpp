@@ -112,8 +112,8 @@ void check_distinct_outputs(const RunArguments& args) {
 void check(const RunArguments& args) {
   if (args.trace && args.format != Format::table) {
     throw UsageError(
-        "--trace prints the classic assignment's step-by-step table; it cannot be combined with --format csv "
-        "or json");
+        "--trace prints the classic assignment's step-by-step table; it cannot be combined with "
+        "--format csv or json");
   }
   if (!(args.restitution > 0.0 && args.restitution <= 1.0)) {
     throw UsageError(fmt::format("--restitution must be in (0, 1], got {}", args.restitution));
@@ -205,11 +205,11 @@ Start load(const RunArguments& args) {
           }
         } else if (kinetic_energy(input.system) == 0.0) {
           note += std::string(note.empty() ? "" : "; ") +
-                      "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
-                      "Maxwell-Boltzmann velocities";
+                  "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
+                  "Maxwell-Boltzmann velocities";
         }
-        // Only for the reader's messages: not held while the engine is made (a move frees it; `= {}`
-        // would keep its capacity).
+        // Only for the reader's messages: not held while the engine is made (a move frees it;
+        // `= {}` would keep its capacity).
         input.line_of = std::vector<std::size_t>();
         return Start{AnySimulation(std::in_place_type<Sim>, std::move(input.system), settings),
                      args.input, false, std::move(note)};
@@ -377,9 +377,9 @@ void run(Simulation<D>& simulation, const RunArguments& args, const Start& start
   }
   const bool periodic = simulation.state().box.periodic();
   if (periodic && simulation.settings().rule.rule == Rule::swap && !args.quiet) {
-    std::cerr << "carom: note: the swap rule (the classic assignment's) exchanges whole velocities, so the set "
-                 "of speeds never changes and the gas never reaches Maxwell-Boltzmann; --rule "
-                 "elastic is the physical one\n";
+    std::cerr << "carom: note: the swap rule (the classic assignment's) exchanges whole "
+                 "velocities, so the set of speeds never changes and the gas never reaches "
+                 "Maxwell-Boltzmann; --rule elastic is the physical one\n";
   }
 
   if (!args.checkpoint.empty()) {
@@ -502,10 +502,11 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "FILE.gsd:K starts from the last frame or frame K of a GSD file (periodic)")
       ->required();
   run->add_option("END_TIME", args.end_time, "Time to simulate to (a number >= 0)")->required();
-  add_choice<Format>(run, "--format", args.format,
-                     "table: the classic assignment's `particle i: (x, y) (vx, vy): t : (cwall, cpart)` lines; "
-                     "csv: `x, y, cwall, cpart` lines; json: settings, counts, observables and "
-                     "full state");
+  add_choice<Format>(
+      run, "--format", args.format,
+      "table: the classic assignment's `particle i: (x, y) (vx, vy): t : (cwall, cpart)` lines; "
+      "csv: `x, y, cwall, cpart` lines; json: settings, counts, observables and "
+      "full state");
   run->add_flag("--trace", args.trace,
                 "Print the initial state, then after every collision its time, what collided and "
                 "every particle's stored state, then the final state");

@@ -34,9 +34,9 @@ struct RunArguments {
   std::optional<double> equilibrate;
   EngineKind engine = EngineKind::fast;
   bool quiet = false;
-  std::optional<double> progress;  // seconds between status lines, whatever stderr is
+  std::optional<double> progress;     // seconds between status lines, whatever stderr is
   std::optional<double> temperature;  // --kT: draw new velocities at this kT
-  std::uint64_t seed = 1;              // --seed: for them
+  std::uint64_t seed = 1;             // --seed: for them
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

@@ -91,8 +91,8 @@ void view_command(const ViewArguments& args) {
         "carom: note: {} is {:.0f} MB ({} frames of {} particles) and will load slowly in a "
         "browser: --stride {} (one frame in {}) makes it about {:.0f} MB, and --frames A:B keeps "
         "a part\n",
-        args.output, static_cast<double>(bytes) / 1e6, frames.size(),
-        frames.front().radius.size(), args.stride * stride, args.stride * stride,
+        args.output, static_cast<double>(bytes) / 1e6, frames.size(), frames.front().radius.size(),
+        args.stride * stride, args.stride * stride,
         static_cast<double>(bytes) / 1e6 / static_cast<double>(stride));
   }
 }

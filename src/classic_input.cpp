@@ -131,9 +131,9 @@ class DataLines {
       throw InputError(name_, number_, "a '# carom:' line must come before the data");
     }
     if (record_line_ != 0) {
-      throw InputError(name_, number_,
-                       fmt::format("a second '# carom:' line (the first is line {})",
-                                   record_line_));
+      throw InputError(
+          name_, number_,
+          fmt::format("a second '# carom:' line (the first is line {})", record_line_));
     }
     record_line_ = number_;
     try {

@@ -24,8 +24,8 @@ constexpr const char* kTableHeader =
     D == 3 ? "particle id: (xpos, ypos, zpos) (xvel, yvel, zvel): last_update : (cwall, cpart)\n"
            : "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n";
 
-// printf's %.6f, exactly as the classic assignment's C program printed (round-half-even on exact ties, `-0`
-// kept), which is what users compare against.
+// printf's %.6f, exactly as the classic assignment's C program printed (round-half-even on exact
+// ties, `-0` kept), which is what users compare against.
 template <class... Args>
 std::string c_format(const char* format, Args... args) {
   char buffer[512];
@@ -137,7 +137,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"tc", rule.elastic_within},
       {"engine", name_of(simulation.settings().engine)},
       // A run draws random numbers only for --kT; the start file's seed is carom init's.
-      {"seed", report.seed ? nlohmann::ordered_json(*report.seed) : nlohmann::ordered_json(nullptr)},
+      {"seed",
+       report.seed ? nlohmann::ordered_json(*report.seed) : nlohmann::ordered_json(nullptr)},
       {"end_time", simulation.time()},
       {"equilibrate", simulation.measurement().start_time},
       {"events", counts.events},

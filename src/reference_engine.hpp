@@ -1,6 +1,6 @@
-// The classic assignment's algorithm, done right: after every event, every wall hit and every pair contact is
-// predicted again from the stored states and the earliest (by EventKey) is processed. O(N^2)
-// per event and obviously correct; the tests hold the fast engine to it.
+// The classic assignment's algorithm, done right: after every event, every wall hit and every pair
+// contact is predicted again from the stored states and the earliest (by EventKey) is processed.
+// O(N^2) per event and obviously correct; the tests hold the fast engine to it.
 //
 // In a periodic box each pair is predicted through the image nearest at the start of a window
 // no longer than image_horizon(), within which no other image can be reached; when nothing

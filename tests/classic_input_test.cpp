@@ -66,7 +66,8 @@ TEST(ClassicInput, ParticlesMayCarryTheirOwnRadiusAndMass) {
             "centres are 3.5 apart, less than the sum of their radii, 3.6");
   EXPECT_EQ(error_of("1\n1\n20 20\n1.5 5 0 0 2\n"),
             "test.txt:4: particle 0 at (1.5, 5) with radius 2 overlaps the left wall (its centre "
-            "must be at least R from every wall)" + kPeriodicHint);
+            "must be at least R from every wall)" +
+                kPeriodicHint);
 }
 
 TEST(ClassicInput, PeriodicBoxesIgnoreWallsAndMeasureThroughImages) {
@@ -137,7 +138,8 @@ TEST(ClassicInput, ErrorsNameTheFileAndLine) {
             "centres are 1 apart, less than 2R = 2");
   EXPECT_EQ(error_of("1\n1\n10 10\n9.5 5 0 0\n"),
             "test.txt:4: particle 0 at (9.5, 5) with radius 1 overlaps the right wall (its "
-            "centre must be at least R from every wall)" + kPeriodicHint);
+            "centre must be at least R from every wall)" +
+                kPeriodicHint);
   EXPECT_EQ(error_of("1\n1\n10 10\n5 -5 0 0\n"),
             "test.txt:4: particle 0 at (5, -5) is outside the box [0, 10] x [0, 10]");
 }
@@ -205,10 +207,12 @@ TEST(ClassicInput, SpheresAreCheckedAsDisksAre) {
             "s.txt:4: expected 6 to 8 numbers (x y z vx vy vz [r [m]] of particle 0), found 5");
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 0.2 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 0.2) with radius 0.5 overlaps the back wall (its "
-            "centre must be at least R from every wall)" + kPeriodicHint);
+            "centre must be at least R from every wall)" +
+                kPeriodicHint);
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 6.8 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 6.8) with radius 0.5 overlaps the front wall (its "
-            "centre must be at least R from every wall)" + kPeriodicHint);
+            "centre must be at least R from every wall)" +
+                kPeriodicHint);
   EXPECT_EQ(error("1\n0.5\n5 6 7\n1 1 8 0 0 0\n"),
             "s.txt:4: particle 0 at (1, 1, 8) is outside the box [0, 5] x [0, 6] x [0, 7]");
   EXPECT_EQ(error("2\n0.5\n5 6 7\n1 1 1 0 0 0\n1 1 1.5 0 0 0\n"),

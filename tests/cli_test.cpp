@@ -1,4 +1,5 @@
-// The carom command line, run as a user runs it: the classic assignment's outputs exactly, formats, errors.
+// The carom command line, run as a user runs it: the classic assignment's outputs exactly, formats,
+// errors.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <gtest/gtest.h>
@@ -340,8 +341,8 @@ TEST_F(Cli, ARunTakesTheBoxAndRuleItsFileRecordsAndSaysSo) {
   EXPECT_NE(recorded.out.find("\"rule\": \"elastic\""), std::string::npos);
   EXPECT_NE(recorded.out.find("\"boundary\": \"periodic\""), std::string::npos);
   // The same run asked for in full: the same output, no note.
-  const Result asked = carom(
-      {"run", start, "1", "--boundary", "periodic", "--rule", "elastic", "--format", "json"});
+  const Result asked =
+      carom({"run", start, "1", "--boundary", "periodic", "--rule", "elastic", "--format", "json"});
   EXPECT_EQ(asked.err, "");
   EXPECT_EQ(asked.out.substr(asked.out.find("\"particles\"")),
             recorded.out.substr(recorded.out.find("\"particles\"")));
@@ -370,9 +371,9 @@ TEST_F(Cli, ARunTakesTheBoxAndRuleItsFileRecordsAndSaysSo) {
   // A box with walls that init made: elastic, said so.
   const fs::path walled = dir_ / "walled.txt";
   ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
-  EXPECT_EQ(carom({"run", walled, "1", "--format", "csv"}).err,
-            "carom: note: elastic rule, as " + walled.string() +
-                " records (--rule chooses otherwise)\n");
+  EXPECT_EQ(
+      carom({"run", walled, "1", "--format", "csv"}).err,
+      "carom: note: elastic rule, as " + walled.string() + " records (--rule chooses otherwise)\n");
   // compress reads the record too, and writes its own.
   const fs::path dense = dir_ / "dense.txt";
   const Result compressed = carom({"compress", start, "--phi", "0.35", "-o", dense, "-q"});
@@ -539,9 +540,9 @@ TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
   std::uint64_t events = 0;
   for (int attempt = 0; attempt < 3 && events % 250000 == 0; ++attempt) {
     fs::remove(movie);
-    const pid_t pid =
-        start_run(start, {"500", "--rule", "elastic", "--checkpoint", checkpoint.string(),
-                          "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
+    const pid_t pid = start_run(
+        start, {"500", "--rule", "elastic", "--checkpoint", checkpoint.string(),
+                "--checkpoint-every", "250000", "--dump", movie.string(), "--every", "1"});
     ASSERT_TRUE(wait_until([&] { return holds(movie, "Time=2"); }));
     ::kill(pid, SIGINT);
     EXPECT_EQ(finish(pid), 130);
@@ -633,9 +634,9 @@ TEST_F(Cli, ARunSaysWhenZDriftedOverItsWindow) {
 // time when that is a multiple of --every, as any new dump's first frame is at its first instant.
 TEST_F(Cli, ADumpBegunByAResumedRunStartsAtItsTime) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "ck", movie = dir_ / "late.xyz";
-  ASSERT_EQ(carom({"init", "--n", "60", "--phi", "0.3", "--boundary", "periodic", "-o", start})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      carom({"init", "--n", "60", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
   ASSERT_EQ(carom({"run", start, "2", "--checkpoint", checkpoint, "-q"}).exit_code, 0);
   ASSERT_EQ(carom({"run", "--resume", checkpoint, "4", "--dump", movie, "--every", "0.5", "-q"})
                 .exit_code,
@@ -1121,9 +1122,11 @@ TEST_F(Cli, ViewWritesOnePageAndRefusesWhatIsNotATrajectory) {
   EXPECT_NE(read_file(page).find("\"times\":[2.0,5.0,8.0]"), std::string::npos);
   EXPECT_NE(carom({"view", movie, "-o", page, "--frames", ":2"}).exit_code, 2);
   EXPECT_NE(read_file(page).find("\"times\":[0.0,1.0]"), std::string::npos);
-  for (const std::vector<std::string>& bad_choice :
-       {std::vector<std::string>{"--frames", "5:5"}, {"--frames", "20:"}, {"--frames", "3"},
-        {"--frames", "a:b"}, {"--stride", "0"}}) {
+  for (const std::vector<std::string>& bad_choice : {std::vector<std::string>{"--frames", "5:5"},
+                                                     {"--frames", "20:"},
+                                                     {"--frames", "3"},
+                                                     {"--frames", "a:b"},
+                                                     {"--stride", "0"}}) {
     std::vector<std::string> command = {"view", movie, "-o", (dir_ / "none.html").string()};
     command.insert(command.end(), bad_choice.begin(), bad_choice.end());
     EXPECT_EQ(carom(command).exit_code, 2) << bad_choice[1];
@@ -1268,8 +1271,8 @@ TEST_F(Cli, CompressWritesAStartThatRunsAndRefusesWhatCannotBe) {
   EXPECT_NE(ok.err.find("carom: note: the disks grew to a mean diameter of"), std::string::npos)
       << ok.err;
   const fs::path unit = dir_ / "unit.txt", unit_summary = dir_ / "u.json";
-  const Result rescaled = carom({"compress", start, "--phi", "0.75", "--unit-diameter", "-o",
-                                 unit, "--summary", unit_summary});
+  const Result rescaled = carom({"compress", start, "--phi", "0.75", "--unit-diameter", "-o", unit,
+                                 "--summary", unit_summary});
   ASSERT_EQ(rescaled.exit_code, 0) << rescaled.err;
   EXPECT_EQ(rescaled.err, "");
   const nlohmann::json u = nlohmann::json::parse(read_file(unit_summary));

@@ -1,5 +1,5 @@
-// The engines: the classic assignment's cases through the library, the fast engine against the reference engine on
-// many random systems, and the invariants every run must keep.
+// The engines: the classic assignment's cases through the library, the fast engine against the
+// reference engine on many random systems, and the invariants every run must keep.
 #include "carom/engine.hpp"
 
 #include <gtest/gtest.h>
@@ -100,9 +100,9 @@ TEST(Engine, CornerHitIsTwoEventsAtTheSameTime) {
 }
 
 TEST(Engine, APairThatJustCollidedDoesNotCollideAgainAfterAnUnrelatedEvent) {
-  // The classic assignment's "not the same pair as last time" guard fails here: disks 0 and 1 collide, then
-  // disk 2 hits a wall, and the classic assignment's code would let 0 and 1 (still touching) collide again and swap
-  // back. Here they separate: exactly one pair collision.
+  // The classic assignment's "not the same pair as last time" guard fails here: disks 0 and 1
+  // collide, then disk 2 hits a wall, and the classic assignment's code would let 0 and 1 (still
+  // touching) collide again and swap back. Here they separate: exactly one pair collision.
   System<2> system;
   system.box.size = {20, 20};
   const auto add = [&](double x, double y, double vx, double vy) {

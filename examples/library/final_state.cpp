@@ -1,5 +1,5 @@
-// final_state FILE END_TIME: runs the disks of a classic input file (the classic assignment's rules: walls,
-// disks that swap velocities) up to END_TIME and prints the final state as csv lines
+// final_state FILE END_TIME: runs the disks of a classic input file (the classic assignment's
+// rules: walls, disks that swap velocities) up to END_TIME and prints the final state as csv lines
 // `x, y, cwall, cpart`, one per disk: what `carom run FILE END_TIME --format csv` prints.
 //
 // It uses carom through its installed public headers only. Exit codes: 0 done, 1 the output
@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
       throw std::invalid_argument("END_TIME must not be negative, got " + std::string(argv[2]));
     }
 
-    // A run with the default settings (the classic assignment's swap rule, the fast engine) from t = 0.
+    // A run from t = 0 with the default settings (the classic assignment's swap rule, the fast
+    // engine).
     carom::Simulation<2> simulation(input.system, carom::Settings{});
     // Processes every event up to end_time; throws carom::RunLengthError for a time the run
     // could never reach.

@@ -1,7 +1,7 @@
-// The classic input format the classic assignment and its users' files use: whitespace-separated numbers,
-// line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`. A particle line
-// may carry a radius and a mass of its own: `x y vx vy [r [m]]` (default R and 1). Three numbers
-// on line 3, `Lx Ly Lz`, make a system of spheres, with lines `x y z vx vy vz [r [m]]`.
+// The classic input format the classic assignment and its users' files use: whitespace-separated
+// numbers, line 1 `N`, line 2 the radius `R`, line 3 `Lx Ly`, then N lines `x y vx vy`. A particle
+// line may carry a radius and a mass of its own: `x y vx vy [r [m]]` (default R and 1). Three
+// numbers on line 3, `Lx Ly Lz`, make a system of spheres, with lines `x y z vx vy vz [r [m]]`.
 #pragma once
 
 #include <cstddef>

@@ -24,7 +24,8 @@ namespace carom {
 // Fast enough that equal spheres jam amorphous (near random close packing, 0.64) rather than
 // crystallise; see docs/validation.md for what slower rates give.
 inline constexpr double kDefaultGrowthRate = 0.01;
-// The compressibility factor Z = PV / NkT at which a packing counts as jammed (Skoge et al.'s 10^12).
+// The compressibility factor Z = PV / NkT at which a packing counts as jammed (Skoge et al.'s
+// 10^12).
 inline constexpr double kJammedPressure = 1e12;
 
 struct CompressionSettings {

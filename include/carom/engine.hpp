@@ -24,7 +24,8 @@ class JamError : public std::runtime_error {
 
 enum class EngineKind {
   fast,       // cell grid, one pending event per particle in a calendar, O(1) per event
-  reference,  // the classic assignment's algorithm done right: every pair predicted again after every event
+  reference,  // the classic assignment's algorithm done right: every pair predicted again after
+              // every event
 };
 
 template <>
@@ -43,8 +44,8 @@ struct Growth {
 };
 
 // Runs a system event by event. Events are processed in the order of EventKey, only the
-// particles involved are moved, and the particles' stored states follow the classic assignment's lazy
-// convention (see Particle). Engines know nothing of end times, frames or measurements: the
+// particles involved are moved, and the particles' stored states follow the classic assignment's
+// lazy convention (see Particle). Engines know nothing of end times, frames or measurements: the
 // Simulation (simulation.hpp) drives them.
 //
 // Inside, every time is a stored time (counted from System::epoch); step() takes and returns

@@ -1,5 +1,5 @@
-// Output formats of a run: the classic assignment's table and trace, the classic csv, json, and the event log.
-// Disks print (x, y), spheres (x, y, z).
+// Output formats of a run: the classic assignment's table and trace, the classic csv, json, and the
+// event log. Disks print (x, y), spheres (x, y, z).
 #pragma once
 
 #include <cstddef>

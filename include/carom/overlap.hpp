@@ -15,7 +15,8 @@
 namespace carom {
 
 // Overlaps smaller than this fraction of the contact distance are round-off, not overlaps:
-// particles that touch in decimal (as the classic assignment's cases start) may overlap by an ulp in binary.
+// particles that touch in decimal (as the classic assignment's cases start) may overlap by an ulp
+// in binary.
 inline constexpr double kOverlapTolerance = 1e-9;
 
 // The first pair (i < j, lowest i then j) whose centres are closer than their contact distance

@@ -30,7 +30,8 @@
 
 namespace carom {
 
-// How a run is made; the defaults are the classic assignment's (swap rule, walls come with the System's box).
+// How a run is made; the defaults are the classic assignment's (swap rule, walls come with the
+// System's box).
 struct Settings {
   CollisionRule rule;  // Rule::swap, restitution 1, TC time kDefaultTc
   EngineKind engine = EngineKind::fast;

@@ -16,9 +16,9 @@
 namespace carom {
 
 // One hard disk (D = 2) or sphere (D = 3): the hot data every prediction reads, kept together
-// (48 bytes for a disk, one 64-byte line for a sphere). The stored state is the one the classic assignment
-// prints: the position at `time`, the moment the particle last collided (or the start). Other
-// particles are never touched by an event; their current position is derived on demand (see
+// (48 bytes for a disk, one 64-byte line for a sphere). The stored state is the one the classic
+// assignment prints: the position at `time`, the moment the particle last collided (or the start).
+// Other particles are never touched by an event; their current position is derived on demand (see
 // position_at).
 template <std::size_t D>
 struct Particle {
@@ -142,8 +142,8 @@ double largest_radius(const System<D>& system) {
   return largest;
 }
 
-// Walls are labelled by negative numbers, two per axis, the classic assignment's order: -1 left (x = 0),
-// -2 right (x = Lx), -3 bottom (y = 0), -4 top (y = Ly), then -5, -6 for z.
+// Walls are labelled by negative numbers, two per axis, the classic assignment's order:
+// -1 left (x = 0), -2 right (x = Lx), -3 bottom (y = 0), -4 top (y = Ly), then -5, -6 for z.
 constexpr int wall_label(std::size_t axis, bool upper) {
   return -static_cast<int>(2 * axis + (upper ? 2 : 1));
 }

@@ -63,13 +63,11 @@ void export_simulation(py::module_& m) {
           [](const std::string& path, const std::optional<std::string>& boundary,
              const std::optional<std::string>& rule, double restitution, double tc,
              const std::string& engine, std::optional<double> kT, std::uint64_t seed) {
-            return PythonSimulation::read(path, choice<Boundary>("boundary", boundary),
-                                          choice<Rule>("rule", rule),
-                                          settings_from("elastic", restitution, tc, engine), kT,
-                                          seed);
+            return PythonSimulation::read(
+                path, choice<Boundary>("boundary", boundary), choice<Rule>("rule", rule),
+                settings_from("elastic", restitution, tc, engine), kT, seed);
           },
-          "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a,
-          "seed"_a)
+          "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a)
       .def_static(
           "init",
           [](int dim, std::uint64_t n, double phi, const std::vector<double>& box, double aspect,

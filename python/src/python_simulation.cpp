@@ -195,8 +195,8 @@ void PythonSimulation::open_dump(const std::string& path, double every) {
         auto writer = std::make_shared<FrameWriter<D>>(dump->file, std::move(format), every);
         dump->writer = writer.get();
         // A new file: its first frame is now, when now is on its grid.
-        simulation.add_observer(std::move(writer), std::remove_reference_t<
-                                                       decltype(simulation)>::FirstLook::now);
+        simulation.add_observer(std::move(writer),
+                                std::remove_reference_t<decltype(simulation)>::FirstLook::now);
       },
       simulation_);
   dump_ = std::move(dump);
@@ -238,7 +238,8 @@ void PythonSimulation::run(double t, const std::optional<std::string>& dump, dou
   const std::uint64_t events_before = events();
   // The wall time and the events of this run, however it ends.
   const auto account = [&] {
-    wall_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    wall_seconds_ +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     events_run_ += events() - events_before;
   };
   // Only the main thread sees SIGINT in Python; a run in another thread is not interrupted.
@@ -473,11 +474,7 @@ RunReport PythonSimulation::report() const {
 
 std::string PythonSimulation::json(bool particles) const {
   std::ostringstream out;
-  std::visit(
-      [&](const auto& s) {
-        write_json(out, s, report(), particles);
-      },
-      simulation_);
+  std::visit([&](const auto& s) { write_json(out, s, report(), particles); }, simulation_);
   return out.str();
 }
 
