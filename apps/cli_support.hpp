@@ -16,6 +16,7 @@
 #include "carom/atomic_file.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/names.hpp"
+#include "carom/request.hpp"
 #include "carom/stop_signal.hpp"
 
 namespace carom::cli {
@@ -131,9 +132,5 @@ inline const CLI::Validator& finite_number() {
       "NUMBER");
   return validator;
 }
-
-// Refuses, before anything is created, a path that cannot be written: its folder is missing or
-// not writable, or it is a folder itself.
-void check_writable(const std::string& path);
 
 }  // namespace carom::cli

@@ -8,10 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <variant>
 
+#include "carom/compress_run.hpp"
 #include "carom/formats.hpp"
-#include "carom/gsd.hpp"
-#include "carom/initial.hpp"
-#include "carom/version.hpp"
+#include "carom/start.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
 
@@ -76,114 +75,58 @@ Examples:
   return compress;
 }
 
-namespace {
-
-std::string_view status_name(CompressionStatus status) {
-  switch (status) {
-    case CompressionStatus::reached_target:
-      return "reached_target";
-    case CompressionStatus::jammed:
-      return "jammed";
-    default:
-      return "interrupted";
-  }
-}
-
-template <std::size_t D>
-void compress(const CompressArguments& args, System<D> start) {
-  CompressionSettings settings = args.settings;
-  if (!args.jam) settings.target = args.target;
-  const auto began = std::chrono::steady_clock::now();
-  std::optional<Compression<D>> compression;
-  try {
-    compression.emplace(std::move(start), settings);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(fmt::format("cannot compress {}: {}", args.input, e.what()));
-  }
-  Output out(args.output);
-  std::optional<Output> summary;
-  if (!args.summary.empty()) summary.emplace(args.summary);
-  {
-    StatusLine progress(args.quiet, args.progress);
-    while (compression->status() == CompressionStatus::running && stop_signal().load() == 0) {
-      compression->run(compression->system().size());
-      if (progress.due()) {
-        const Compression<D>& c = *compression;
-        progress.print(
-            fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
-                        c.packing_fraction(), c.compressibility_factor(), c.time(),
-                        static_cast<double>(c.events())));
-      }
-    }
-  }
-  const Compression<D>& c = *compression;
-  // The packing so far is a valid start, whatever stopped the compression: it is kept.
-  System<D> system = c.system();
-  const double grown_diameter = mean_diameter(system);
-  if (args.unit_diameter) scale_lengths(system, 1.0 / grown_diameter);
-  write_start(out.stream(), system, Rule::elastic);
-  const int signal = stop_signal().load();
-  if (summary) {
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
-    const nlohmann::json json = {
-        {"carom_version", kVersion},
-        {"input", args.input},
-        {"dimension", D},
-        {"n", system.size()},
-        {"boundary", name_of(system.box.boundary)},
-        {"status", status_name(c.status())},
-        {"target", settings.target ? nlohmann::json(*settings.target) : nlohmann::json(nullptr)},
-        {"packing_fraction", c.packing_fraction()},
-        {"compressibility_factor", c.compressibility_factor()},
-        {"rate", settings.rate},
-        {"kT", settings.temperature},
-        {"jam_pressure", settings.jammed_pressure},
-        {"time", c.time()},
-        {"events", c.events()},
-        {"mean_diameter", mean_diameter(system)},
-        {"unit_diameter", args.unit_diameter},
-        {"box", system.box.size.c},
-        {"wall_seconds", seconds}};
-    summary->stream() << json.dump(2) << '\n';
-  }
-  // A stop signal keeps what was computed: commit both files before saying so.
-  const auto commit = [&] {
-    out.keep();
-    if (summary) summary->keep();
-  };
-  commit();
-  if (signal != 0) {
-    throw Interrupted(signal,
-                      fmt::format("{}: the packing so far (packing fraction {:.6f}) is in {}",
-                                  describe_signal(signal), c.packing_fraction(),
-                                  args.output.empty() ? "the output" : args.output));
-  }
-  if (!args.unit_diameter && !args.quiet) {
-    std::cerr << fmt::format(
-        "carom: note: the {} grew to a mean diameter of {:.6g}, the packing's unit of length "
-        "(--unit-diameter rescales it to 1, the box with it)\n",
-        kParticlesName<D>, grown_diameter);
-  }
-  if (settings.target && c.status() == CompressionStatus::jammed) {
-    throw std::runtime_error(fmt::format(
-        "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
-        "packing is in {}",
-        kParticlesName<D>, c.packing_fraction(), c.compressibility_factor(), *settings.target,
-        args.output.empty() ? "the output" : args.output));
-  }
-}
-
-}  // namespace
-
 void compress_command(CompressArguments args) {
   for (const std::string* path : {&args.output, &args.summary}) {
     if (!path->empty() && *path != "-") check_writable(*path);
   }
   if (!args.jam && !(args.target > 0.0)) throw UsageError("give --phi TARGET or --jam");
   check_progress(args.progress);
-  AnyClassicInput input = read_any_start_file(args.input, args.boundary);
-  std::visit([&](auto& in) { compress(args, std::move(in.system)); }, input);
+  CompressionSpec spec{args.settings, args.unit_diameter, args.input};
+  spec.settings.target = args.jam ? std::nullopt : std::optional<double>(args.target);
+  AnySystem start = read_start_system(args.input, args.boundary);
+  Output out(args.output);
+  std::optional<Output> summary;
+  if (!args.summary.empty()) summary.emplace(args.summary);
+  CompressionResult result;
+  {
+    StatusLine progress(args.quiet, args.progress);
+    CompressionHooks hooks;
+    hooks.stop = &stop_signal();
+    hooks.progress = [&](const CompressionProgress& c) {
+      if (!progress.due()) return;
+      progress.print(
+          fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
+                      c.packing_fraction, c.compressibility_factor, c.time,
+                      static_cast<double>(c.events)));
+    };
+    result = compress(std::move(start), spec, hooks);
+  }
+  const CompressionSummary& s = result.summary;
+  // The packing so far is a valid start, whatever stopped the compression: it is kept.
+  write_start(out.stream(), result.packing, Rule::elastic);
+  if (summary) write_json(summary->stream(), s);
+  const int signal = stop_signal().load();
+  // A stop signal keeps what was computed: commit both files before saying so.
+  out.keep();
+  if (summary) summary->keep();
+  const std::string where = args.output.empty() ? "the output" : args.output;
+  if (signal != 0) {
+    throw Interrupted(signal, fmt::format("{}: the packing so far (packing fraction {:.6f}) is in {}",
+                                          describe_signal(signal), s.packing_fraction, where));
+  }
+  const std::string_view particles = s.dimension == 2 ? "disks" : "spheres";
+  if (!args.unit_diameter && !args.quiet) {
+    std::cerr << fmt::format(
+        "carom: note: the {} grew to a mean diameter of {:.6g}, the packing's unit of length "
+        "(--unit-diameter rescales it to 1, the box with it)\n",
+        particles, s.grown_diameter);
+  }
+  if (s.target && s.status == "jammed") {
+    throw std::runtime_error(fmt::format(
+        "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
+        "packing is in {}",
+        particles, s.packing_fraction, s.compressibility_factor, *s.target, where));
+  }
 }
 
 }  // namespace carom::cli

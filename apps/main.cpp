@@ -1,20 +1,17 @@
 // The carom command line: parses arguments, builds a Simulation, attaches outputs, formats.
 // Exit codes: 0 success, 2 usage or input error, 1 runtime failure, 128 + N stopped by signal N.
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <cerrno>
-#include <cstring>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include "analyze_command.hpp"
 #include "carom/classic_input.hpp"
+#include "carom/request.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
 #include "compress_command.hpp"
@@ -23,30 +20,6 @@
 #include "view_command.hpp"
 
 namespace carom::cli {
-
-double parse_number(const std::string& text, const std::string& what) {
-  try {
-    return parse_finite_double(text);
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(what + ": " + e.what());
-  }
-}
-
-void check_writable(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  if (fs::is_directory(path, error)) {
-    throw UsageError(fmt::format("cannot write '{}': it is a directory", path));
-  }
-  fs::path folder = fs::path(path).parent_path();
-  if (folder.empty()) folder = ".";
-  if (!fs::is_directory(folder, error)) {
-    throw UsageError(fmt::format("cannot write '{}': no folder {}", path, folder.string()));
-  }
-  if (::access(folder.c_str(), W_OK) != 0) {
-    throw UsageError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
-  }
-}
 
 namespace {
 
@@ -172,6 +145,9 @@ Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command
     std::cerr << "carom: " << e.what() << '\n';
     return 128 + e.signal;
   } catch (const UsageError& e) {
+    std::cerr << "carom: error: " << e.what() << "\nRun '" << usage << " --help' for usage.\n";
+    return kUsageError;
+  } catch (const carom::RequestError& e) {  // the library's word for the same
     std::cerr << "carom: error: " << e.what() << "\nRun '" << usage << " --help' for usage.\n";
     return kUsageError;
   } catch (const carom::InputError& e) {

@@ -14,7 +14,7 @@
 #include <optional>
 #include <string>
 
-#include "carom/simulation.hpp"
+#include "carom/run.hpp"
 
 namespace carom::cli {
 
@@ -74,41 +74,32 @@ inline std::string clock_time(double seconds) {
 }
 
 // A run's status: simulated time, percent, events per second, the time left and the
-// compressibility factor Z measured so far.
-template <std::size_t D>
-class Progress final : public Observer<D> {
+// compressibility factor Z measured so far (the library calls show() every few thousand events).
+class RunStatusLine {
  public:
-  // Looks at the clock every few thousand events.
-  static constexpr std::uint64_t kEvery = 4096;
-  Progress(double start, double end, bool quiet, std::optional<double> every)
-      : Observer<D>(Trigger::every_events(kEvery)), start_(start), end_(end), line_(quiet, every) {}
+  RunStatusLine(bool quiet, std::optional<double> every) : line_(quiet, every) {}
 
   // Whether a status belongs on this stderr at all.
   static bool wanted(bool quiet, std::optional<double> every) {
     return StatusLine(quiet, every).active();
   }
 
-  void observe(const Simulation<D>& simulation) override {
-    events_ += kEvery;
+  void show(const AnySimulation& simulation, const RunProgress& progress) {
     if (!line_.due()) return;
-    const double elapsed = line_.elapsed();
     const double time = simulation.time();
-    const double done = end_ > start_ ? (time - start_) / (end_ - start_) : 1.0;
-    const double left = done > 0.0 ? elapsed * (1.0 - done) / done : 0.0;
+    const double span = progress.end_time - progress.start_time;
+    const double done = span > 0.0 ? (time - progress.start_time) / span : 1.0;
+    const double left = done > 0.0 ? progress.wall_seconds * (1.0 - done) / done : 0.0;
     // The compressibility factor over the measurement window so far (O(N), once a line).
-    const Observables<D> o = simulation.observables();
-    const std::string z = o.elapsed > 0.0 && std::isfinite(o.compressibility_factor)
-                              ? fmt::format("  Z = {:.5g}", o.compressibility_factor)
-                              : std::string();
+    const std::optional<double> z = simulation.compressibility_factor();
     line_.print(fmt::format("t = {:.6g} / {:.6g} ({:4.1f}%)  {:.3g} events/s  {} left{}", time,
-                            end_, 100.0 * done, static_cast<double>(events_) / elapsed,
-                            clock_time(left), z));
+                            progress.end_time, 100.0 * done,
+                            static_cast<double>(progress.events) / progress.wall_seconds,
+                            clock_time(left), z ? fmt::format("  Z = {:.5g}", *z) : ""));
   }
 
  private:
-  double start_, end_;
   StatusLine line_;
-  std::uint64_t events_ = 0;
 };
 
 }  // namespace carom::cli

@@ -106,7 +106,10 @@ double Compression<D>::packing_fraction() const {
 template <std::size_t D>
 CompressionStatus Compression<D>::run(std::uint64_t events) {
   const std::uint64_t until = events_ + events;
-  while (status_ == CompressionStatus::running && events_ < until) stretch();
+  while (status_ == CompressionStatus::running && events_ < until &&
+         !(stop_ != nullptr && stop_->load() != 0)) {
+    stretch();
+  }
   return status_;
 }
 

@@ -282,6 +282,27 @@ std::uint64_t EventLogWriter<D>::events_before(std::istream& in, double t, bool 
   return kept;
 }
 
+void write_result(std::ostream& out, const AnySimulation& simulation, Format format,
+                  const RunReport& report, bool particles) {
+  simulation.visit([&](const auto& s) {
+    switch (format) {
+      case Format::table:
+        write_table(out, s);
+        break;
+      case Format::csv:
+        write_csv(out, s);
+        break;
+      case Format::json:
+        write_json(out, s, report, particles);
+        break;
+    }
+  });
+}
+
+void write_start(std::ostream& out, const AnySystem& system, Rule rule) {
+  std::visit([&](const auto& s) { write_start(out, s, rule); }, system);
+}
+
 #define CAROM_FORMATS(D)                                                                      \
   template std::string particle_line(std::size_t, const Particle<D>&, const ParticleRecord&); \
   template void write_table(std::ostream&, const System<D>&);                                 \

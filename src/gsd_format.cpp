@@ -549,37 +549,4 @@ std::vector<Frame> read_gsd_frames(const std::string& path) {
   return frames;
 }
 
-AnyClassicInput read_any_start_file(const std::string& spec, std::optional<Boundary> boundary) {
-  // FILE.gsd or FILE.gsd:K, the ending in any case.
-  const auto lower = [](std::string text) {
-    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return text;
-  };
-  // A GSD frame's box is what it is: a boundary asked for must be that one.
-  const auto boxed = [&](AnyClassicInput input) {
-    const Boundary held = std::visit([](const auto& in) { return in.system.box.boundary; }, input);
-    if (boundary && *boundary != held) {
-      throw InputError(spec, 0,
-                       fmt::format("its box is {}: the boundary cannot be {}", name_of(held),
-                                   name_of(*boundary)));
-    }
-    return input;
-  };
-  const std::string lowered = lower(spec);
-  if (lowered.size() > 4 && lowered.ends_with(".gsd")) {
-    return boxed(read_gsd_start(spec, std::nullopt));
-  }
-  const std::size_t colon = lowered.rfind(".gsd:");
-  if (colon != std::string::npos) {
-    const std::string number = spec.substr(colon + 5);
-    if (!number.empty() && number.size() <= 18 &&
-        std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      return boxed(read_gsd_start(spec.substr(0, colon + 4), std::stoull(number)));
-    }
-    throw InputError(spec, 0,
-                     fmt::format("'{}' is not a frame number (FILE.gsd:K, K from 0)", number));
-  }
-  return read_any_classic_file(spec, boundary);
-}
-
 }  // namespace carom

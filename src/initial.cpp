@@ -357,7 +357,7 @@ System<D> make_initial(const InitialOptions& o) {
     }
     scale = root<D>(covered / volume);
   } else {
-    scale = o.radius.value_or(0.5);
+    scale = o.radius.value_or(kDefaultRadius);
     const double box_volume = volume * scale * scale * (D == 3 ? scale : 1.0) / o.packing_fraction;
     // Lx = aspect Ly, and in 3D Lz = Ly.
     if constexpr (D == 2) {

@@ -12,6 +12,7 @@
 // reports is at the end of a stretch.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -53,9 +54,13 @@ class Compression {
   // a periodic box whose sides will not stay above two diameters, or a start with no motion.
   Compression(System<D> start, const CompressionSettings& settings);
 
-  // Runs whole stretches until at least `events` more events are done, the target is reached or
-  // the packing jams. Returns status().
+  // Runs whole stretches until at least `events` more events are done, the target is reached,
+  // the packing jams or the stop flag is set (looked at between stretches of N events). Returns
+  // status().
   CompressionStatus run(std::uint64_t events);
+  // A flag the caller owns (as Simulation::set_stop_flag): nonzero stops run() after the stretch
+  // under way, the packing whole. nullptr: none.
+  void set_stop_flag(const std::atomic<int>* flag) { stop_ = flag; }
   CompressionStatus status() const { return status_; }
 
   // The packing at the end of the last stretch: every particle at that time (stored time 0), the
@@ -83,6 +88,7 @@ class Compression {
   double compressibility_factor_ = 0.0;
   std::uint64_t events_ = 0;
   CompressionStatus status_ = CompressionStatus::running;
+  const std::atomic<int>* stop_ = nullptr;
 };
 
 }  // namespace carom

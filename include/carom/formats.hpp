@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 
+#include "carom/any_simulation.hpp"
 #include "carom/event.hpp"
 #include "carom/simulation.hpp"
 #include "carom/system.hpp"
@@ -61,6 +62,14 @@ struct RunReport {
 template <std::size_t D>
 void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles = true);
+
+// The result of a run at its time, in either dimension: `format` table, csv, or json (with
+// every particle, or without: the summary).
+void write_result(std::ostream& out, const AnySimulation& simulation, Format format,
+                  const RunReport& report, bool particles = true);
+
+// A start file of either dimension (write_start).
+void write_start(std::ostream& out, const AnySystem& system, Rule rule);
 
 // The step-by-step trace users compare their own programs against: `Input File:`, `Target
 // Time:` and the initial particles; after every event its time, what collided and every

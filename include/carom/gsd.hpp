@@ -20,10 +20,4 @@ namespace carom {
 // that does not exist, or a start no run can have throws InputError naming `path`.
 AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint64_t> frame);
 
-// A start named on a command line: `FILE.gsd` or `FILE.gsd:K` (frame K) is read by
-// read_gsd_start, anything else as a classic file (read_any_classic_file) in `boundary`. A GSD
-// frame's box is its own: a `boundary` that differs from it is an InputError.
-AnyClassicInput read_any_start_file(const std::string& spec,
-                                    std::optional<Boundary> boundary = std::nullopt);
-
 }  // namespace carom

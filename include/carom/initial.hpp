@@ -18,6 +18,9 @@ enum class Placement {
   lattice,    // a triangular (2D) or face-centred cubic (3D) lattice: both reach close packing
 };
 
+// The radius of a start whose box is not given: diameter 1, the unit of length.
+inline constexpr double kDefaultRadius = 0.5;
+
 struct InitialOptions {
   std::uint64_t n = 0;
   double packing_fraction = 0.0;

@@ -216,8 +216,4 @@ class Simulation {
   bool watch_events_ = false;  // an observer needs looking at after events
 };
 
-// A run of either dimension: the front ends choose it once, from the input, and dispatch with
-// std::visit.
-using AnySimulation = std::variant<Simulation<2>, Simulation<3>>;
-
 }  // namespace carom

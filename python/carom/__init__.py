@@ -37,6 +37,8 @@ from . import _carom
 from ._carom import InputError, JamError
 
 __version__ = _carom.__version__
+# Every default a signature below shows is the library's, read from it here.
+_D = _carom.defaults
 __all__ = ["Simulation", "read", "init", "resume", "compress", "analyze", "InputError", "JamError",
            "__version__"]
 
@@ -101,6 +103,23 @@ def _flag(name, value):
     return bool(value)
 
 
+def _path(value):
+    """A file name (str or os.PathLike) as a str; None as "" (no file)."""
+    return "" if value is None else str(value)
+
+
+def _output(name, path, every_name, every):
+    """A streamed output and its cadence, both or neither: (path or "", every or 0.0)."""
+    if path is None:
+        if every is not None:
+            raise ValueError(f"{every_name} needs {name}: the file to write to")
+        return "", 0.0
+    if every is None:
+        raise ValueError(f"{name} needs {every_name}: the time between "
+                         f"{'frames' if name == 'dump' else 'rows'}")
+    return str(path), _number(every_name, every)
+
+
 _RULES = ("swap", "elastic")
 _BOUNDARIES = ("walls", "periodic")
 _ENGINES = ("fast", "reference")
@@ -108,9 +127,6 @@ _ENGINES = ("fast", "reference")
 
 class Simulation:
     """A run of hard disks (dim 2) or spheres (dim 3): its state, its engine and its measurement.
-
-    Simulation(positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
-               rule="elastic", restitution=1.0, tc=1e-5, engine="fast")
 
     positions, velocities: (N, D) float64 arrays at t = 0 (D = 2 or 3); box: the D sides (the box
     is [0, Lx] x [0, Ly] [x [0, Lz]]); radii, masses: a number or an (N,) array. boundary:
@@ -128,8 +144,9 @@ class Simulation:
     options, and from a checkpoint.
     """
 
-    def __init__(self, positions, velocities, box, radii=0.5, masses=1.0, boundary="walls",
-                 rule="elastic", restitution=1.0, tc=1e-5, engine="fast"):
+    def __init__(self, positions, velocities, box, radii=_D["radius"], masses=_D["mass"],
+                 boundary=_D["boundary"], rule=_D["rule"], restitution=_D["restitution"],
+                 tc=_D["tc"], engine=_D["engine"]):
         positions = _float_array("positions", positions)
         if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
             raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
@@ -137,8 +154,8 @@ class Simulation:
         n, d = positions.shape
         velocities = _float_array("velocities", velocities, (n, d))
         box = _float_array("box", box, (d,))
-        radii = _per_particle("radii", radii, n, 0.5)
-        masses = _per_particle("masses", masses, n, 1.0)
+        radii = _per_particle("radii", radii, n, _D["radius"])
+        masses = _per_particle("masses", masses, n, _D["mass"])
         self._running = False
         self._core = _carom.Simulation.from_arrays(
             positions, velocities, box, radii, masses, _choice("boundary", boundary, _BOUNDARIES),
@@ -159,46 +176,63 @@ class Simulation:
             raise RuntimeError("this simulation is running (in another thread): wait for run()")
         return self._core
 
-    def run(self, t, dump=None, every=None, collisions=False):
+    def run(self, t, dump=None, every=None, log=None, log_every=None, events=None,
+            checkpoint=None, checkpoint_every=None, summary=None, check=False, check_every=None,
+            equilibrate=None, collisions=False):
         """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
 
         Every event up to t is processed in time order; any sequence of runs ends exactly as one
-        run to the last time would. The GIL is released while the engine works.
+        run to the last time would. The GIL is released while the engine works. The options are
+        `carom run`'s, with the same meaning and the same files, byte for byte:
 
-        dump: a trajectory file written as the run goes, a frame every `every` time units (at
+        dump, every: a trajectory written as the run goes, a frame every `every` time units (at
         multiples of `every`, so frames stay evenly spaced: a new dump's first frame is at
         sim.time when that is a multiple, else at the next one): ".xyz" (extended XYZ, for ASE
-        and OVITO), ".lammpstrj" or ".gsd". The next run with the same dump and every continues
-        the file; a different one starts anew.
+        and OVITO), ".lammpstrj" or ".gsd".
+        log, log_every: the time series (csv; `carom run --log`). events: every collision (csv).
+        checkpoint: saved at the end, on Ctrl-C, and every checkpoint_every (a number of events,
+        or seconds as "600s"). summary: the json of observables() written at the end.
+        check: verify as the run goes that event times never decrease and, every check_every
+        events, that nothing overlaps. equilibrate: open the measurement window at that time.
+        A file named again by the next run with the same cadence goes on; a Simulation from
+        carom.resume continues its files as `carom run --resume` does (cut at its time, then
+        appended to); otherwise a file begins anew.
         collisions: when True, returns a numpy structured array of this run's collisions with
         fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
         bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
         """
         t = _number("t", t)
-        if dump is not None:
-            if every is None:
-                raise ValueError("dump needs every: the time between frames")
-            every = _number("every", every)
-        elif every is not None:
-            raise ValueError("every needs dump: the file to write frames to")
-        collisions = _flag("collisions", collisions)
+        dump, every = _output("dump", dump, "every", every)
+        log, log_every = _output("log", log, "log_every", log_every)
+        if checkpoint_every is not None:
+            if checkpoint is None:
+                raise ValueError("checkpoint_every needs checkpoint: the file to save to")
+            if isinstance(checkpoint_every, str):
+                checkpoint_every = checkpoint_every.strip()
+            else:
+                checkpoint_every = str(_whole("checkpoint_every", checkpoint_every, 1))
+        if check_every is not None and not check:
+            raise ValueError("check_every needs check=True")
+        check_every = 0 if check_every is None else _whole("check_every", check_every, 1)
         core = self._idle
         self._running = True
         try:
-            core.run(t, None if dump is None else str(dump), 0.0 if every is None else every,
-                     collisions)
+            core.run(t, dump, every, log, log_every, _path(events), _path(checkpoint),
+                     checkpoint_every, _path(summary), _flag("check", check), check_every,
+                     None if equilibrate is None else _number("equilibrate", equilibrate),
+                     _flag("collisions", collisions))
         finally:
             self._running = False
         return core.collisions() if collisions else None
 
-    def advance(self, dt, dump=None, every=None, collisions=False):
+    def advance(self, dt, **options):
         """Runs for dt more time units (HOOMD's sim.run(steps) habit): sim.run(sim.time + dt, ...).
         The end time is the double sim.time + dt, so many small advances can land a hair off
-        round times; run(t) names a time exactly."""
+        round times; run(t) names a time exactly. The options are run()'s."""
         dt = _number("dt", dt)
         if not dt >= 0.0:
             raise ValueError(f"dt must be >= 0, got {dt}")
-        return self.run(self.time + dt, dump=dump, every=every, collisions=collisions)
+        return self.run(self.time + dt, **options)
 
     def collisions(self):
         """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""
@@ -332,8 +366,8 @@ class Simulation:
                 f"{self.boundary}, {self.rule}>")
 
 
-def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast", kT=None,
-         seed=1):
+def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["tc"],
+         engine=_D["engine"], kT=None, seed=_D["seed"]):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
@@ -353,9 +387,10 @@ def read(path, rule=None, boundary=None, restitution=1.0, tc=1e-5, engine="fast"
         _whole("seed", seed, 0, 2**64 - 1)))
 
 
-def init(n, phi, seed=1, dim=2, boundary="walls", rule="elastic", box=None, aspect=1.0,
-         radius=None, polydispersity=0.0, kT=1.0, placement="auto", restitution=1.0, tc=1e-5,
-         engine="fast"):
+def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_D["rule"],
+         box=None, aspect=_D["aspect"], radius=None, polydispersity=_D["polydispersity"],
+         kT=_D["kT"], placement=_D["placement"], restitution=_D["restitution"], tc=_D["tc"],
+         engine=_D["engine"]):
     """A Simulation of `carom init`'s start: the same particles, bit for bit.
 
     n particles at packing fraction phi with Maxwell-Boltzmann velocities at kT (zero momentum,
@@ -376,11 +411,12 @@ def init(n, phi, seed=1, dim=2, boundary="walls", rule="elastic", box=None, aspe
         _choice("engine", engine, _ENGINES)))
 
 
-def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12,
-             unit_diameter=False):
+def compress(sim, phi=None, jam=False, rate=_D["rate"], kT=_D["compress_kT"],
+             jam_pressure=_D["jam_pressure"], unit_diameter=False):
     """`carom compress` of sim's particles at sim.time: a new Simulation (sim's rule, restitution,
-    tc and engine; time 0) and a summary dict (status, packing_fraction, compressibility_factor,
-    rate, time, events, mean_diameter, unit_diameter). sim is left as it was.
+    tc and engine; time 0) and the summary `carom compress --summary` writes, as a dict (status,
+    packing_fraction, compressibility_factor, rate, kT, jam_pressure, time, events,
+    mean_diameter, unit_diameter, box, ...). sim is left as it was.
 
     The diameters grow, so the packing's unit of length is the start's and its mean diameter is
     larger than the start's; unit_diameter=True rescales it (box, positions, radii) to a mean
@@ -394,10 +430,10 @@ def compress(sim, phi=None, jam=False, rate=0.01, kT=1.0, jam_pressure=1e12,
     """
     if (phi is None) == (not _flag("jam", jam)):
         raise ValueError("give phi (a packing fraction to stop at) or jam=True, not both")
-    core, summary = sim._core.compress(
+    core, summary = sim._idle.compress(
         None if phi is None else _number("phi", phi), _number("rate", rate), _number("kT", kT),
         _number("jam_pressure", jam_pressure), _flag("unit_diameter", unit_diameter))
-    return Simulation._wrap(core), summary
+    return Simulation._wrap(core), _json.loads(summary)
 
 
 def resume(path):

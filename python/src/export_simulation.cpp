@@ -41,10 +41,38 @@ Placement placement_from(const std::string& name) {
       fmt::format("placement must be auto, random or lattice, got '{}'", name));
 }
 
+// The library's defaults, which the Python package's signatures show (carom/__init__.py reads
+// them from here rather than repeating them).
+py::dict defaults() {
+  const Settings settings;
+  const InitialOptions initial;
+  const CompressionSettings compression;
+  const StartSpec start;
+  py::dict d;
+  d["rule"] = std::string(name_of(Rule::elastic));  // the physical rule: Python's default
+  d["restitution"] = settings.rule.restitution;
+  d["tc"] = settings.rule.elastic_within;
+  d["engine"] = std::string(name_of(settings.engine));
+  d["seed"] = start.seed;
+  d["boundary"] = std::string(name_of(initial.boundary));
+  d["kT"] = initial.temperature;
+  d["aspect"] = initial.aspect;
+  d["polydispersity"] = initial.polydispersity;
+  d["dim"] = 2;  // disks
+  d["rate"] = compression.rate;
+  d["compress_kT"] = compression.temperature;
+  d["jam_pressure"] = compression.jammed_pressure;
+  d["radius"] = kDefaultRadius;
+  d["mass"] = ParticleRecord{}.mass;
+  d["placement"] = "auto";
+  return d;
+}
+
 }  // namespace
 
 void export_simulation(py::module_& m) {
   using namespace py::literals;
+  m.attr("defaults") = defaults();
   py::class_<PythonSimulation>(m, "Simulation")
       .def_static(
           "from_arrays",
@@ -63,9 +91,11 @@ void export_simulation(py::module_& m) {
           [](const std::string& path, const std::optional<std::string>& boundary,
              const std::optional<std::string>& rule, double restitution, double tc,
              const std::string& engine, std::optional<double> kT, std::uint64_t seed) {
-            return PythonSimulation::read(
-                path, choice<Boundary>("boundary", boundary), choice<Rule>("rule", rule),
-                settings_from("elastic", restitution, tc, engine), kT, seed);
+            StartSpec spec{path,        choice<Boundary>("boundary", boundary),
+                           choice<Rule>("rule", rule), restitution,
+                           tc,          choice<EngineKind>("engine", engine),
+                           kT,          seed};
+            return PythonSimulation(load_start(spec));
           },
           "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a)
       .def_static(
@@ -74,9 +104,7 @@ void export_simulation(py::module_& m) {
              std::optional<double> radius, double polydispersity, double kT, std::uint64_t seed,
              const std::string& boundary, const std::string& placement, const std::string& rule,
              double restitution, double tc, const std::string& engine) {
-            InitRequest request;
-            request.dimension = dim;
-            InitialOptions& o = request.options;
+            InitialOptions o;
             o.n = n;
             o.packing_fraction = phi;
             o.box = box;
@@ -87,35 +115,82 @@ void export_simulation(py::module_& m) {
             o.seed = seed;
             o.boundary = choice<Boundary>("boundary", boundary);
             o.placement = placement_from(placement);
-            return PythonSimulation::init(request, settings_from(rule, restitution, tc, engine));
+            try {
+              return PythonSimulation(
+                  init_start(dim, o, settings_from(rule, restitution, tc, engine)));
+            } catch (const InitialError& e) {
+              throw std::invalid_argument(e.what());
+            }
           },
           "dim"_a, "n"_a, "phi"_a, "box"_a, "aspect"_a, "radius"_a, "polydispersity"_a, "kT"_a,
           "seed"_a, "boundary"_a, "placement"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a)
-      .def_static("resume", &PythonSimulation::resume, "path"_a)
-      .def("run", &PythonSimulation::run, "t"_a, "dump"_a, "every"_a, "collisions"_a)
+      .def_static("resume",
+                  [](const std::string& path) { return PythonSimulation(resume_start(path)); },
+                  "path"_a)
+      .def(
+          "run",
+          [](PythonSimulation& self, double t, const std::string& dump, double every,
+             const std::string& log, double log_every, const std::string& events,
+             const std::string& checkpoint, const std::optional<std::string>& checkpoint_every,
+             const std::string& summary, bool check, std::uint64_t check_every,
+             std::optional<double> equilibrate, bool collisions) {
+            RunSpec spec;
+            spec.end_time = t;
+            spec.measure_from = equilibrate;
+            spec.dump = dump;
+            spec.dump_every = every;
+            spec.log = log;
+            spec.log_every = log_every;
+            spec.events = events;
+            spec.checkpoint = checkpoint;
+            if (checkpoint_every) spec.checkpoint_every = checkpoint_cadence(*checkpoint_every);
+            spec.summary = summary;
+            spec.check = check;
+            spec.check_every = check_every;
+            self.run(std::move(spec), collisions);
+          },
+          "t"_a, "dump"_a, "every"_a, "log"_a, "log_every"_a, "events"_a, "checkpoint"_a,
+          "checkpoint_every"_a, "summary"_a, "check"_a, "check_every"_a, "equilibrate"_a,
+          "collisions"_a)
       .def("collisions", &PythonSimulation::collisions)
       .def(
           "compress",
           [](const PythonSimulation& self, std::optional<double> target, double rate,
              double temperature, double jammed_pressure, bool unit_diameter) {
-            CompressionSettings settings;
-            settings.target = target;
-            settings.rate = rate;
-            settings.temperature = temperature;
-            settings.jammed_pressure = jammed_pressure;
-            return self.compress(settings, unit_diameter);
+            CompressionSpec spec;
+            spec.settings.target = target;
+            spec.settings.rate = rate;
+            spec.settings.temperature = temperature;
+            spec.settings.jammed_pressure = jammed_pressure;
+            spec.settings.engine = self.simulation().settings().engine;
+            spec.unit_diameter = unit_diameter;
+            return self.compress(spec);
           },
           "phi"_a, "rate"_a, "kT"_a, "jam_pressure"_a, "unit_diameter"_a)
-      .def_property_readonly("time", &PythonSimulation::time)
-      .def_property_readonly("events", &PythonSimulation::events)
-      .def_property_readonly("n", &PythonSimulation::size)
-      .def_property_readonly("dim", &PythonSimulation::dimension)
+      .def_property_readonly("time", [](const PythonSimulation& s) { return s.simulation().time(); })
+      .def_property_readonly("events",
+                             [](const PythonSimulation& s) { return s.simulation().counts().events; })
+      .def_property_readonly("n", [](const PythonSimulation& s) { return s.simulation().size(); })
+      .def_property_readonly("dim",
+                             [](const PythonSimulation& s) { return s.simulation().dimension(); })
       .def_property_readonly("box", &PythonSimulation::box)
-      .def_property_readonly("boundary", &PythonSimulation::boundary)
-      .def_property_readonly("rule", &PythonSimulation::rule)
-      .def_property_readonly("restitution", &PythonSimulation::restitution)
-      .def_property_readonly("tc", &PythonSimulation::tc)
-      .def_property_readonly("engine", &PythonSimulation::engine)
+      .def_property_readonly("boundary",
+                             [](const PythonSimulation& s) {
+                               return std::string(name_of(s.simulation().boundary()));
+                             })
+      .def_property_readonly("rule",
+                             [](const PythonSimulation& s) {
+                               return std::string(name_of(s.simulation().settings().rule.rule));
+                             })
+      .def_property_readonly(
+          "restitution",
+          [](const PythonSimulation& s) { return s.simulation().settings().rule.restitution; })
+      .def_property_readonly(
+          "tc", [](const PythonSimulation& s) { return s.simulation().settings().rule.elastic_within; })
+      .def_property_readonly("engine",
+                             [](const PythonSimulation& s) {
+                               return std::string(name_of(s.simulation().settings().engine));
+                             })
       .def_property_readonly("source", &PythonSimulation::source)
       .def_property_readonly("positions", &PythonSimulation::positions)
       .def_property_readonly("images", &PythonSimulation::images)
@@ -124,14 +199,18 @@ void export_simulation(py::module_& m) {
       .def_property_readonly("masses", &PythonSimulation::masses)
       .def_property_readonly("wall_collisions", &PythonSimulation::wall_collisions)
       .def_property_readonly("pair_collisions", &PythonSimulation::pair_collisions)
-      .def("json", &PythonSimulation::json, "particles"_a)
+      .def(
+          "json",
+          [](const PythonSimulation& s, bool particles) { return s.text(Format::json, particles); },
+          "particles"_a)
       .def(
           "text",
           [](const PythonSimulation& s, const std::string& format) {
             return s.text(choice<Format>("format", format));
           },
           "format"_a)
-      .def("reset_measurement", &PythonSimulation::reset_measurement)
+      .def("reset_measurement",
+           [](PythonSimulation& s) { s.simulation().reset_measurement(); })
       .def("measure_from", &PythonSimulation::measure_from, "t"_a)
       .def("save", &PythonSimulation::save, "path"_a);
 }

@@ -1,0 +1,161 @@
+#include "carom/start.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+
+#include "carom/checkpoint.hpp"
+#include "carom/gsd.hpp"
+#include "carom/observables.hpp"
+#include "carom/request.hpp"
+
+namespace carom {
+
+namespace {
+
+// Says which of the run's boundary and rule were not asked for and are not the classic
+// assignment's (walls, swap), and where they came from: the file's record, or the physical rule
+// of a periodic box. Nothing when the run is the classic assignment's or was asked for whole.
+std::string describe_defaults(const StartSpec& spec, const StartRecord& record, Boundary boundary,
+                              Rule rule) {
+  const bool periodic = !spec.boundary && boundary == Boundary::periodic;
+  const bool elastic = !spec.rule && rule == Rule::elastic && spec.restitution == 1.0;
+  if (!periodic && !elastic) return "";
+  const std::string taken = periodic && elastic ? "periodic boundary and elastic rule"
+                            : periodic          ? "periodic boundary"
+                                                : "elastic rule";
+  if (record.boundary || record.rule) {
+    return fmt::format("{}, as {} records ({} choose{} otherwise)", taken, spec.path,
+                       periodic && elastic ? "--boundary and --rule"
+                       : periodic          ? "--boundary"
+                                           : "--rule",
+                       periodic && elastic ? "" : "s");
+  }
+  return "elastic rule, the physical one in a periodic box (--rule swap is the classic "
+         "assignment's)";
+}
+
+template <std::size_t D>
+System<D> system_from(const ParticleArrays& a) {
+  System<D> system;
+  system.box.boundary = a.boundary;
+  for (std::size_t k = 0; k < D; ++k) system.box.size[k] = a.box[k];
+  system.particles.reserve(a.n);
+  system.records.reserve(a.n);
+  for (std::size_t i = 0; i < a.n; ++i) {
+    Particle<D> particle;
+    for (std::size_t k = 0; k < D; ++k) {
+      particle.position[k] = a.positions[i * D + k];
+      particle.velocity[k] = a.velocities[i * D + k];
+    }
+    particle.radius = a.radii[i];
+    system.add(particle, a.masses[i]);
+  }
+  check_start(system);
+  return system;
+}
+
+void require_dimension(int dimension) {
+  if (dimension != 2 && dimension != 3) {
+    throw RequestError(fmt::format("dim must be 2 (disks) or 3 (spheres), got {}", dimension));
+  }
+}
+
+}  // namespace
+
+AnyClassicInput read_any_start_file(const std::string& spec, std::optional<Boundary> boundary) {
+  // FILE.gsd or FILE.gsd:K, the ending in any case.
+  const auto lower = [](std::string text) {
+    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+  };
+  // A GSD frame's box is what it is: a boundary asked for must be that one.
+  const auto boxed = [&](AnyClassicInput input) {
+    const Boundary held = std::visit([](const auto& in) { return in.system.box.boundary; }, input);
+    if (boundary && *boundary != held) {
+      throw InputError(spec, 0,
+                       fmt::format("its box is {}: the boundary cannot be {}", name_of(held),
+                                   name_of(*boundary)));
+    }
+    return input;
+  };
+  const std::string lowered = lower(spec);
+  if (lowered.size() > 4 && lowered.ends_with(".gsd")) {
+    return boxed(read_gsd_start(spec, std::nullopt));
+  }
+  const std::size_t colon = lowered.rfind(".gsd:");
+  if (colon != std::string::npos) {
+    const std::string number = spec.substr(colon + 5);
+    if (!number.empty() && number.size() <= 18 &&
+        std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      return boxed(read_gsd_start(spec.substr(0, colon + 4), std::stoull(number)));
+    }
+    throw InputError(spec, 0,
+                     fmt::format("'{}' is not a frame number (FILE.gsd:K, K from 0)", number));
+  }
+  return read_any_classic_file(spec, boundary);
+}
+
+AnySystem read_start_system(const std::string& spec, std::optional<Boundary> boundary) {
+  return std::visit([](auto&& input) { return AnySystem(std::move(input.system)); },
+                    read_any_start_file(spec, boundary));
+}
+
+Start load_start(const StartSpec& spec) {
+  return std::visit(
+      [&](auto&& input) {
+        const Boundary boundary = input.system.box.boundary;
+        const Rule rule = spec.rule.value_or(default_rule(input.record, boundary, spec.restitution));
+        const Settings settings{{rule, spec.restitution, spec.tc}, spec.engine};
+        std::string note = describe_defaults(spec, input.record, boundary, rule);
+        std::optional<std::uint64_t> seed;
+        if (spec.temperature) {
+          try {
+            draw_velocities(input.system, *spec.temperature, spec.seed);
+          } catch (const std::invalid_argument& e) {
+            throw RequestError(fmt::format("--kT: {}", e.what()));
+          }
+          seed = spec.seed;
+        } else if (kinetic_energy(input.system) == 0.0) {
+          note += std::string(note.empty() ? "" : "; ") +
+                  "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
+                  "Maxwell-Boltzmann velocities";
+        }
+        // Only for the reader's messages: not held while the engine is made (a move frees it;
+        // `= {}` would keep its capacity).
+        input.line_of = std::vector<std::size_t>();
+        return Start{AnySimulation(AnySystem(std::move(input.system)), settings), spec.path,
+                     spec.path, false, std::move(note), seed};
+      },
+      read_any_start_file(spec.path, spec.boundary));
+}
+
+Start resume_start(const std::string& path) {
+  std::ifstream file = open_input(path);
+  return std::visit(
+      [&](const auto& checkpoint) {
+        return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", std::nullopt};
+      },
+      read_checkpoint(file, path));
+}
+
+Start init_start(int dimension, const InitialOptions& options, const Settings& settings) {
+  require_dimension(dimension);
+  check_settings(settings);
+  AnySystem system = dimension == 2 ? AnySystem(make_initial<2>(options))
+                                    : AnySystem(make_initial<3>(options));
+  return Start{AnySimulation(std::move(system), settings), "", "(carom.init)", false,
+               "", std::nullopt};
+}
+
+Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
+  require_dimension(arrays.dimension);
+  AnySystem system = arrays.dimension == 2 ? AnySystem(system_from<2>(arrays))
+                                           : AnySystem(system_from<3>(arrays));
+  return Start{AnySimulation(std::move(system), settings), "", "(arrays)", false, "",
+               std::nullopt};
+}
+
+}  // namespace carom
