@@ -938,6 +938,10 @@ TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
   EXPECT_EQ(carom({"run", start, "2", "--log", log}).exit_code, 2);
   EXPECT_EQ(carom({"run", start, "2", "--log-every", "1"}).exit_code, 2);
   EXPECT_EQ(carom({"run", start, "2", "--log", log, "--log-every", "0"}).exit_code, 2);
+  // Rows without end would fill the disk: refused up front, as frames are (regression).
+  const Result endless = carom({"run", start, "2", "--log", log, "--log-every", "1e-100"});
+  EXPECT_EQ(endless.exit_code, 2);
+  EXPECT_NE(endless.err.find("more than 10^7 rows"), std::string::npos) << endless.err;
   EXPECT_EQ(carom({"run", start, "2", "--log", log, "--log-every", "1", "--events", log}).exit_code,
             2);
 }

@@ -7,9 +7,9 @@ import numpy as np
 
 # The json fields that depend on the wall clock or on how the run was named, not on the physics.
 NOT_DETERMINISTIC = ("input", "wall_seconds", "events_per_second")
-# carom run knows where its measurement window ends and cuts it into 20 intervals to check that
-# Z settled; sim.run, called in pieces, does not know, and leaves the verdict null.
-COMMAND_LINE_ONLY = ("compressibility_factor_drift",)
+# Each run (carom run, sim.run) cuts the part of the measurement window it covers into 20
+# intervals to check that Z settled: runs cut into other pieces give other verdicts.
+PIECE_DEPENDENT = ("compressibility_factor_drift",)
 
 
 def assert_bitwise_equal(a, b, what="arrays"):
@@ -30,9 +30,9 @@ def assert_bitwise_equal(a, b, what="arrays"):
 
 def deterministic(summary):
     """A json summary without the fields that legitimately differ between two equal runs (and
-    the command line's verdict on Z's drift)."""
+    the verdict on Z's drift, which depends on how the run was cut)."""
     return {k: v for k, v in summary.items()
-            if k not in NOT_DETERMINISTIC + COMMAND_LINE_ONLY}
+            if k not in NOT_DETERMINISTIC + PIECE_DEPENDENT}
 
 
 def assert_same_state(a, b, what=""):

@@ -1,6 +1,8 @@
 """carom.compress: the command line's `carom compress`, bit for bit, and packings checked for
 overlaps independently (numpy, every pair by minimum image)."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -59,7 +61,14 @@ def test_compress_equals_cli_compress_and_overlaps_nothing(cli, tmp_path, init, 
     cli("init", *args, "-o", start)
     flags = (["--phi", options["phi"]] if "phi" in options else ["--jam"]) + \
         ["--rate", options.get("rate", 0.01)]
-    cli("compress", start, *flags, "--boundary", init.get("boundary", "walls"), "-o", out)
+    cli("compress", start, *flags, "--boundary", init.get("boundary", "walls"), "-o", out,
+        "--summary", tmp_path / "summary.json", "-q")
+    # The same summary, key for key (the start's name and the clock aside).
+    from_cli_summary = json.loads((tmp_path / "summary.json").read_text())
+    assert list(summary) == list(from_cli_summary)
+    for key in ("input", "wall_seconds"):
+        del summary[key], from_cli_summary[key]
+    assert summary == from_cli_summary
     from_cli = carom.read(out, boundary=init.get("boundary", "walls"))
     assert np.array_equal(from_cli.positions, dense.positions)
     assert np.array_equal(from_cli.radii, dense.radii)

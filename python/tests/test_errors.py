@@ -316,3 +316,21 @@ def test_a_refused_dump_leaves_the_open_trajectory_alone(tmp_path):
     whole = carom.init(**options)
     whole.run(4.0, dump=tmp_path / "whole.xyz", every=0.5)
     assert (tmp_path / "a.xyz").read_bytes() == (tmp_path / "whole.xyz").read_bytes()
+
+
+@pytest.mark.parametrize("options,pattern", [
+    (dict(dump="frames.xyz", every=1e-100), "more than 10\\^7 frames"),
+    (dict(log="series.csv", log_every=1e-100), "more than 10\\^7 rows"),
+    (dict(dump="frames.xyz", every=0.0), "needs --every DT > 0"),
+    (dict(checkpoint_every=10), "checkpoint_every needs checkpoint"),
+    (dict(checkpoint="a.ckpt", checkpoint_every="soon"), "checkpoint-every"),
+    (dict(dump="same.csv", every=1.0, log="same.csv", log_every=1.0), "name the same file"),
+    (dict(dump="frames.dcd", every=1.0), "dcd"),
+])
+def test_run_refuses_what_the_command_line_refuses(tmp_path, monkeypatch, options, pattern):
+    # The same checks, from the library: nothing is written, the simulation is unchanged.
+    monkeypatch.chdir(tmp_path)
+    sim = carom.init(n=50, phi=0.3, boundary="periodic")
+    with pytest.raises(ValueError, match=pattern):
+        sim.run(10.0, **options)
+    assert sim.time == 0.0 and list(tmp_path.iterdir()) == []

@@ -1,0 +1,196 @@
+"""One run description through the command line and through Python gives the same files, byte
+for byte: the trajectory, the time series, the event log, the checkpoint and the summary, whether
+the run goes in one piece, in pieces continued from a checkpoint (`carom run --resume`,
+carom.resume), in pieces of one Python Simulation, or is stopped by Ctrl-C and resumed. Both
+front ends hand the same RunSpec to the library's Runner; this checks that they say the same."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+import carom
+
+# The outputs, as carom.Simulation.run's keywords; the command line's options are their names.
+OUTPUTS = dict(log="series.csv", log_every=0.25, events="events.csv", checkpoint="run.ckpt",
+               checkpoint_every=1500, summary="summary.json")
+DUMPS = {2: "frames.xyz", 3: "frames.lammpstrj"}  # the continued trajectory formats
+EVERY = 0.5
+FILES = ("series.csv", "events.csv", "run.ckpt", "summary.json")
+# Fields of the summary that depend on the wall clock, or (the drift verdict) on where a run
+# was cut: the verdict is made by each piece over what it saw.
+CLOCK = ("wall_seconds", "events_per_second")
+PIECEWISE = ("compressibility_factor_drift",)
+
+
+def outputs(dim):
+    return dict(OUTPUTS, dump=DUMPS[dim], every=EVERY)
+
+
+def cli_options(options):
+    args = []
+    for key, value in options.items():
+        args += ["--" + key.replace("_", "-"), str(value)]
+    return args
+
+
+def files(folder, dim, drop=CLOCK):
+    """Every output file's bytes; the summary as a dict without the fields in `drop`."""
+    found = {}
+    for name in FILES + (DUMPS[dim],):
+        data = (folder / name).read_bytes()
+        if name == "summary.json":
+            data = {k: v for k, v in json.loads(data).items() if k not in drop}
+        found[name] = data
+    return found
+
+
+def assert_same_files(a, b, what):
+    assert a.keys() == b.keys()
+    for name in a:
+        assert a[name] == b[name], f"{what}: {name} differs"
+
+
+@pytest.fixture(params=[2, 3], ids=["disks", "spheres"])
+def start(request, cli, tmp_path):
+    """A periodic start file written by `carom init`, and its dimension."""
+    dim = request.param
+    path = tmp_path / "start.txt"
+    n = 300 if dim == 2 else 256
+    cli("init", "--dim", str(dim), "--n", str(n), "--phi", "0.45", "--seed", "4",
+        "--boundary", "periodic", "-o", path)
+    return path, dim
+
+
+def folder(tmp_path, name, start_file):
+    """A folder of its own for one way of running, holding a copy of the start file: every run
+    names its files alike (relative paths), so their contents can be compared whole."""
+    made = tmp_path / name
+    made.mkdir()
+    (made / "start.txt").write_bytes(start_file.read_bytes())
+    return made
+
+
+def test_pieces_give_the_files_of_one_run_in_either_front_end(cli, tmp_path, start,
+                                                              monkeypatch):
+    start_file, dim = start
+    options = outputs(dim)
+    flags = cli_options(options)
+
+    whole_cli = folder(tmp_path, "whole_cli", start_file)
+    cli("run", "start.txt", "6", "--equilibrate", "2", "-q", *flags, cwd=whole_cli)
+
+    pieces_cli = folder(tmp_path, "pieces_cli", start_file)
+    cli("run", "start.txt", "3.5", "--equilibrate", "2", "-q", *flags, cwd=pieces_cli)
+    cli("run", "--resume", "run.ckpt", "6", "-q", *flags, cwd=pieces_cli)
+
+    whole_python = folder(tmp_path, "whole_python", start_file)
+    monkeypatch.chdir(whole_python)
+    carom.read("start.txt").run(6, equilibrate=2, **options)
+
+    resumed_python = folder(tmp_path, "resumed_python", start_file)
+    monkeypatch.chdir(resumed_python)
+    carom.read("start.txt").run(3.5, equilibrate=2, **options)
+    carom.resume("run.ckpt").run(6, **options)
+
+    one_object = folder(tmp_path, "one_object", start_file)
+    monkeypatch.chdir(one_object)
+    sim = carom.read("start.txt")
+    sim.run(2.2, equilibrate=2, **options)
+    sim.run(3.5, **options)      # the same files, kept open
+    sim.advance(2.5, **options)  # to 6
+
+    reference = files(whole_cli, dim)
+    assert_same_files(reference, files(whole_python, dim), "one piece, Python")
+    reference = files(whole_cli, dim, CLOCK + PIECEWISE)
+    for name, where in [("pieces, command line", pieces_cli),
+                        ("pieces, Python", resumed_python),
+                        ("pieces of one Simulation", one_object)]:
+        assert_same_files(reference, files(where, dim, CLOCK + PIECEWISE), name)
+    # The comparisons are not vacuous: the files hold the whole run.
+    summary = reference["summary.json"]
+    assert summary["end_time"] == 6.0 and summary["window_pair_collisions"] > 0
+    frames = reference[DUMPS[dim]].decode()
+    assert frames.count("Time=" if dim == 2 else "ITEM: TIMESTEP") == 13  # t = 0, 0.5, ..., 6
+
+
+INTERRUPTED = textwrap.dedent("""
+    import json, os, signal, sys, threading
+    import carom
+
+    options = json.loads(sys.argv[1])
+    threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+    sim = carom.read("start.txt")
+    try:
+        sim.run(1e4, equilibrate=1, **options)
+    except KeyboardInterrupt:
+        pass
+    print(sim.time)
+""")
+
+RESUMED = textwrap.dedent("""
+    import json, sys
+    import carom
+
+    carom.resume("run.ckpt").run(float(sys.argv[2]), **json.loads(sys.argv[1]))
+""")
+
+
+def test_a_stopped_run_resumed_gives_the_files_of_one_run(cli, tmp_path, start):
+    """Ctrl-C (SIGINT) stops a run at a whole instant and saves its checkpoint; resumed, in
+    either front end, it gives the files of a run never stopped, which the other front end
+    makes."""
+    start_file, dim = start
+    options = dict(outputs(dim), every=5.0, log_every=2.0, checkpoint_every=20000)
+    # The command line, stopped: run again to just past where it stopped, from its checkpoint.
+    stopped_cli = folder(tmp_path, "stopped_cli", start_file)
+    child = subprocess.Popen([cli.exe, "run", "start.txt", "1e4", "--equilibrate", "1", "-q",
+                              *cli_options(options)], cwd=stopped_cli, stderr=subprocess.PIPE,
+                             text=True)
+    try:
+        child.wait(timeout=0.3)
+    except subprocess.TimeoutExpired:
+        child.send_signal(signal.SIGINT)
+    stderr = child.communicate(timeout=60)[1]
+    assert child.returncode == 128 + signal.SIGINT, stderr
+    stopped_at = carom.resume(stopped_cli / "run.ckpt").time
+    end_cli = math.ceil(stopped_at) + 1.5
+    cli("run", "--resume", "run.ckpt", repr(end_cli), "-q", *cli_options(options),
+        cwd=stopped_cli)
+
+    # Python, stopped by KeyboardInterrupt, resumed by carom.resume.
+    stopped_python = folder(tmp_path, "stopped_python", start_file)
+    env = dict(os.environ)
+    child = subprocess.run([sys.executable, "-c", INTERRUPTED, json.dumps(options)],
+                           cwd=stopped_python, capture_output=True, text=True, timeout=60,
+                           env=env)
+    assert child.returncode == 0, child.stderr
+    end_python = math.ceil(float(child.stdout)) + 1.5
+    child = subprocess.run([sys.executable, "-c", RESUMED, json.dumps(options), repr(end_python)],
+                           cwd=stopped_python, capture_output=True, text=True, timeout=120,
+                           env=env)
+    assert child.returncode == 0, child.stderr
+
+    # Each against a run never stopped, by the other front end.
+    whole_python = folder(tmp_path, "whole_python", start_file)
+    child = subprocess.run([sys.executable, "-c", textwrap.dedent("""
+        import json, sys
+        import carom
+        carom.read("start.txt").run(float(sys.argv[2]), equilibrate=1, **json.loads(sys.argv[1]))
+    """), json.dumps(options), repr(end_cli)], cwd=whole_python, capture_output=True, text=True,
+                           timeout=120, env=env)
+    assert child.returncode == 0, child.stderr
+    whole_cli = folder(tmp_path, "whole_cli", start_file)
+    cli("run", "start.txt", repr(end_python), "--equilibrate", "1", "-q", *cli_options(options),
+        cwd=whole_cli)
+
+    drop = CLOCK + PIECEWISE
+    assert_same_files(files(whole_python, dim, drop), files(stopped_cli, dim, drop),
+                      "command line stopped and resumed")
+    assert_same_files(files(whole_cli, dim, drop), files(stopped_python, dim, drop),
+                      "Python stopped and resumed")
