@@ -1360,16 +1360,25 @@ TEST_F(Cli, CtrlCKeepsThePackingACompressionHasReached) {
             s["packing_fraction"]);
 }
 
-TEST_F(Cli, CheckedRunsFindNothingWrong) {
+TEST_F(Cli, CheckedRunsFindNothingWrongAndChangeNothing) {
+  // --check looks at every event and, every 50, at every pair: a dense run passes, and the
+  // checks (observers that only read) leave its result as it is, bit for bit.
   const fs::path start = dir_ / "gas.txt";
   for (const std::string boundary : {"walls", "periodic"}) {
     ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.7", "--boundary", boundary, "-o", start})
                   .exit_code,
               0);
-    const Result r = carom({"run", start, "20", "--rule", "elastic", "--boundary", boundary,
-                            "--check", "--check-every", "50", "--format", "csv"});
+    const std::vector<std::string> run{"run",        start,       "20",    "--rule", "elastic",
+                                       "--boundary", boundary,    "--format", "json"};
+    std::vector<std::string> checked = run;
+    checked.insert(checked.end(), {"--check", "--check-every", "50"});
+    const Result r = carom(checked);
     EXPECT_EQ(r.exit_code, 0) << r.err;
     EXPECT_EQ(r.err, "");
+    const Result unchecked = carom(run);
+    ASSERT_EQ(unchecked.exit_code, 0) << unchecked.err;
+    EXPECT_EQ(particles_of(r.out), particles_of(unchecked.out)) << boundary;
+    EXPECT_GT(nlohmann::json::parse(r.out)["pair_collisions"].get<double>(), 10000) << boundary;
   }
 }
 
@@ -1533,11 +1542,27 @@ TEST_F(Cli, DumpsThatCannotFitAndWritesThatFailKeepTheState) {
   EXPECT_EQ(carom({"run", "--resume", checkpoint, "1", "-q"}).exit_code, 0);  // and it goes on
 }
 
-TEST_F(Cli, BundledExamplesRun) {
-  for (const char* example :
-       {"walls_only.txt", "particles_only.txt", "normal.txt", "particles1.txt"}) {
-    const Result r = carom({"run", std::string(CAROM_EXAMPLES) + "/" + example, "50"});
-    EXPECT_EQ(r.exit_code, 0) << example << ": " << r.err;
+TEST_F(Cli, BundledExamplesAreTheReferenceCasesAndReproduceThem) {
+  // What a new user runs first (examples/) is the classic assignment's reference cases, byte for
+  // byte, and gives their expected results: the table (after its header line) or the csv.
+  const struct {
+    const char* name;
+    const char* end_time;
+    const char* expected;
+    bool csv;
+  } cases[] = {{"walls_only", "20", "walls_only.T20.expected", false},
+               {"particles_only", "18", "particles_only.T18.expected", false},
+               {"normal", "20", "normal.T20.csv", true},
+               {"particles1", "15", "particles1.T15.csv", true}};
+  for (const auto& c : cases) {
+    const std::string example = std::string(CAROM_EXAMPLES) + "/" + c.name + ".txt";
+    EXPECT_EQ(read_file(example), read_file(kCases + c.name + ".txt")) << c.name;
+    std::vector<std::string> args{"run", example, c.end_time};
+    if (c.csv) args.insert(args.end(), {"--format", "csv"});
+    const Result r = carom(args);
+    ASSERT_EQ(r.exit_code, 0) << c.name << ": " << r.err;
+    const std::string result = c.csv ? r.out : r.out.substr(r.out.find('\n') + 1);
+    EXPECT_EQ(result, read_file(kCases + c.expected)) << c.name;
   }
 }
 
