@@ -30,7 +30,7 @@ double henderson(double eta) {
          0.043 * std::pow(eta, 4) / std::pow(1 - eta, 3);
 }
 
-TEST(Physics, ElasticRunsConserveEnergyAndMomentum) {
+TEST(Observables, ElasticRunsConserveEnergyAndMomentum) {
   Simulation<2> simulation(gas(400, 0.5), {{Rule::elastic}});
   const double e0 = kinetic_energy(simulation.state());
   simulation.run_until(750.0);
@@ -41,7 +41,7 @@ TEST(Physics, ElasticRunsConserveEnergyAndMomentum) {
   EXPECT_FALSE(find_pair_overlap(simulation.state(), simulation.stored_time()).has_value());
 }
 
-TEST(Physics, VelocitiesRelaxToMaxwellBoltzmann) {
+TEST(Observables, VelocitiesRelaxToMaxwellBoltzmann) {
   // Start far from equilibrium: every disk at the same speed.
   System<2> s = gas(2000, 0.3, 4);
   for (Particle<2>& p : s.particles) {
@@ -62,7 +62,7 @@ TEST(Physics, VelocitiesRelaxToMaxwellBoltzmann) {
   EXPECT_NEAR(ratio(), 2.0, 0.12);  // the 2D Maxwell-Boltzmann value
 }
 
-TEST(Physics, PressureMatchesTheEquationOfStateAndTheCollisionRateIdentity) {
+TEST(Observables, PressureMatchesTheEquationOfStateAndTheCollisionRateIdentity) {
   for (double eta : {0.3, 0.5}) {
     Simulation<2> simulation(gas(1024, eta, 2), {{Rule::elastic}});
     simulation.measure_from(20.0);  // equilibrate
@@ -77,7 +77,7 @@ TEST(Physics, PressureMatchesTheEquationOfStateAndTheCollisionRateIdentity) {
   }
 }
 
-TEST(Physics, APeriodicBoxHasDTimesNMinusOneDegreesOfFreedom) {
+TEST(Observables, APeriodicBoxHasDTimesNMinusOneDegreesOfFreedom) {
   // Three disks with total momentum (3, 0) in a periodic box: the centre of mass carries
   // |P|^2 / 2M = 1.5 of the kinetic energy 0.5 (4 + 1 + 4) = 4.5, which is no temperature.
   System<2> s = testing::boxed({20, 20},
@@ -97,7 +97,7 @@ TEST(Physics, APeriodicBoxHasDTimesNMinusOneDegreesOfFreedom) {
 // too large, beta P d^2 = 6.988 here. The exact-N value: Li, Nishikawa, Hoellmer, Carillo, Maggs
 // and Krauth, J. Chem. Phys. 157, 234111 (2022), data file DigitizedData/ThisWork.csv of their
 // HistoricDisks repository: 6.901074 +- 0.000071 (docs/validation.md has the long runs).
-TEST(Physics, SmallSystemPressureIsTheExactNValue) {
+TEST(Observables, SmallSystemPressureIsTheExactNValue) {
   Simulation<2> simulation(gas(72, 0.65, 5), {{Rule::elastic}});
   simulation.measure_from(50.0);
   simulation.run_until(2050.0);
@@ -109,7 +109,7 @@ TEST(Physics, SmallSystemPressureIsTheExactNValue) {
 
 // Hard spheres: Z against the Carnahan-Starling equation of state, the collision-rate identity in
 // 3D, Z - 1 = omega sigma sqrt(pi m / kT) / 6, and the D (N - 1) temperature.
-TEST(Physics, SpheresFollowCarnahanStarling) {
+TEST(Observables, SpheresFollowCarnahanStarling) {
   pcg32 rng(11);
   const double eta = 0.2, n = 400;
   const double side = std::cbrt(n * std::numbers::pi / 6.0 / eta);  // diameter 1
@@ -132,7 +132,7 @@ TEST(Physics, SpheresFollowCarnahanStarling) {
 
 // A dense fluid melted from carom init's FCC lattice: Z against the Kolafa-Labik-Malijevsky
 // equation of state (docs/validation.md holds N = 4000 to 0.1%).
-TEST(Physics, SpheresMeltedFromTheLatticeFollowKolafaLabikMalijevsky) {
+TEST(Observables, SpheresMeltedFromTheLatticeFollowKolafaLabikMalijevsky) {
   const double eta = 0.4;
   InitialOptions o;
   o.n = 500;
@@ -147,7 +147,7 @@ TEST(Physics, SpheresMeltedFromTheLatticeFollowKolafaLabikMalijevsky) {
       << simulation.counts().pair_collisions << " collisions";
 }
 
-TEST(Physics, InelasticGasCoolsWithoutCollapse) {
+TEST(Observables, InelasticGasCoolsWithoutCollapse) {
   Simulation<2> simulation(gas(1000, 0.3, 3), {{Rule::elastic, 0.8, 1e-5}});
   const double e0 = kinetic_energy(simulation.state());
   simulation.run_until(50.0);
@@ -158,7 +158,7 @@ TEST(Physics, InelasticGasCoolsWithoutCollapse) {
   EXPECT_NEAR(momentum(simulation.state())[0], 0.0, 1e-9);
 }
 
-TEST(Physics, WallPressureCountsMomentumGivenToTheWalls) {
+TEST(Observables, WallPressureCountsMomentumGivenToTheWalls) {
   // One disk bouncing between two walls along x: momentum 2 m v per hit, (L - 2R) / v apart.
   const System<2> s = testing::boxed({10, 10}, {testing::disk({5, 5}, {2, 0}, 1)});
   Simulation<2> simulation(s);
@@ -170,7 +170,7 @@ TEST(Physics, WallPressureCountsMomentumGivenToTheWalls) {
   EXPECT_EQ(o.collision_rate, 0.0);
 }
 
-TEST(Physics, WallPressureCountsMomentumGivenToTheSixFacesOfABox) {
+TEST(Observables, WallPressureCountsMomentumGivenToTheSixFacesOfABox) {
   // One sphere crossing a 10 x 10 x 10 box at (2, 1, 0.5): by t = 39 it hits the x walls at
   // 2, 6, ..., 38 (10 times, 2 m vx each), the y walls at 4, 12, ..., 36 (5) and z at 8, 24 (2).
   System<3> s;
