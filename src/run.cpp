@@ -19,6 +19,9 @@ namespace carom {
 
 namespace {
 
+constexpr const char* kCannotStream =
+    "cannot write the trajectory, the event log or the time series (is the disk full?)";
+
 // Beyond this many frames or rows a cadence is a mistake (or fills a disk), not a measurement.
 constexpr double kMostRows = 1e7;
 
@@ -301,8 +304,10 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
   if (spec.checkpoint_every) {
-    observers.add(std::make_shared<CheckpointWriter<D>>(spec.checkpoint, start.source,
-                                                        *spec.checkpoint_every));
+    observers.add(std::make_shared<CheckpointWriter<D>>(
+        spec.checkpoint, start.source, *spec.checkpoint_every, [&outputs] {
+          if (!outputs.flush()) throw std::runtime_error(kCannotStream);
+        }));
   }
   // Z over 20 intervals of the measurement window, first half against second.
   std::shared_ptr<ZDrift<D>> z_drift;
@@ -344,7 +349,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, simulation, start.source);
   if (!streamed_ok) {
     throw std::runtime_error(
-        fmt::format("cannot write the trajectory or the event log (is the disk full?){}",
+        fmt::format("{}{}", kCannotStream,
                     spec.checkpoint.empty()
                         ? std::string()
                         : fmt::format("; the run's end state is saved in {}", spec.checkpoint)));

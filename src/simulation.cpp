@@ -136,6 +136,9 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
         complete_instant();
         return stop ? RunStatus::stopped : RunStatus::event_limit;
       }
+      // The same events follow as if the run had stopped here and gone on: any division of a
+      // run gives the same run.
+      if (instant_awaited_) complete_instant();
     }
     settle_at(stop_at);
     if (stop_at == t) return RunStatus::reached;
@@ -163,15 +166,12 @@ void Simulation<D>::record(const Event& event) {
         observer.observe(*this);
         break;
       case Trigger::Kind::events:
-        if (counts_.events >= entry.next_event) {
-          observer.observe(*this);
-          schedule(entry);
-        }
+        if (!entry.due && counts_.events >= entry.next_event) call_or_await(entry);
         break;
       case Trigger::Kind::seconds:
-        if (counts_.events % 1024 == 0 && std::chrono::steady_clock::now() >= entry.next_clock) {
-          observer.observe(*this);
-          schedule(entry);
+        if (!entry.due && counts_.events % 1024 == 0 &&
+            std::chrono::steady_clock::now() >= entry.next_clock) {
+          call_or_await(entry);
         }
         break;
       case Trigger::Kind::time:
@@ -181,10 +181,30 @@ void Simulation<D>::record(const Event& event) {
 }
 
 template <std::size_t D>
+void Simulation<D>::call_or_await(Scheduled& entry) {
+  if (entry.observer->trigger().whole_instant) {
+    entry.due = true;
+    instant_awaited_ = true;
+    return;
+  }
+  entry.observer->observe(*this);
+  schedule(entry);
+}
+
+template <std::size_t D>
 void Simulation<D>::complete_instant() {
   const double now = time_;
   while (const std::optional<Event> event = engine_->step(now)) record(*event);
   settle_at(now);
+  if (!instant_awaited_) return;
+  instant_awaited_ = false;
+  for (Scheduled& entry : observers_) {
+    if (entry.due) {
+      entry.due = false;
+      entry.observer->observe(*this);
+      schedule(entry);
+    }
+  }
 }
 
 template <std::size_t D>

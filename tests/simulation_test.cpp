@@ -258,6 +258,39 @@ TEST(Simulation, EarlyReturnsFinishTheInstantTheyStopAt) {
   EXPECT_EQ(flagged.time(), 1.0);
 }
 
+// An observer that waits for whole instants: what it sees, and whether the run was whole then.
+template <std::size_t D>
+struct InstantRecorder final : Observer<D> {
+  explicit InstantRecorder(Trigger trigger) : Observer<D>(trigger.at_whole_instants()) {}
+  void observe(const Simulation<D>& simulation) override {
+    settled = settled && simulation.settled();
+    events.push_back(simulation.counts().events);
+  }
+  bool settled = true;
+  std::vector<std::uint64_t> events;
+};
+
+TEST(Simulation, WholeInstantObserversSeeEveryEventOfTheirInstantAndChangeNothing) {
+  // Every case, ties of touching lattices included: an observer due after every 7th event but
+  // waiting for the instant to be complete (what a checkpoint needs) sees a settled run, at
+  // least 7 events after the last time; and the run is the one without it, bit for bit.
+  for (const Case& c : cases()) {
+    Observed plain(c), watched(c);
+    auto waiting = std::make_shared<InstantRecorder<2>>(Trigger::every_events(7));
+    watched.simulation.add_observer(waiting);
+    plain.simulation.run_until(c.end_time);
+    watched.simulation.run_until(c.end_time);
+    expect_identical(plain.simulation, watched.simulation, c.label);
+    EXPECT_EQ(plain.events->events, watched.events->events) << c.label;
+    EXPECT_EQ(plain.frames->times, watched.frames->times) << c.label;
+    EXPECT_TRUE(waiting->settled) << c.label;
+    ASSERT_FALSE(waiting->events.empty()) << c.label;
+    for (std::size_t k = 0; k < waiting->events.size(); ++k) {
+      EXPECT_GE(waiting->events[k], 7 * (k + 1)) << c.label;
+    }
+  }
+}
+
 TEST(Simulation, TargetsOutOfReachAreRefused) {
   Simulation<2> simulation(boxed({10, 10}, {disk({5, 5}, {1, 0.5}, 1)}));
   simulation.run_until(5.0);

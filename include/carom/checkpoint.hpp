@@ -4,6 +4,7 @@
 // same events at the same times, bit for bit.
 #pragma once
 
+#include <functional>
 #include <istream>
 #include <memory>
 #include <optional>
@@ -49,18 +50,28 @@ template <std::size_t D>
 void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
                      const std::string& source);
 
-// Saves a checkpoint whenever its trigger fires (every so many events or seconds).
+// Saves a checkpoint whenever its trigger fires (every so many events or seconds), once the run
+// is whole at that instant (Trigger::whole_instant): a checkpoint never splits the events of one
+// time, so that files written up to it are cut at its time exactly. `before_save` (optional)
+// flushes what else the run writes, so that a run killed after a checkpoint has on disk
+// everything the checkpoint counts.
 template <std::size_t D>
 class CheckpointWriter final : public Observer<D> {
  public:
-  CheckpointWriter(std::string path, std::string source, Trigger trigger)
-      : Observer<D>(trigger), path_(std::move(path)), source_(std::move(source)) {}
+  CheckpointWriter(std::string path, std::string source, Trigger trigger,
+                   std::function<void()> before_save = {})
+      : Observer<D>(trigger.at_whole_instants()),
+        path_(std::move(path)),
+        source_(std::move(source)),
+        before_save_(std::move(before_save)) {}
   void observe(const Simulation<D>& simulation) override {
+    if (before_save_) before_save_();
     save_checkpoint(path_, simulation, source_);
   }
 
  private:
   std::string path_, source_;
+  std::function<void()> before_save_;
 };
 
 }  // namespace carom

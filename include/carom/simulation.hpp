@@ -51,11 +51,20 @@ struct Trigger {
   };
   Kind kind = Kind::time;
   double period = 0.0;
+  // For events and seconds: call the observer only once the run is whole at the instant of the
+  // event that made it due (every event at that time processed: settled()), as a checkpoint
+  // needs, so that what was written up to it (an event log, say) can be cut at its time exactly.
+  bool whole_instant = false;
 
   static Trigger every_time(double dt) { return {Kind::time, dt}; }
   static Trigger every_events(std::uint64_t n) { return {Kind::events, static_cast<double>(n)}; }
   static Trigger every_seconds(double seconds) { return {Kind::seconds, seconds}; }
   static Trigger each_event() { return {Kind::each_event, 0.0}; }
+  Trigger at_whole_instants() const {
+    Trigger whole = *this;
+    whole.whole_instant = kind == Kind::events || kind == Kind::seconds;
+    return whole;
+  }
 };
 
 template <std::size_t D>
@@ -184,13 +193,17 @@ class Simulation {
     double next_time = 0.0;                            // Kind::time
     std::uint64_t next_event = 0;                      // Kind::events
     std::chrono::steady_clock::time_point next_clock;  // Kind::seconds
+    bool due = false;  // a whole_instant trigger fired: called once the instant is complete
   };
 
   void schedule(Scheduled& entry) const;
   double next_due_time() const;
   // Records a processed event and calls the observers it makes due.
   void record(const Event& event);
-  // Every event at the time of the last one, then the observers due then.
+  // Calls an observer that is due, or marks it to be called once the instant is complete.
+  void call_or_await(Scheduled& entry);
+  // Every event at the time of the last one, then the observers due then (those waiting for
+  // a whole instant last).
   void complete_instant();
   // The run has every event up to `t` processed: time observers and the window due then.
   void settle_at(double t);
@@ -214,6 +227,7 @@ class Simulation {
   std::uint64_t events_to_rebase_;  // until counts_.events is the next multiple of it
   std::vector<Scheduled> observers_;
   bool watch_events_ = false;  // an observer needs looking at after events
+  bool instant_awaited_ = false;  // an observer waits for the instant to be complete
 };
 
 }  // namespace carom
