@@ -56,7 +56,10 @@ Examples:
       ->default_str("1");
   compress
       ->add_option("--jam-pressure", args.settings.jammed_pressure,
-                   "The compressibility factor Z at which --jam stops")
+                   fmt::format("The compressibility factor Z at which --jam stops (at most {:g}: "
+                               "beyond it doubles do not resolve the gaps); particles that can "
+                               "grow no more stop it too",
+                               kMostJammedPressure))
       ->check(finite_number())
       ->default_str(fmt::format("{:g}", kJammedPressure));
   add_choice<EngineKind>(compress, "--engine", args.settings.engine,

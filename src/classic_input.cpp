@@ -23,10 +23,8 @@ namespace {
 // Lines longer than this are not a classic file; reading stops there instead of buffering a
 // file of garbage whole.
 constexpr std::size_t kMaxLineLength = 4096;
-// Lengths and speeds are squared in predictions; beyond these magnitudes the squares overflow or
-// underflow and contact times become meaningless.
-constexpr double kLargest = 1e100;
-constexpr double kSmallest = 1e-100;
+constexpr double kLargest = kLargestMagnitude;
+constexpr double kSmallest = kSmallestMagnitude;
 // Particle indices are stored in 32 bits (see Event).
 constexpr long long kMaxParticles = 0x7FFFFFF0;
 

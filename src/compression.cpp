@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "carom/classic_input.hpp"
 #include "carom/initial.hpp"
 #include "carom/observables.hpp"
 #include "carom/overlap.hpp"
@@ -37,6 +38,12 @@ Compression<D>::Compression(System<D> start, const CompressionSettings& settings
   if (!is_positive(settings_.jammed_pressure)) {
     throw std::invalid_argument(fmt::format(
         "the jamming pressure must be a positive number, not {}", settings_.jammed_pressure));
+  }
+  if (settings_.jammed_pressure > kMostJammedPressure) {
+    throw std::invalid_argument(fmt::format(
+        "the jamming pressure must be at most {:g}, got {:g}: beyond it the gaps between particles "
+        "are below what doubles resolve, and Z stops rising (near 1e15)",
+        kMostJammedPressure, settings_.jammed_pressure));
   }
   if (system_.particles.empty()) throw std::invalid_argument("there are no particles to compress");
   if (system_.records.empty()) system_.records.resize(system_.particles.size());
@@ -160,10 +167,24 @@ void Compression<D>::stretch() {
         1.0 + virial / (static_cast<double>(D) * static_cast<double>(n) * mean_temperature * stop);
   }
   const double factor = std::sqrt(settings_.temperature / temperature);
-  for (Particle<D>& p : system_.particles) p.velocity *= factor;
+  for (Particle<D>& p : system_.particles) {
+    p.velocity *= factor;
+    // Rounding noise closer to 0 than a start file carries (a jammed rattler's velocity can be
+    // 1e-115) is 0, so that the packing written out is one carom reads.
+    for (std::size_t k = 0; k < D; ++k) {
+      if (std::abs(p.velocity[k]) < kSmallestMagnitude) p.velocity[k] = 0.0;
+      if (std::abs(p.position[k]) < kSmallestMagnitude) p.position[k] = 0.0;
+    }
+  }
+  // Particles that can grow no more (pinned between walls, or jammed as densely as doubles
+  // resolve) make events ever closer in time while their radii stop changing: that is a jam too,
+  // whatever Z says (wall collisions are not in it).
+  unchanged_stretches_ = final_scale == last_scale_ ? unchanged_stretches_ + 1 : 0;
+  last_scale_ = final_scale;
   if (reached) {
     status_ = CompressionStatus::reached_target;
-  } else if (compressibility_factor_ > settings_.jammed_pressure) {
+  } else if (compressibility_factor_ > settings_.jammed_pressure ||
+             unchanged_stretches_ >= kStalledStretches) {
     status_ = CompressionStatus::jammed;
   }
 }

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <sstream>
 
+#include "carom/classic_input.hpp"
+#include "carom/formats.hpp"
 #include "carom/initial.hpp"
 #include "carom/observables.hpp"
 #include "carom/overlap.hpp"
@@ -135,6 +139,65 @@ TEST(Compression, RefusesWhatCannotBeDone) {
   EXPECT_EQ(refused(unequal, s), "accepted");
   s.target = 1.0;
   EXPECT_NE(refused(unequal, s).find("a full box"), std::string::npos);
+}
+
+// Hostile cases of a round of testing: compressions that spun forever, time frozen while the
+// events went on (regressions).
+TEST(Compression, ParticlesThatCanGrowNoMoreAreJammedNotSpunForever) {
+  const auto system = [](std::vector<Particle<2>> particles, Vec2 box) {
+    System<2> s;
+    s.box.size = box;
+    for (const Particle<2>& p : particles) s.add(p);
+    return s;
+  };
+  Particle<2> a, b;
+  a.position = {{10, 1}}, a.velocity = {{1, 0.3}}, a.radius = 0.5;
+  b.position = {{30, 1}}, b.velocity = {{-1, 0.2}}, b.radius = 0.5;
+  // Two disks across a channel as high as they can grow wide; one disk in a square box: they
+  // end pinned between walls, which Z (pair collisions only) never shows.
+  const std::vector<System<2>> pinned = {system({a, b}, {{100, 2}}), system({a}, {{12, 12}})};
+  for (const System<2>& start : pinned) {
+    for (const std::optional<double> target : {std::optional<double>(), std::optional(0.8)}) {
+      CompressionSettings settings;
+      settings.target = target;
+      Compression<2> c(start, settings);
+      EXPECT_EQ(finish(c), CompressionStatus::jammed);
+      expect_valid(c.system(), "pinned");
+      EXPECT_LT(c.events(), 100'000'000u);
+    }
+  }
+  // A pressure doubles cannot reach is refused; the most that may be asked for ends.
+  CompressionSettings beyond;
+  beyond.jammed_pressure = 1e16;
+  EXPECT_THROW(Compression<2>(gas<2>(50, 0.3, Boundary::periodic), beyond), std::invalid_argument);
+  CompressionSettings most;
+  most.jammed_pressure = kMostJammedPressure;
+  most.rate = 0.1;
+  Compression<2> dense(gas<2>(50, 0.3, Boundary::periodic), most);
+  EXPECT_EQ(finish(dense), CompressionStatus::jammed);
+}
+
+TEST(Compression, EveryPackingItWritesIsAStartCaromReads) {
+  // A fast jam leaves rattlers with velocities like 1e-115 after the rescaling, which a start
+  // file cannot carry (magnitudes from 1e-100): they are 0, so that the file reads back, the same
+  // doubles. A stopped compression's packing too.
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    CompressionSettings settings;
+    settings.rate = 100.0;
+    Compression<2> c(gas<2>(50, 0.3, Boundary::periodic, 0.0, seed), settings);
+    EXPECT_EQ(finish(c), CompressionStatus::jammed);
+    std::stringstream file;
+    write_start(file, c.system(), Rule::elastic);
+    const ClassicInput<2> read = read_classic<2>(file, "packing");
+    EXPECT_EQ(read.system.particles, c.system().particles) << seed;
+  }
+  std::atomic<int> stop{1};
+  Compression<3> stopped(gas<3>(100, 0.3, Boundary::periodic), {});
+  stopped.set_stop_flag(&stop);
+  EXPECT_EQ(stopped.run(1000), CompressionStatus::running);
+  std::stringstream file;
+  write_start(file, stopped.system(), Rule::elastic);
+  EXPECT_NO_THROW(read_classic<3>(file, "stopped"));
 }
 
 }  // namespace

@@ -87,8 +87,14 @@ template <std::size_t D>
 ClassicInput<D> read_classic_file(const std::string& path,
                                   std::optional<Boundary> boundary = std::nullopt);
 
+// The magnitudes a start file's numbers may have (or 0): lengths and speeds are squared in
+// predictions, and beyond these the squares overflow or underflow.
+inline constexpr double kLargestMagnitude = 1e100;
+inline constexpr double kSmallestMagnitude = 1e-100;
+
 // Checks a number a program supplies as the reader checks one it parses: finite, and a magnitude
-// from 1e-100 to 1e100 (or 0); throws std::invalid_argument naming `what`.
+// from kSmallestMagnitude to kLargestMagnitude (or 0); throws std::invalid_argument naming
+// `what`.
 void check_number(double value, const std::string& what);
 
 // What is wrong with particle i of a start, if anything: a radius or mass not above 0, a centre

@@ -26,8 +26,12 @@ namespace carom {
 // crystallise; see docs/validation.md for what slower rates give.
 inline constexpr double kDefaultGrowthRate = 0.01;
 // The compressibility factor Z = PV / NkT at which a packing counts as jammed (Skoge et al.'s
-// 10^12).
+// 10^12), and the most that may be asked for: near 1e15 the gaps are below what doubles resolve.
 inline constexpr double kJammedPressure = 1e12;
+inline constexpr double kMostJammedPressure = 1e14;
+// A packing whose radii have not changed (to the last bit) over this many stretches can grow no
+// more: jammed.
+inline constexpr int kStalledStretches = 10;
 
 struct CompressionSettings {
   // How fast every diameter grows, per unit time, over its diameter at the start; the thermal
@@ -42,7 +46,7 @@ struct CompressionSettings {
 enum class CompressionStatus {
   running,
   reached_target,  // the packing fraction is the target (to rounding)
-  jammed,          // the compressibility factor passed settings.jammed_pressure
+  jammed,          // Z passed settings.jammed_pressure, or the radii stopped growing
 };
 
 template <std::size_t D>
@@ -87,6 +91,8 @@ class Compression {
   double time_ = 0.0;
   double compressibility_factor_ = 0.0;
   std::uint64_t events_ = 0;
+  double last_scale_ = 0.0;      // the radii's growth factor at the end of the last stretch
+  int unchanged_stretches_ = 0;  // stretches since it last changed
   CompressionStatus status_ = CompressionStatus::running;
   const std::atomic<int>* stop_ = nullptr;
 };
