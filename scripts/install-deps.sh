@@ -7,7 +7,7 @@ set -euo pipefail
 what="${1:-test}"
 packages=(
   g++ cmake make
-  libfmt-dev nlohmann-json3-dev libcli11-dev libpcg-cpp-dev
+  libfmt-dev nlohmann-json3-dev libcli11-dev libpcg-cpp-dev libnanoflann-dev
   python3 python3-dev python3-numpy pybind11-dev
 )
 case "$what" in

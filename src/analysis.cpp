@@ -1,11 +1,13 @@
 #include "carom/analysis.hpp"
 
 #include <fmt/format.h>
+#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -15,53 +17,21 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The particles of one frame binned into a grid of cells at least `width` wide (at most about
-// two cells a particle), for the pairs within a range (g(r)) or the nearest neighbours (psi6).
+// The particles of one frame in a k-d tree (nanoflann), for the pairs within a range (g(r)) and
+// the nearest neighbours (psi6). Its cost does not depend on how the particles are spread: a
+// cluster in a corner of a huge box (a clustering granular gas) costs what a uniform fluid does,
+// O(log N) a query, where cells sized from the mean density held the cluster in one cell.
+// Searches give candidates; distances are then taken by separation(), the minimum image, so the
+// results do not depend on the tree's own rounding.
 template <std::size_t D>
-class Cells {
+class Neighbours {
  public:
-  static constexpr std::uint32_t kNone = 0xFFFFFFFFu;
-
-  Cells(const Frame& frame, double width) : frame_(frame) {
-    const std::size_t n = frame.position.size();
-    double cells = 1.0;
-    for (std::size_t k = 0; k < D; ++k) {
-      count_[k] = static_cast<std::int64_t>(
-          std::clamp(std::floor(frame.box[k] / width), 1.0, 2.0 * static_cast<double>(n) + 1.0));
-      cells *= static_cast<double>(count_[k]);
-    }
-    // A thin slab can still hold too many cells: fewer along every side until they fit.
-    while (cells > 4.0 * static_cast<double>(n) + 8.0) {
-      cells = 1.0;
-      for (std::size_t k = 0; k < D; ++k) {
-        count_[k] = std::max<std::int64_t>(1, count_[k] / 2);
-        cells *= static_cast<double>(count_[k]);
-      }
-    }
-    for (std::size_t k = 0; k < D; ++k) width_[k] = frame.box[k] / static_cast<double>(count_[k]);
-    head_.assign(static_cast<std::size_t>(cells), kNone);
-    next_.assign(n, kNone);
-    cell_of_.resize(n);
-    for (std::size_t i = n; i-- > 0;) {  // lists in increasing index order
-      std::array<std::int64_t, D> at{};
-      for (std::size_t k = 0; k < D; ++k) {
-        // A periodic position may be anywhere (a centred box, unwrapped coordinates): its cell
-        // is that of its image in [0, L). Between walls, a float32 rounding may put it just
-        // outside the box.
-        double x = frame.position[i][k];
-        if (frame.periodic) x -= frame.box[k] * std::floor(x / frame.box[k]);
-        const double cell = std::floor(x / width_[k]);
-        at[k] = static_cast<std::int64_t>(
-            std::clamp(std::isfinite(cell) ? cell : 0.0, 0.0, static_cast<double>(count_[k] - 1)));
-      }
-      cell_of_[i] = at;
-      const std::size_t c = index(at);
-      next_[i] = head_[c];
-      head_[c] = static_cast<std::uint32_t>(i);
-    }
+  explicit Neighbours(const Frame& frame)
+      : frame_(frame), points_{wrapped(frame)}, tree_(D, points_), seen_(frame.position.size(), 0) {
+    tree_.buildIndex();
   }
 
-  double least_width() const { return *std::min_element(width_.begin(), width_.end()); }
+  std::size_t size() const { return points_.at.size(); }
 
   // The displacement from particle i to particle j (minimum image in a periodic box).
   Vec<D> separation(std::size_t i, std::size_t j) const {
@@ -74,65 +44,85 @@ class Cells {
     return r;
   }
 
-  // Calls f(j) for every particle in the cells at Chebyshev distance exactly `ring` from
-  // particle i's cell, each cell once however small the grid (wrapping in a periodic box).
-  // `seen` (one stamp per cell) and `stamp` (new for each ring search) keep cells from repeating.
+  // Calls f(j) once for every particle j other than i that may be within `reach` of it (every
+  // one that is, and maybe a few just beyond): in a periodic box, the images of i whose ball
+  // reaches into the box are searched too.
   template <class F>
-  void for_each_in_ring(std::size_t i, std::int64_t ring, std::vector<std::uint64_t>& seen,
-                        std::uint64_t stamp, F&& f) const {
-    std::array<std::int64_t, D> offset{};
-    offset.fill(-ring);
+  void for_each_candidate(std::size_t i, double reach, F&& f) {
+    // Slack for the difference between the tree's distances and separation()'s.
+    const double r = reach * (1.0 + 1e-9) + 1e-300;
+    ++stamp_;
+    std::array<int, D> shift{};
+    shift.fill(frame_.periodic ? -1 : 0);
+    const int last = frame_.periodic ? 1 : 0;
     while (true) {
-      std::int64_t chebyshev = 0;
-      for (std::size_t k = 0; k < D; ++k) chebyshev = std::max(chebyshev, std::abs(offset[k]));
-      if (chebyshev == ring) visit_cell(i, offset, seen, stamp, f);
+      std::array<double, D> q{};
+      bool reaches = true;
+      for (std::size_t k = 0; k < D; ++k) {
+        q[k] = points_.at[i][k] + shift[k] * frame_.box[k];
+        reaches = reaches && q[k] + r >= 0.0 && q[k] - r <= frame_.box[k];
+      }
+      if (reaches) {
+        found_.clear();
+        tree_.radiusSearch(q.data(), r * r, found_, nanoflann::SearchParams(32, 0.0, false));
+        for (const auto& [j, distance2] : found_) {
+          if (j == i || seen_[j] == stamp_) continue;
+          seen_[j] = stamp_;
+          f(static_cast<std::size_t>(j));
+        }
+      }
       std::size_t k = 0;
-      while (k < D && offset[k] == ring) offset[k++] = -ring;
+      while (k < D && shift[k] == last) shift[k++] = frame_.periodic ? -1 : 0;
       if (k == D) break;
-      ++offset[k];
+      ++shift[k];
     }
   }
 
-  // Whether rings up to `ring` already cover every cell.
-  bool covers_all(std::int64_t ring) const {
-    for (std::size_t k = 0; k < D; ++k) {
-      if (frame_.periodic ? 2 * ring + 1 < count_[k] : ring < count_[k] - 1) return false;
-    }
-    return true;
+  // A distance within which particle i has at least `k` other particles (its k-th nearest in
+  // the tree, which the minimum image can only bring closer); infinite with fewer than k others.
+  double reach_of_nearest(std::size_t i, std::size_t k) const {
+    if (size() <= k) return std::numeric_limits<double>::infinity();
+    nearest_.resize(k + 1);
+    distance2_.resize(k + 1);
+    tree_.knnSearch(points_.at[i].data(), k + 1, nearest_.data(), distance2_.data());
+    return std::sqrt(*std::max_element(distance2_.begin(), distance2_.end()));
   }
-
-  std::size_t cells() const { return head_.size(); }
 
  private:
-  std::size_t index(const std::array<std::int64_t, D>& at) const {
-    std::size_t c = 0;
-    for (std::size_t k = D; k-- > 0;) c = c * static_cast<std::size_t>(count_[k]) + at[k];
-    return c;
-  }
+  // The positions as the tree reads them: in [0, L) in a periodic box.
+  struct Points {
+    std::vector<std::array<double, D>> at;
+    std::size_t kdtree_get_point_count() const { return at.size(); }
+    double kdtree_get_pt(std::size_t i, std::size_t k) const { return at[i][k]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
+                                                   Points, static_cast<int>(D), std::uint32_t>;
 
-  template <class F>
-  void visit_cell(std::size_t i, const std::array<std::int64_t, D>& offset,
-                  std::vector<std::uint64_t>& seen, std::uint64_t stamp, F& f) const {
-    std::array<std::int64_t, D> at{};
-    for (std::size_t k = 0; k < D; ++k) {
-      at[k] = cell_of_[i][k] + offset[k];
-      if (frame_.periodic) {
-        at[k] = ((at[k] % count_[k]) + count_[k]) % count_[k];
-      } else if (at[k] < 0 || at[k] >= count_[k]) {
-        return;
+  static Points wrapped(const Frame& frame) {
+    Points points;
+    points.at.resize(frame.position.size());
+    for (std::size_t i = 0; i < frame.position.size(); ++i) {
+      for (std::size_t k = 0; k < D; ++k) {
+        double x = frame.position[i][k];
+        if (frame.periodic) x -= frame.box[k] * std::floor(x / frame.box[k]);
+        points.at[i][k] = x;
       }
     }
-    const std::size_t c = index(at);
-    if (seen[c] == stamp) return;
-    seen[c] = stamp;
-    for (std::uint32_t j = head_[c]; j != kNone; j = next_[j]) f(j);
+    return points;
   }
 
   const Frame& frame_;
-  std::array<std::int64_t, D> count_{};
-  std::array<double, D> width_{};
-  std::vector<std::uint32_t> head_, next_;
-  std::vector<std::array<std::int64_t, D>> cell_of_;
+  Points points_;
+  Tree tree_;
+  std::vector<std::uint64_t> seen_;  // the stamp of the search that last found each particle
+  std::uint64_t stamp_ = 0;
+  std::vector<std::pair<std::uint32_t, double>> found_;
+  mutable std::vector<std::uint32_t> nearest_;
+  mutable std::vector<double> distance2_;
 };
 
 double ball_volume(int dimension, double r) {
@@ -150,31 +140,24 @@ double set_covariance(const std::vector<double>& a, double r) {
 template <std::size_t D>
 void count_pairs(const Frame& frame, double bin_width, double r_max,
                  std::vector<double>& histogram) {
-  const Cells<D> cells(frame, r_max);
-  std::vector<std::uint64_t> seen(cells.cells(), 0);
+  Neighbours<D> neighbours(frame);
   const double reach2 = r_max * r_max;
-  for (std::size_t i = 0; i < frame.position.size(); ++i) {
-    // Rings 0 and 1 hold every partner within r_max; each pair is counted from its lower index.
-    for (std::int64_t ring = 0; ring <= 1; ++ring) {
-      cells.for_each_in_ring(i, ring, seen, i + 1, [&](std::size_t j) {
-        if (j <= i) return;
-        const double r2 = norm2(cells.separation(i, j));
-        if (r2 >= reach2) return;
-        const auto bin = static_cast<std::size_t>(std::sqrt(r2) / bin_width);
-        if (bin < histogram.size()) histogram[bin] += 1.0;
-      });
-    }
+  for (std::size_t i = 0; i < neighbours.size(); ++i) {
+    // Each pair is counted from its lower index.
+    neighbours.for_each_candidate(i, r_max, [&](std::size_t j) {
+      if (j <= i) return;
+      const double r2 = norm2(neighbours.separation(i, j));
+      if (r2 >= reach2) return;
+      const auto bin = static_cast<std::size_t>(std::sqrt(r2) / bin_width);
+      if (bin < histogram.size()) histogram[bin] += 1.0;
+    });
   }
 }
 
 template <std::size_t D>
 std::vector<std::complex<double>> local_psi6_in(const Frame& frame) {
-  const std::size_t n = frame.position.size();
-  double area = 1.0;
-  for (std::size_t k = 0; k < D; ++k) area *= frame.box[k];
-  // About two disks a cell: the six nearest are usually within two rings.
-  const Cells<D> cells(frame, std::sqrt(2.0 * area / static_cast<double>(n)));
-  std::vector<std::uint64_t> seen(cells.cells(), 0);
+  Neighbours<D> neighbours(frame);
+  const std::size_t n = neighbours.size();
   std::vector<std::complex<double>> psi(n);
   struct Candidate {
     double r2;
@@ -183,25 +166,15 @@ std::vector<std::complex<double>> local_psi6_in(const Frame& frame) {
     bool operator<(const Candidate& o) const { return r2 < o.r2 || (r2 == o.r2 && j < o.j); }
   };
   std::vector<Candidate> candidates;
-  std::uint64_t stamp = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    // Every particle as near as the sixth nearest, ties included: the six nearest by distance
+    // and then index, whatever order the tree finds them in.
     candidates.clear();
-    ++stamp;
-    for (std::int64_t ring = 0;; ++ring) {
-      cells.for_each_in_ring(i, ring, seen, stamp, [&](std::size_t j) {
-        if (j == i) return;
-        const Vec<D> bond = cells.separation(i, j);
-        candidates.push_back({norm2(bond), j, bond});
-      });
-      // Anything beyond ring r is at least r cell widths away.
-      const double beyond = static_cast<double>(ring) * cells.least_width();
-      if (candidates.size() >= 6) {
-        std::nth_element(candidates.begin(), candidates.begin() + 5, candidates.end());
-        if (candidates[5].r2 <= beyond * beyond) break;
-      }
-      if (cells.covers_all(ring)) break;
-    }
-    std::sort(candidates.begin(), candidates.end());
+    neighbours.for_each_candidate(i, neighbours.reach_of_nearest(i, 6), [&](std::size_t j) {
+      const Vec<D> bond = neighbours.separation(i, j);
+      candidates.push_back({norm2(bond), j, bond});
+    });
+    std::partial_sort(candidates.begin(), candidates.begin() + 6, candidates.end());
     std::complex<double> sum = 0.0;
     for (std::size_t m = 0; m < 6; ++m) {
       const Vec<D>& b = candidates[m].bond;
