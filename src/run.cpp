@@ -56,38 +56,53 @@ void check_distinct(const std::vector<std::pair<std::string, std::string>>& file
   }
 }
 
-// Refuses a dump that would not fit on its disk: the frames still to come times the size of one
-// (measured on up to 1000 particles and scaled to all of them), against the free space.
-template <std::size_t D>
-void check_dump_fits(const Simulation<D>& simulation, const RunSpec& spec) {
+// Refuses an output of about `bytes` that its disk cannot hold (free space unknown: the write
+// itself will tell).
+void check_fits(const std::string& option, const std::string& path, double bytes,
+                const std::string& detail, const std::string& remedy) {
   namespace fs = std::filesystem;
-  const System<D>& state = simulation.state();
-  System<D> sample;
-  sample.box = state.box;
-  sample.epoch = state.epoch;
-  const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
-  sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
-  sample.records.assign(state.records.begin(), state.records.begin() + taken);
-  std::ostringstream one;
-  try {
-    trajectory_format_for<D>(spec.dump)->frame(one, 0, simulation.time(), sample);
-  } catch (const std::invalid_argument& e) {
-    throw RequestError(e.what());
-  }
-  const double frame_bytes = static_cast<double>(one.tellp()) * static_cast<double>(state.size()) /
-                             static_cast<double>(taken);
-  const double frames = std::floor(spec.end_time / spec.dump_every) -
-                        std::floor(simulation.time() / spec.dump_every) + 1.0;
-  fs::path folder = fs::absolute(spec.dump).parent_path();
+  const fs::path folder = fs::absolute(path).parent_path();
   std::error_code error;
   const fs::space_info space = fs::space(folder, error);
-  if (error) return;  // nothing known of the disk: the write itself will tell
-  if (frames * frame_bytes > static_cast<double>(space.available)) {
-    throw RequestError(fmt::format(
-        "--dump {} would take about {:.3g} GB ({:.0f} frames of {:.3g} MB) but {} has {:.3g} GB "
-        "free: raise --every or lower END_TIME",
-        spec.dump, frames * frame_bytes / 1e9, frames, frame_bytes / 1e6, folder.string(),
-        static_cast<double>(space.available) / 1e9));
+  if (error || bytes <= static_cast<double>(space.available)) return;
+  throw RequestError(fmt::format("{} {} would take about {:.3g} GB ({}) but {} has {:.3g} GB free: {}",
+                                 option, path, bytes / 1e9, detail, folder.string(),
+                                 static_cast<double>(space.available) / 1e9, remedy));
+}
+
+// The frames still to come times the size of one (measured on up to 1000 particles and scaled
+// to all of them), and the rows of the time series (a generous 400 bytes each), against the free
+// space of their disks.
+template <std::size_t D>
+void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
+  const double now = simulation.time();
+  if (!spec.dump.empty()) {
+    const System<D>& state = simulation.state();
+    System<D> sample;
+    sample.box = state.box;
+    sample.epoch = state.epoch;
+    const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
+    sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
+    sample.records.assign(state.records.begin(), state.records.begin() + taken);
+    std::ostringstream one;
+    try {
+      trajectory_format_for<D>(spec.dump)->frame(one, 0, now, sample);
+    } catch (const std::invalid_argument& e) {
+      throw RequestError(e.what());
+    }
+    const double frame_bytes = static_cast<double>(one.tellp()) *
+                               static_cast<double>(state.size()) / static_cast<double>(taken);
+    const double frames =
+        std::floor(spec.end_time / spec.dump_every) - std::floor(now / spec.dump_every) + 1.0;
+    check_fits("--dump", spec.dump, frames * frame_bytes,
+               fmt::format("{:.0f} frames of {:.3g} MB", frames, frame_bytes / 1e6),
+               "raise --every or lower END_TIME");
+  }
+  if (!spec.log.empty()) {
+    constexpr double kRowBytes = 400.0;
+    const double rows = (spec.end_time - now) / spec.log_every + 1.0;
+    check_fits("--log", spec.log, rows * kRowBytes, fmt::format("{:.0f} rows", rows),
+               "raise --log-every or lower END_TIME");
   }
 }
 
@@ -258,7 +273,7 @@ void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
     throw RequestError(fmt::format("--log-every {} would write more than 10^7 rows up to {}",
                                    spec.log_every, spec.end_time));
   }
-  if (!spec.dump.empty()) check_dump_fits(simulation, spec);
+  check_outputs_fit(simulation, spec);
   if (spec.measure_from) {
     const double from = *spec.measure_from;
     if (from < now && start.resumed) {

@@ -1542,6 +1542,20 @@ TEST_F(Cli, DumpsThatCannotFitAndWritesThatFailKeepTheState) {
   EXPECT_EQ(carom({"run", "--resume", checkpoint, "1", "-q"}).exit_code, 0);  // and it goes on
 }
 
+TEST_F(Cli, TimeSeriesThatCannotFitAreRefused) {
+  // A disk of 1 MB (a tmpfs, where the test may mount one): a million rows do not fit.
+  const fs::path small = dir_ / "small";
+  fs::create_directory(small);
+  const std::string mount = "mount -t tmpfs -o size=1m tmpfs " + small.string() + " 2>/dev/null";
+  if (::geteuid() != 0 || std::system(mount.c_str()) != 0) GTEST_SKIP() << "cannot mount a tmpfs";
+  const Result r = carom({"run", kCases + "normal.txt", "1000", "--log", small / "log.csv",
+                          "--log-every", "0.001", "-q"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("GB free: raise --log-every"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(small / "log.csv"));
+  EXPECT_EQ(std::system(("umount " + small.string()).c_str()), 0);
+}
+
 TEST_F(Cli, BundledExamplesAreTheReferenceCasesAndReproduceThem) {
   // What a new user runs first (examples/) is the classic assignment's reference cases, byte for
   // byte, and gives their expected results: the table (after its header line) or the csv.
