@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "carom/formats.hpp"
 #include "carom/physics.hpp"
 #include "cell_grid.hpp"
 
@@ -77,26 +76,6 @@ std::optional<std::string> find_violation(const System<D>& system, double time) 
   return std::nullopt;
 }
 
-template <std::size_t D>
-void InvariantCheck<D>::observe(const Simulation<D>& simulation) {
-  const Event& event = simulation.last_event();
-  ++events_;
-  std::optional<std::string> violation;
-  if (event.time < last_) {
-    violation = fmt::format("time ran backwards from {} to {}", last_, event.time);
-  } else if (events_ % every_ == 0) {
-    violation = find_violation(simulation.state(), simulation.stored_time());
-  }
-  last_ = event.time;
-  if (violation) {
-    throw InvariantError(fmt::format("invariant violated at event {} (t = {}, {}): {}",
-                                     simulation.counts().events, event.time, describe(event),
-                                     *violation));
-  }
-}
-
-template class InvariantCheck<2>;
-template class InvariantCheck<3>;
 template std::optional<std::string> find_violation(const System<2>&, double);
 template std::optional<std::string> find_violation(const System<3>&, double);
 template std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const System<2>&,

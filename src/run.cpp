@@ -10,7 +10,7 @@
 #include "carom/atomic_file.hpp"
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
-#include "carom/overlap.hpp"
+#include "carom/invariant_check.hpp"
 #include "carom/time_series.hpp"
 #include "carom/trajectory.hpp"
 #include "run_outputs.hpp"

@@ -6,7 +6,6 @@
 #include <cmath>
 
 #include "carom/checkpoint.hpp"
-#include "cell_grid.hpp"
 
 namespace carom {
 
@@ -37,33 +36,13 @@ std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& sett
 
 }  // namespace
 
-namespace {
-
-// Cell crossings (engine work between events) allowed in one slice of a run: a few milliseconds.
-constexpr double kCrossingsPerSlice = 1e5;
-
-// The length of a slice of time in which the particles make at most about kCrossingsPerSlice
-// cell crossings in all: no cell is narrower than the fast engine's grid makes them (at least a
-// largest diameter, wider in a sparse box), and no particle is ever faster than speed_bound().
-// (Regression, found by the fuzzer: with the diameter alone, twelve points of radius 1e-41 cut
-// time into slices of 1e-38 and a run to t = 1 never ended.)
-template <std::size_t D>
-double slice_length(const System<D>& system) {
-  const double width =
-      CellGrid<D>::least_width(system.box, 2.0 * largest_radius(system), system.size());
-  const double crossings_per_time =
-      static_cast<double>(system.size() * D) * speed_bound(system) / width;
-  return crossings_per_time > 0.0 ? kCrossingsPerSlice / crossings_per_time : kNever;
-}
-
-}  // namespace
 
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : engine_(checked_engine(std::move(system), settings)),
       settings_(settings),
       time_(engine_->time()),
-      slice_(slice_length(state())),
+      slice_(engine_->slice_length()),
       rebase_period_(rebase_period(state().size())),
       events_to_rebase_(rebase_period_ - counts_.events % rebase_period_) {
   // Stored times far from zero (a system handed over mid-run) are made small before any event.
@@ -81,7 +60,7 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
       counts_(checkpoint.counts),
       measurement_(checkpoint.measurement),
       measure_from_(checkpoint.measure_from),
-      slice_(slice_length(state())),
+      slice_(engine_->slice_length()),
       rebase_period_(rebase_period(state().size())),
       events_to_rebase_(rebase_period_ - counts_.events % rebase_period_) {
   if (!(time_ >= engine_->time())) {

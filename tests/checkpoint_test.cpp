@@ -12,6 +12,7 @@
 #include <string>
 
 #include "carom/classic_input.hpp"
+#include "carom/invariant_check.hpp"
 #include "carom/overlap.hpp"
 #include "test_systems.hpp"
 

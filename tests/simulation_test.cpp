@@ -14,6 +14,7 @@
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/initial.hpp"
+#include "carom/invariant_check.hpp"
 #include "carom/overlap.hpp"
 #include "test_systems.hpp"
 

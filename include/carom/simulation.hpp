@@ -221,7 +221,8 @@ class Simulation {
   Event last_event_;
   const std::atomic<int>* stop_ = nullptr;
   // A stretch of time over which the engine's work between events is bounded (see
-  // slice_length): run_until looks at the stop flag at least this often in simulated time.
+  // Engine::slice_length): run_until looks at the stop flag at least this often in simulated
+  // time.
   double slice_ = kNever;
   std::uint64_t rebase_period_;     // see rebase_period()
   std::uint64_t events_to_rebase_;  // until counts_.events is the next multiple of it

@@ -21,6 +21,7 @@
 #include "carom/checkpoint.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/gsd.hpp"
+#include "carom/invariant_check.hpp"
 #include "carom/overlap.hpp"
 #include "carom/viewer.hpp"
 
