@@ -4,12 +4,22 @@
 // by frame, and the chunks themselves, appended frame after frame.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <vector>
 
 #include "carom/trajectory.hpp"
 
 namespace carom {
+
+// The file layer's constants, which the writer (gsd_writer.cpp) and the reader (gsd_reader.cpp)
+// share.
+namespace gsd {
+static_assert(std::endian::native == std::endian::little, "GSD files are little-endian");
+inline constexpr std::uint64_t kMagic = 0x65DF65DF65DF65DFull;
+inline constexpr std::uint64_t kNameBlock = 64;  // the namelist's size is a multiple of this
+inline constexpr std::uint64_t kHeaderSize = 256;
+}  // namespace gsd
 
 template <std::size_t D>
 class GsdFormat final : public TrajectoryFormat<D> {
