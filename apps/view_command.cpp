@@ -44,32 +44,26 @@ Examples:
 namespace {
 
 // The frames --frames and --stride keep.
-std::vector<Frame> chosen(std::vector<Frame> frames, const ViewArguments& args) {
-  std::size_t from = 0, to = frames.size();
-  if (!args.frames.empty()) {
-    const std::size_t colon = args.frames.find(':');
-    const auto bound = [&](const std::string& text, std::size_t fallback) -> std::size_t {
-      if (text.empty()) return fallback;
-      std::size_t value = 0;
-      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-      if (error != std::errc() || end != text.data() + text.size()) {
-        throw UsageError(fmt::format("--frames takes A:B (whole numbers), got '{}'", args.frames));
-      }
-      return value;
-    };
-    if (colon == std::string::npos) {
+FrameSelection chosen(const ViewArguments& args) {
+  FrameSelection selection;
+  selection.stride = args.stride;
+  if (args.frames.empty()) return selection;
+  const std::size_t colon = args.frames.find(':');
+  const auto bound = [&](const std::string& text) -> std::optional<std::size_t> {
+    if (text.empty()) return std::nullopt;
+    std::size_t value = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+    if (error != std::errc() || end != text.data() + text.size()) {
       throw UsageError(fmt::format("--frames takes A:B (whole numbers), got '{}'", args.frames));
     }
-    from = bound(args.frames.substr(0, colon), 0);
-    to = std::min(bound(args.frames.substr(colon + 1), frames.size()), frames.size());
-    if (from >= to) {
-      throw UsageError(fmt::format("--frames {} keeps none of the {} frames of {}", args.frames,
-                                   frames.size(), args.trajectory));
-    }
+    return value;
+  };
+  if (colon == std::string::npos) {
+    throw UsageError(fmt::format("--frames takes A:B (whole numbers), got '{}'", args.frames));
   }
-  std::vector<Frame> kept;
-  for (std::size_t f = from; f < to; f += args.stride) kept.push_back(std::move(frames[f]));
-  return kept;
+  selection.first = bound(args.frames.substr(0, colon)).value_or(0);
+  selection.last = bound(args.frames.substr(colon + 1));
+  return selection;
 }
 
 }  // namespace
@@ -78,7 +72,11 @@ void view_command(const ViewArguments& args) {
   // The page is created only once the frames are read (a stop meanwhile leaves nothing), but
   // where it goes is checked first.
   if (args.output != "-") check_writable(args.output);
-  const std::vector<Frame> frames = chosen(read_trajectory_frames(args.trajectory), args);
+  const std::vector<Frame> frames = read_trajectory_frames(args.trajectory, chosen(args));
+  if (frames.empty()) {
+    throw UsageError(fmt::format("--frames {} keeps none of the frames of {}", args.frames,
+                                 args.trajectory));
+  }
   Output out(args.output);
   write_viewer_html(out.stream(), frames);
   const std::streamoff bytes = out.stream().tellp();

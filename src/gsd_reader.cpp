@@ -1,5 +1,7 @@
 #include "gsd_format.hpp"
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -199,13 +201,10 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_f
   }
   FrameChunks chunks;
   const auto n = chunks.n = static_cast<std::uint64_t>(count);
-  const auto column = [&](const std::string& name, std::uint64_t columns, double fallback,
-                          bool required) {
+  // A chunk neither the frame nor frame 0 has takes the schema's default value.
+  const auto column = [&](const std::string& name, std::uint64_t columns, double fallback) {
     std::optional<GsdReader::Values> v = gsd.values(name, frame);
-    if (!v) {
-      if (required) gsd.fail(fmt::format("frame {} has no {}", frame, name));
-      return std::vector<double>(n * columns, fallback);
-    }
+    if (!v) return std::vector<double>(n * columns, fallback);
     if (v->rows != n || v->columns != columns) {
       gsd.fail(fmt::format("{} has {} x {} values for {} particles", name, v->rows, v->columns, n));
     }
@@ -224,12 +223,13 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_f
     }
     return std::move(v->data);
   };
-  chunks.position = column("particles/position", 3, 0.0, true);
-  chunks.velocity = column("particles/velocity", 3, 0.0, false);
-  chunks.diameter = column("particles/diameter", 1, 1.0, false);
-  chunks.mass = column("particles/mass", 1, 1.0, false);
+  // A chunk equal to the schema's default may be left out (gsd.hoomd does): position 0 too.
+  chunks.position = column("particles/position", 3, 0.0);
+  chunks.velocity = column("particles/velocity", 3, 0.0);
+  chunks.diameter = column("particles/diameter", 1, 1.0);
+  chunks.mass = column("particles/mass", 1, 1.0);
   chunks.has_image = images_from_frame_zero || frame == 0 || gsd.has("particles/image", frame);
-  const std::vector<double> image = column("particles/image", 3, 0.0, false);
+  const std::vector<double> image = column("particles/image", 3, 0.0);
   chunks.image.resize(n);
   for (std::size_t i = 0; i < image.size(); ++i) {
     const double f = image[i];
@@ -317,10 +317,32 @@ AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint6
   return start_from<3>(gsd, k, box);
 }
 
-std::vector<Frame> read_gsd_frames(const std::string& path) {
+std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection& selection) {
   GsdReader gsd(path, "not a readable GSD trajectory");
+  const std::uint64_t last = std::min<std::uint64_t>(selection.last.value_or(gsd.frames()),
+                                                     gsd.frames());
+  const std::uint64_t stride = std::max<std::size_t>(selection.stride, 1);
+  const std::uint64_t selected =
+      selection.first < last ? (last - selection.first + stride - 1) / stride : 0;
+  // What the frames will take once expanded (each holds every particle, even one that leans on
+  // frame 0 for them), against the memory there is, before any is read.
+  if (selected > 0) {
+    const auto n = gsd.values("particles/N", selection.first);
+    const double count = n && n->data.size() == 1 ? n->data[0] : 0.0;
+    constexpr double kBytesPerParticle = sizeof(Vec<3>) * 2 + sizeof(double) +
+                                         sizeof(std::uint32_t) + sizeof(std::array<std::int32_t, 3>);
+    const double bytes = static_cast<double>(selected) * count * kBytesPerParticle;
+    const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                          static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+    if (memory > 0.0 && bytes > memory / 2.0) {
+      gsd.fail(fmt::format(
+          "its {} frames of {:.0f} particles would take {:.3g} GB in memory, more than half of "
+          "this machine's {:.3g} GB: read a part of them (carom view --frames A:B --stride K)",
+          selected, count, bytes / 1e9, memory / 1e9));
+    }
+  }
   std::vector<Frame> frames;
-  for (std::uint64_t k = 0; k < gsd.frames(); ++k) {
+  for (std::uint64_t k = selection.first; k < last; k += stride) {
     Frame f;
     const FrameBox frame_box = read_frame_box(gsd, k);
     const std::array<double, 3>& box = frame_box.size;

@@ -280,17 +280,24 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
   return frames;
 }
 
-std::vector<Frame> read_trajectory_frames(const std::string& path) {
+std::vector<Frame> read_trajectory_frames(const std::string& path,
+                                          const FrameSelection& selection) {
   std::string lowered = path;
   for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lowered.ends_with(".gsd")) return read_gsd_frames(path);
+  if (lowered.ends_with(".gsd")) return read_gsd_frames(path, selection);
   if (lowered.ends_with(".lammpstrj")) {
     throw InputError(path, 0,
                      "carom reads .gsd and .xyz trajectories back, not LAMMPS dumps: dump the run "
                      "to FILE.gsd or FILE.xyz");
   }
   std::ifstream in = open_input(path);
-  return read_xyz_frames(in, path);
+  std::vector<Frame> all = read_xyz_frames(in, path);
+  std::vector<Frame> kept;
+  const std::size_t last = std::min(selection.last.value_or(all.size()), all.size());
+  for (std::size_t f = selection.first; f < last; f += selection.stride) {
+    kept.push_back(std::move(all[f]));
+  }
+  return kept;
 }
 
 }  // namespace carom

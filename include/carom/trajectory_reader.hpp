@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <istream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,14 +37,27 @@ struct Frame {
 // between walls cannot all sit at z = 0, nor can periodic spheres all stand still in z.
 std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name);
 
-// Reads every frame of a GSD file of the HOOMD schema (carom's --dump FILE.gsd, HOOMD's): a
-// periodic box (centred positions moved into [0, L)), velocities, diameters, image flags, and
-// the time from log/time (else configuration/step). Chunks a frame lacks come from frame 0, as
-// the schema says. Throws InputError naming `path` for anything else, or for frames whose
-// particle count or dimension changes.
-std::vector<Frame> read_gsd_frames(const std::string& path);
+// Which frames of a trajectory to read: first, first + stride, ... before `last` (nullopt: to
+// the end).
+struct FrameSelection {
+  std::size_t first = 0;
+  std::optional<std::size_t> last;
+  std::size_t stride = 1;
+};
 
-// The frames of the trajectory `path`: GSD for a name ending in .gsd, else extended XYZ.
-std::vector<Frame> read_trajectory_frames(const std::string& path);
+// Reads the selected frames of a GSD file of the HOOMD schema (carom's --dump FILE.gsd, HOOMD's):
+// a periodic box (centred positions moved into [0, L)), velocities, diameters, image flags, and
+// the time from log/time (else configuration/step). Chunks a frame lacks come from frame 0, else
+// they take the schema's defaults (position and velocity 0, diameter and mass 1, image 0), as
+// HOOMD's readers do. Throws InputError naming `path` for anything else, for frames whose
+// particle count or dimension changes, or for frames that would take more than half of this
+// machine's memory once expanded (a file of 2.5 MB whose frames lean on a large frame 0 can ask
+// for tens of GB).
+std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection& selection = {});
+
+// The selected frames of the trajectory `path`: GSD for a name ending in .gsd, else extended XYZ
+// (whose frames take about what the file does).
+std::vector<Frame> read_trajectory_frames(const std::string& path,
+                                          const FrameSelection& selection = {});
 
 }  // namespace carom
