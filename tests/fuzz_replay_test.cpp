@@ -91,6 +91,12 @@ TEST(FuzzReplay, CorpusAndRegressionsRunCleanAndDoWhatTheyWereKeptFor) {
   }
   // The one that saw a pair through the wrong image now runs, identically in both engines.
   EXPECT_EQ(outcomes["periodic-image-at-half-box.txt"].events, 200);
+  // Compressions that spun forever (disks pinned between walls) end, in a box with walls; the
+  // small valid cases are compressed too, and every packing reads back.
+  for (const char* pinned : {"one-disk-in-a-box.txt", "channel.txt"}) {
+    EXPECT_GE(outcomes[pinned].compressed, 1) << pinned;
+  }
+  EXPECT_GE(outcomes["walls_only.txt"].compressed, 1);
 }
 
 // The checkpoint reader's corpus: what it accepts resumes without breaking an invariant or going
@@ -126,12 +132,15 @@ TEST(FuzzReplay, GsdCorpusAndRegressions) {
   const auto outcomes = replay_all<carom::fuzz::GsdOutcome>("gsd", carom::fuzz::gsd);
   ASSERT_GE(outcomes.size(), 4u);
   for (const auto& [name, o] : outcomes) EXPECT_EQ(o.violations, 0) << name;
-  for (const char* valid : {"disks.gsd", "spheres.gsd"}) {
+  for (const char* valid : {"disks.gsd", "spheres.gsd", "lean-on-frame-zero.gsd"}) {
     ASSERT_TRUE(outcomes.count(valid)) << valid;
     EXPECT_EQ(outcomes.at(valid).started, 1) << valid;
     EXPECT_GT(outcomes.at(valid).events, 0) << valid;
     EXPECT_EQ(outcomes.at(valid).analysed, 1) << valid;
   }
+  // gsd.hoomd's own file of one disk at the centre, position left at the schema's default.
+  ASSERT_TRUE(outcomes.count("default-position.gsd"));
+  EXPECT_EQ(outcomes.at("default-position.gsd").started, 1);
   expect_refused_when_named(outcomes, "bad-");
 }
 
