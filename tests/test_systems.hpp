@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <pcg_random.hpp>
 #include <vector>
 
+#include "carom/classic_input.hpp"
 #include "carom/engine.hpp"
 #include "carom/measurement.hpp"
 #include "carom/overlap.hpp"
@@ -14,6 +16,11 @@
 #include "carom/system.hpp"
 
 namespace carom::testing {
+
+// One of the classic assignment's reference cases (tests/data/cases).
+inline System<2> case_system(const std::string& name) {
+  return read_classic_file<2>(std::string(CAROM_TEST_DATA) + "/cases/" + name).system;
+}
 
 // A uniform double in [0, 1) with 53 random bits.
 inline double uniform(pcg32& rng) {
