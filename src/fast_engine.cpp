@@ -165,56 +165,65 @@ void FastEngine<D>::fetch_ahead(std::uint32_t i) const {
 }
 
 template <std::size_t D>
+void FastEngine<D>::prefetch_entry(std::uint32_t slot, int distance) const {
+  if (slot >= horizon_slot_) return;
+  if (distance == 2) {
+    __builtin_prefetch(&pending_[slot]);
+    fetch_ahead(slot);
+    return;
+  }
+  grid_.prefetch_near(grid_.cell_of(slot));
+  if (pending_[slot].pending.kind == PendingKind::pair) {
+    fetch_ahead(static_cast<std::uint32_t>(pending_[slot].pending.partner));
+  }
+}
+
+template <std::size_t D>
 std::optional<Event> FastEngine<D>::step(double end_time) {
   const auto& records = this->system_.records;
   while (true) {
     // Events a few steps away are known: what they will read is fetched while these are handled,
     // in two stages (what the second reads, the first has fetched).
-    const std::uint32_t i = queue_.top([&](std::uint32_t s, int distance) {
-      if (s >= horizon_slot_) return;
-      if (distance == 2) {
-        __builtin_prefetch(&pending_[s]);
-        fetch_ahead(s);
-        return;
-      }
-      grid_.prefetch_near(grid_.cell_of(s));
-      if (pending_[s].pending.kind == PendingKind::pair)
-        fetch_ahead(static_cast<std::uint32_t>(pending_[s].pending.partner));
-    });
+    const std::uint32_t i =
+        queue_.top([&](std::uint32_t slot, int distance) { prefetch_entry(slot, distance); });
     const EventKey key = queue_.top_key();
     const double t = key.time;
     if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
-    if (i == horizon_slot_) {
-      clock_ = t;
-      predict_all();
-      continue;
+    switch (entry_kind(i, key)) {
+      case EntryKind::renewal:
+        clock_ = t;
+        predict_all();
+        continue;
+      case EntryKind::crossing: {
+        clock_ = t;
+        const Pending pending = pending_[i].pending;
+        const std::size_t axis = pending.crossing_axis;
+        grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, pending.crossing_upward));
+        predict(i, axis, pending.crossing_upward);
+        continue;
+      }
+      case EntryKind::wall: {
+        clock_ = t;
+        const Event event = this->apply({t, i, pending_[i].pending.partner});
+        predict(i);
+        if (this->growing()) shorten_horizon();
+        return event;
+      }
+      case EntryKind::pair: {
+        const Pending pending = pending_[i].pending;
+        const auto j = static_cast<std::uint32_t>(pending.partner);
+        if (records[j].version() != pending.partner_version) {
+          predict(i);  // the partner has collided since: this event will not happen
+          continue;
+        }
+        clock_ = t;
+        const Event event = this->apply(pair_event(t, i, j));
+        predict(i);
+        predict(j);
+        if (this->growing()) shorten_horizon();
+        return event;
+      }
     }
-    const Pending pending = pending_[i].pending;
-    if (key.order == after_collisions(i)) {
-      clock_ = t;
-      const std::size_t axis = pending.crossing_axis;
-      grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, pending.crossing_upward));
-      predict(i, axis, pending.crossing_upward);
-      continue;
-    }
-    if (pending.kind == PendingKind::wall) {
-      clock_ = t;
-      const Event event = this->apply({t, i, pending.partner});
-      predict(i);
-      if (this->growing()) shorten_horizon();
-      return event;
-    }
-    const auto j = static_cast<std::uint32_t>(pending.partner);
-    if (records[j].version() != pending.partner_version) {
-      predict(i);  // the partner has collided since: this event will not happen
-      continue;
-    }
-    clock_ = t;
-    const Event event = this->apply(pair_event(t, i, j));
-    predict(i);
-    predict(j);
-    if (this->growing()) shorten_horizon();
-    return event;
   }
 }
 

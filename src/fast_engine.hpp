@@ -47,6 +47,13 @@ class FastEngine final : public Engine<D> {
                     const Contacts& contacts);
   // Starts fetching what processing an event of particle i will read first.
   void fetch_ahead(std::uint32_t i) const;
+  // For the queue entry `slot`, `distance` entries from the top: at 2, its pending collision and
+  // particle; at 1 (what those say), the cells its prediction reads and its partner.
+  void prefetch_entry(std::uint32_t slot, int distance) const;
+  EntryKind entry_kind(std::uint32_t slot, const EventKey& key) const {
+    return slot == horizon_slot_ ? EntryKind::renewal
+                                 : particle_entry(slot, key, pending_[slot].pending);
+  }
   // Predicts every particle afresh (at the start and at every renewal horizon).
   void predict_all();
   // Queues the next time every particle is predicted again, or none.

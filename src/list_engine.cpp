@@ -315,41 +315,42 @@ std::optional<Event> ListEngine<D>::step_avx512(double end_time) {
 template <std::size_t D>
 template <class Contacts>
 std::optional<Event> ListEngine<D>::step_with(double end_time, const Contacts& contacts) {
-  const auto& particles = this->system_.particles;
   const auto& records = this->system_.records;
   while (true) {
     // Events a few steps away are known: what they will read is fetched while these are handled.
-    const std::uint32_t i = queue_.top([&](std::uint32_t s, int distance) {
-      __builtin_prefetch(&particles[s]);
-      __builtin_prefetch(&slots_[slot(s)]);
-      if (distance == 2) __builtin_prefetch(&pending_[s]);
-    });
+    const std::uint32_t i =
+        queue_.top([&](std::uint32_t slot, int distance) { prefetch_entry(slot, distance); });
     const EventKey key = queue_.top_key();
     const double t = key.time;
     if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
-    if (key.order == after_collisions(i)) {  // leaving its shell
-      clock_ = t;
-      make_list_with(i, contacts);
-      predict_with(i, contacts);
-      continue;
+    switch (particle_entry(i, key, pending_[i])) {
+      case EntryKind::crossing:  // leaving its shell
+        clock_ = t;
+        make_list_with(i, contacts);
+        predict_with(i, contacts);
+        continue;
+      case EntryKind::wall: {
+        clock_ = t;
+        const Event event = this->apply({t, i, pending_[i].partner});
+        predict_with(i, contacts);
+        return event;
+      }
+      case EntryKind::pair: {
+        const Pending pending = pending_[i];
+        const auto j = static_cast<std::uint32_t>(pending.partner);
+        if (records[j].version() != pending.partner_version) {
+          predict_with(i, contacts);  // the partner has collided since: this event will not happen
+          continue;
+        }
+        clock_ = t;
+        const Event event = this->apply(pair_event(t, i, j));
+        predict_with(i, contacts);
+        predict_with(j, contacts);
+        return event;
+      }
+      case EntryKind::renewal:  // only the cell engine has one
+        __builtin_unreachable();
     }
-    const Pending pending = pending_[i];
-    if (pending.kind == PendingKind::wall) {
-      clock_ = t;
-      const Event event = this->apply({t, i, pending.partner});
-      predict_with(i, contacts);
-      return event;
-    }
-    const auto j = static_cast<std::uint32_t>(pending.partner);
-    if (records[j].version() != pending.partner_version) {
-      predict_with(i, contacts);  // the partner has collided since: this event will not happen
-      continue;
-    }
-    clock_ = t;
-    const Event event = this->apply(pair_event(t, i, j));
-    predict_with(i, contacts);
-    predict_with(j, contacts);
-    return event;
   }
 }
 

@@ -86,6 +86,13 @@ class ListEngine final : public Engine<D> {
   std::optional<Event> step_avx512(double end_time);
   template <class Contacts>
   std::optional<Event> step_with(double end_time, const Contacts& contacts);
+  // For the queue entry of particle i, `distance` entries from the top: the particle and its
+  // list, and at 2 its pending collision.
+  void prefetch_entry(std::uint32_t i, int distance) const {
+    __builtin_prefetch(&this->system_.particles[i]);
+    __builtin_prefetch(&slots_[slot(i)]);
+    if (distance == 2) __builtin_prefetch(&pending_[i]);
+  }
   // Particle i's list made again around where it is now (its next event is then predicted).
   template <class Contacts>
   void make_list_with(std::uint32_t i, const Contacts& contacts);

@@ -37,6 +37,22 @@ constexpr std::uint64_t after_collisions(std::uint32_t i) {
   return (std::uint64_t{i} << 32) | 0xFFFFFFFFu;
 }
 
+// What an entry of a calendar engine's queue stands for: each engine decodes it in one place
+// (entry_kind) and handles each kind in one branch of its step.
+enum class EntryKind : std::uint8_t {
+  renewal,   // the cell engine's horizon entry: every particle predicted afresh
+  crossing,  // a particle's own event: into the next cell, or out of its neighbour-list shell
+  wall,      // its predicted wall collision
+  pair,      // its predicted pair collision (void if the partner has collided since)
+};
+
+// The kind of particle i's entry with key `key`: its own event (ordered after_collisions), else
+// the collision `pending` holds (read only then).
+inline EntryKind particle_entry(std::uint32_t i, const EventKey& key, const Pending& pending) {
+  if (key.order == after_collisions(i)) return EntryKind::crossing;
+  return pending.kind == PendingKind::wall ? EntryKind::wall : EntryKind::pair;
+}
+
 // The calendar key of particle i's pending collision at `time` (kNoEvent for none).
 template <std::size_t D>
 EventKey collision_key(const Pending& pending, double time, std::uint32_t i) {
