@@ -29,22 +29,35 @@ def test_kills_at_random_moments_lose_nothing(cli, tmp_path, dim, seed):
     moments = random.Random(seed)
     kills = 0
     checkpoint = chain / "run.ckpt"
+
+    def saved():
+        """Which checkpoint is on disk (each save is a new file renamed into place)."""
+        if not checkpoint.exists():
+            return None
+        status = checkpoint.stat()
+        return status.st_ino, status.st_mtime_ns
+
     while True:
         start = ["--resume", "run.ckpt"] if checkpoint.exists() else ["start.txt"]
+        before = saved()
         # The result goes to a file: a pipe left unread could hold a finished run up.
         run = subprocess.Popen([cli.exe, "run", *start, END, *OUTPUTS, "-o", "result.json",
                                 "--checkpoint", "run.ckpt", "--checkpoint-every", "997"],
                                cwd=chain, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-        time.sleep(moments.uniform(0.01, 0.15))
-        if run.poll() is None:
+        # Killed at a random moment after it saved a checkpoint of its own (so every piece
+        # makes progress), a dozen times; then it runs to the end.
+        while kills < 12 and run.poll() is None and saved() == before:
+            time.sleep(0.0005)
+        time.sleep(moments.uniform(0.0, 0.02))
+        if kills < 12 and run.poll() is None:
             run.send_signal(signal.SIGKILL)
             run.communicate(timeout=60)
             kills += 1
             continue
-        err = run.communicate(timeout=60)[1]
+        err = run.communicate(timeout=120)[1]
         assert run.returncode == 0, err.decode()
         break
-    assert kills >= 2, "the runs ended before they could be killed: make them longer"
+    assert kills >= 6, f"only {kills} kills: the runs ended before they could be killed"
     assert without_clock(chain / "result.json") == without_clock(whole / "result.json")
     for name in FILES:
         assert (chain / name).read_bytes() == (whole / name).read_bytes(), \
