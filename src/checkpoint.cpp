@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -11,6 +10,7 @@
 
 #include "carom/atomic_file.hpp"
 #include "carom/classic_input.hpp"
+#include "carom/validation.hpp"
 #include "carom/version.hpp"
 #include "checkpoint_check.hpp"
 

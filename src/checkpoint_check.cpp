@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
+#include <utility>
 
 #include "carom/engine.hpp"
 #include "carom/formats.hpp"

@@ -6,10 +6,10 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "carom/classic_input.hpp"
 #include "carom/initial.hpp"
 #include "carom/observables.hpp"
 #include "carom/overlap.hpp"
+#include "carom/validation.hpp"
 
 namespace carom {
 

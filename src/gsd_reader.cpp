@@ -1,13 +1,10 @@
-#include "gsd_format.hpp"
-
-#include <unistd.h>
-
+// The GSD reader: a start from one frame (read_gsd_start, gsd.hpp) and a trajectory's frames
+// (read_gsd_frames, trajectory_reader.hpp), every number checked as a start's are.
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -15,13 +12,15 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <string_view>
-#include <tuple>
 #include <utility>
+#include <vector>
 
 #include "carom/classic_input.hpp"
 #include "carom/gsd.hpp"
+#include "carom/physics.hpp"
 #include "carom/trajectory_reader.hpp"
+#include "carom/validation.hpp"
+#include "gsd_format.hpp"
 
 namespace carom {
 

@@ -1,23 +1,14 @@
-#include "gsd_format.hpp"
-
-#include <fmt/format.h>
-
+// The GSD writer: GsdFormat (gsd_format.hpp) appends frames to a file of the HOOMD schema.
 #include <algorithm>
 #include <array>
-#include <bit>
-#include <cctype>
-#include <cmath>
 #include <cstring>
-#include <fstream>
-#include <map>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
-#include <tuple>
-#include <utility>
 
+#include "carom/engine.hpp"
 #include "carom/version.hpp"
+#include "gsd_format.hpp"
 
 namespace carom {
 

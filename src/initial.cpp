@@ -10,9 +10,9 @@
 #include <pcg_random.hpp>
 #include <vector>
 
-#include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "carom/overlap.hpp"
+#include "carom/validation.hpp"
 #include "cell_grid.hpp"
 
 namespace carom {

@@ -36,7 +36,6 @@ std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& sett
 
 }  // namespace
 
-
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : engine_(checked_engine(std::move(system), settings)),

@@ -10,6 +10,7 @@
 #include "carom/gsd.hpp"
 #include "carom/observables.hpp"
 #include "carom/request.hpp"
+#include "carom/validation.hpp"
 
 namespace carom {
 

@@ -8,6 +8,7 @@
 #include "carom/engine.hpp"
 #include "carom/formats.hpp"
 #include "carom/initial.hpp"
+#include "carom/overlap.hpp"
 #include "fast_engine.hpp"
 #include "list_engine.hpp"
 #include "test_systems.hpp"

@@ -15,7 +15,6 @@
 #include "carom/classic_input.hpp"
 #include "carom/initial.hpp"
 #include "carom/invariant_check.hpp"
-#include "carom/overlap.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

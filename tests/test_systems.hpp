@@ -4,14 +4,13 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <string>
 #include <pcg_random.hpp>
+#include <string>
 #include <vector>
 
 #include "carom/classic_input.hpp"
 #include "carom/engine.hpp"
 #include "carom/measurement.hpp"
-#include "carom/overlap.hpp"
 #include "carom/simulation.hpp"
 #include "carom/system.hpp"
 

@@ -10,6 +10,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -87,7 +88,6 @@ AnyClassicInput read_any_classic_file(const std::string& path,
 template <std::size_t D>
 ClassicInput<D> read_classic_file(const std::string& path,
                                   std::optional<Boundary> boundary = std::nullopt);
-
 
 // Parses a whole token as a finite double (`-.5`, `+1`, `1e-3`); throws std::invalid_argument
 // with a message saying what is wrong ("is not a number", "is not finite", "is out of range").

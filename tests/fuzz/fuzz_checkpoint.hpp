@@ -22,7 +22,6 @@
 #include "carom/classic_input.hpp"
 #include "carom/gsd.hpp"
 #include "carom/invariant_check.hpp"
-#include "carom/overlap.hpp"
 #include "carom/viewer.hpp"
 
 namespace carom::fuzz {
