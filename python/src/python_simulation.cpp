@@ -48,7 +48,7 @@ class InterruptHandler {
 
   const std::atomic<int>* flag() const { return installed_ ? &interrupt_signal : nullptr; }
   // Gives a recorded SIGINT to Python's own handler (back in place once this is destroyed):
-  // throws what it raises; false if there was none or it raised nothing.
+  // throws what it raises (KeyboardInterrupt), and returns if it raised nothing.
   static void deliver() {
     std::raise(SIGINT);
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();

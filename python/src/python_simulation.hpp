@@ -35,7 +35,7 @@ class PythonSimulation {
 
   // Runs `spec` (Runner::run) with the GIL released; Ctrl-C stops it within milliseconds at a
   // whole instant and raises KeyboardInterrupt (or runs the user's SIGINT handler and goes on).
-  // With `collisions`, every collision is logged for collisions(). Returns the json summary.
+  // With `collisions`, every collision is logged for collisions().
   void run(RunSpec spec, bool collisions);
   // The collisions logged since the last drain, as a structured array (time, i, j).
   py::array collisions();
