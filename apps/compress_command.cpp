@@ -97,10 +97,9 @@ void compress_command(CompressArguments args) {
     hooks.stop = &stop_signal();
     hooks.progress = [&](const CompressionProgress& c) {
       if (!progress.due()) return;
-      progress.print(
-          fmt::format("packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events",
-                      c.packing_fraction, c.compressibility_factor, c.time,
-                      static_cast<double>(c.events)));
+      progress.print(fmt::format(
+          "packing fraction {:.6f}  Z = {:<10.4g}  t = {:<9.4g}  {:.3g} events", c.packing_fraction,
+          c.compressibility_factor, c.time, static_cast<double>(c.events)));
     };
     result = compress(std::move(start), spec, hooks);
   }
@@ -114,8 +113,9 @@ void compress_command(CompressArguments args) {
   if (summary) summary->keep();
   const std::string where = args.output.empty() ? "the output" : args.output;
   if (signal != 0) {
-    throw Interrupted(signal, fmt::format("{}: the packing so far (packing fraction {:.6f}) is in {}",
-                                          describe_signal(signal), s.packing_fraction, where));
+    throw Interrupted(signal,
+                      fmt::format("{}: the packing so far (packing fraction {:.6f}) is in {}",
+                                  describe_signal(signal), s.packing_fraction, where));
   }
   const std::string_view particles = s.dimension == 2 ? "disks" : "spheres";
   if (!args.unit_diameter && !args.quiet) {

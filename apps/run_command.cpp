@@ -63,8 +63,8 @@ void check(const RunArguments& args) {
 }
 
 StartSpec start_spec(const RunArguments& args) {
-  return {args.input,         args.boundary,    args.rule, args.restitution,
-          args.tc,            args.engine,      args.temperature, args.seed};
+  return {args.input, args.boundary, args.rule,        args.restitution,
+          args.tc,    args.engine,   args.temperature, args.seed};
 }
 
 RunSpec run_spec(const RunArguments& args, double end_time) {
@@ -78,7 +78,8 @@ RunSpec run_spec(const RunArguments& args, double end_time) {
   spec.log_every = args.log_every;
   spec.summary = args.summary;
   spec.checkpoint = args.checkpoint;
-  if (!args.checkpoint_every.empty()) spec.checkpoint_every = checkpoint_cadence(args.checkpoint_every);
+  if (!args.checkpoint_every.empty())
+    spec.checkpoint_every = checkpoint_cadence(args.checkpoint_every);
   spec.check = args.check;
   spec.check_every = args.check_every;
   return spec;
@@ -104,7 +105,8 @@ std::string interruption(const AnySimulation& simulation, const RunArguments& ar
 // swap rule.
 void print_notes(const Start& start, const AnySimulation& simulation) {
   if (!start.note.empty()) std::cerr << "carom: note: " << start.note << '\n';
-  if (simulation.boundary() == Boundary::periodic && simulation.settings().rule.rule == Rule::swap) {
+  if (simulation.boundary() == Boundary::periodic &&
+      simulation.settings().rule.rule == Rule::swap) {
     std::cerr << "carom: note: the swap rule (the classic assignment's) exchanges whole "
                  "velocities, so the set of speeds never changes and the gas never reaches "
                  "Maxwell-Boltzmann; --rule elastic is the physical one\n";

@@ -74,8 +74,8 @@ void view_command(const ViewArguments& args) {
   if (args.output != "-") check_writable(args.output);
   const std::vector<Frame> frames = read_trajectory_frames(args.trajectory, chosen(args));
   if (frames.empty()) {
-    throw UsageError(fmt::format("--frames {} keeps none of the frames of {}", args.frames,
-                                 args.trajectory));
+    throw UsageError(
+        fmt::format("--frames {} keeps none of the frames of {}", args.frames, args.trajectory));
   }
   Output out(args.output);
   write_viewer_html(out.stream(), frames);

@@ -1,13 +1,13 @@
 #include "carom/analysis.hpp"
 
 #include <fmt/format.h>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <nanoflann.hpp>
 #include <numbers>
 #include <stdexcept>
 

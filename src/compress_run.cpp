@@ -54,8 +54,7 @@ CompressionResult compress_system(System<D> start, const CompressionSpec& spec,
   s.mean_diameter = mean_diameter(packing);
   s.unit_diameter = spec.unit_diameter;
   s.box.assign(packing.box.size.c.begin(), packing.box.size.c.begin() + D);
-  s.wall_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  s.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
   return {AnySystem(std::move(packing)), std::move(s)};
 }
 
@@ -86,8 +85,8 @@ void write_json(std::ostream& out, const CompressionSummary& s) {
 
 CompressionResult compress(AnySystem start, const CompressionSpec& spec,
                            const CompressionHooks& hooks) {
-  return std::visit(
-      [&](auto& system) { return compress_system(std::move(system), spec, hooks); }, start);
+  return std::visit([&](auto& system) { return compress_system(std::move(system), spec, hooks); },
+                    start);
 }
 
 }  // namespace carom

@@ -318,8 +318,8 @@ AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint6
 
 std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection& selection) {
   GsdReader gsd(path, "not a readable GSD trajectory");
-  const std::uint64_t last = std::min<std::uint64_t>(selection.last.value_or(gsd.frames()),
-                                                     gsd.frames());
+  const std::uint64_t last =
+      std::min<std::uint64_t>(selection.last.value_or(gsd.frames()), gsd.frames());
   const std::uint64_t stride = std::max<std::size_t>(selection.stride, 1);
   const std::uint64_t selected =
       selection.first < last ? (last - selection.first + stride - 1) / stride : 0;
@@ -329,7 +329,8 @@ std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection
     const auto n = gsd.values("particles/N", selection.first);
     const double count = n && n->data.size() == 1 ? n->data[0] : 0.0;
     constexpr double kBytesPerParticle = sizeof(Vec<3>) * 2 + sizeof(double) +
-                                         sizeof(std::uint32_t) + sizeof(std::array<std::int32_t, 3>);
+                                         sizeof(std::uint32_t) +
+                                         sizeof(std::array<std::int32_t, 3>);
     const double bytes = static_cast<double>(selected) * count * kBytesPerParticle;
     const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                           static_cast<double>(::sysconf(_SC_PAGE_SIZE));

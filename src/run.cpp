@@ -28,12 +28,12 @@ constexpr double kMostRows = 1e7;
 // The files a spec writes, named by their options.
 std::vector<std::pair<std::string, std::string>> output_files(const RunSpec& spec) {
   std::vector<std::pair<std::string, std::string>> files;
-  for (const auto& [flag, path] : {std::pair<const char*, const std::string&>{"--summary",
-                                                                               spec.summary},
-                                   {"--checkpoint", spec.checkpoint},
-                                   {"--dump", spec.dump},
-                                   {"--events", spec.events},
-                                   {"--log", spec.log}}) {
+  for (const auto& [flag, path] :
+       {std::pair<const char*, const std::string&>{"--summary", spec.summary},
+        {"--checkpoint", spec.checkpoint},
+        {"--dump", spec.dump},
+        {"--events", spec.events},
+        {"--log", spec.log}}) {
     if (!path.empty() && path != "-") files.emplace_back(flag, path);
   }
   return files;
@@ -45,12 +45,12 @@ void check_distinct(const std::vector<std::pair<std::string, std::string>>& file
                     const std::string& continued = "") {
   for (std::size_t i = 0; i < files.size(); ++i) {
     for (std::size_t j = i + 1; j < files.size(); ++j) {
-      const bool saved_over = !continued.empty() && files[i].second == continued &&
-                              files[j].first == "--checkpoint";
+      const bool saved_over =
+          !continued.empty() && files[i].second == continued && files[j].first == "--checkpoint";
       if (!saved_over && same_file(files[i].second, files[j].second)) {
-        throw RequestError(fmt::format(
-            "{} and {} name the same file ({} and {}): one would overwrite the other",
-            files[i].first, files[j].first, files[i].second, files[j].second));
+        throw RequestError(
+            fmt::format("{} and {} name the same file ({} and {}): one would overwrite the other",
+                        files[i].first, files[j].first, files[i].second, files[j].second));
       }
     }
   }
@@ -65,9 +65,9 @@ void check_fits(const std::string& option, const std::string& path, double bytes
   std::error_code error;
   const fs::space_info space = fs::space(folder, error);
   if (error || bytes <= static_cast<double>(space.available)) return;
-  throw RequestError(fmt::format("{} {} would take about {:.3g} GB ({}) but {} has {:.3g} GB free: {}",
-                                 option, path, bytes / 1e9, detail, folder.string(),
-                                 static_cast<double>(space.available) / 1e9, remedy));
+  throw RequestError(fmt::format(
+      "{} {} would take about {:.3g} GB ({}) but {} has {:.3g} GB free: {}", option, path,
+      bytes / 1e9, detail, folder.string(), static_cast<double>(space.available) / 1e9, remedy));
 }
 
 // The frames still to come times the size of one (measured on up to 1000 particles and scaled
@@ -235,8 +235,8 @@ struct Runner::State {
   Start start;
   // RunOutputs<2> or <3>, as the simulation is; made by the first run().
   std::shared_ptr<void> outputs;
-  double wall_seconds = 0.0;   // in run(), over the Runner's life
-  std::uint64_t events = 0;    // the events of that time
+  double wall_seconds = 0.0;          // in run(), over the Runner's life
+  std::uint64_t events = 0;           // the events of that time
   std::optional<DriftVerdict> drift;  // of the last run
 
   template <std::size_t D>
@@ -319,10 +319,11 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
   if (spec.checkpoint_every) {
-    observers.add(std::make_shared<CheckpointWriter<D>>(
-        spec.checkpoint, start.source, *spec.checkpoint_every, [&outputs] {
-          if (!outputs.flush()) throw std::runtime_error(kCannotStream);
-        }));
+    observers.add(std::make_shared<CheckpointWriter<D>>(spec.checkpoint, start.source,
+                                                        *spec.checkpoint_every, [&outputs] {
+                                                          if (!outputs.flush())
+                                                            throw std::runtime_error(kCannotStream);
+                                                        }));
   }
   // Z over 20 intervals of the measurement window, first half against second.
   std::shared_ptr<ZDrift<D>> z_drift;
@@ -340,8 +341,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   const auto began = std::chrono::steady_clock::now();
   const std::uint64_t events_before = simulation.counts().events;
   const auto account = [&] {
-    wall_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
     events += simulation.counts().events - events_before;
   };
   RunStatus status = RunStatus::reached;

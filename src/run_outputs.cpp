@@ -96,22 +96,20 @@ void RunOutputs<D>::update(const RunSpec& spec) {
     const bool fresh = frames_.file.tellp() == 0;
     frames_.observer =
         std::make_shared<FrameWriter<D>>(frames_.file, std::move(format), spec.dump_every);
-    simulation_.add_observer(frames_.observer, fresh ? Simulation<D>::FirstLook::now
-                                                     : Simulation<D>::FirstLook::next);
+    simulation_.add_observer(
+        frames_.observer, fresh ? Simulation<D>::FirstLook::now : Simulation<D>::FirstLook::next);
   }
   if (!spec.events.empty() && !events_.open()) {
-    open(events_, spec.events, 0.0, [&](std::istream& in) {
-      return EventLogWriter<D>::events_before(in, t, inclusive);
-    });
+    open(events_, spec.events, 0.0,
+         [&](std::istream& in) { return EventLogWriter<D>::events_before(in, t, inclusive); });
     if (events_.file.tellp() == 0) events_.file << EventLogWriter<D>::kHeader;
     events_.observer = std::make_shared<EventLogWriter<D>>(events_.file);
     simulation_.add_observer(events_.observer);
   }
   if (!spec.log.empty() && !log_.open()) {
     auto writer = std::make_shared<TimeSeriesWriter<D>>(log_.file, spec.log_every);
-    open(log_, spec.log, spec.log_every, [&](std::istream& in) {
-      return writer->resume(in, t, inclusive, simulation_);
-    });
+    open(log_, spec.log, spec.log_every,
+         [&](std::istream& in) { return writer->resume(in, t, inclusive, simulation_); });
     if (log_.file.tellp() == 0) log_.file << TimeSeriesWriter<D>::kHeader;
     log_.observer = std::move(writer);
     simulation_.add_observer(log_.observer);

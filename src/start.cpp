@@ -108,7 +108,8 @@ Start load_start(const StartSpec& spec) {
   return std::visit(
       [&](auto&& input) {
         const Boundary boundary = input.system.box.boundary;
-        const Rule rule = spec.rule.value_or(default_rule(input.record, boundary, spec.restitution));
+        const Rule rule =
+            spec.rule.value_or(default_rule(input.record, boundary, spec.restitution));
         const Settings settings{{rule, spec.restitution, spec.tc}, spec.engine};
         std::string note = describe_defaults(spec, input.record, boundary, rule);
         std::optional<std::uint64_t> seed;
@@ -127,8 +128,12 @@ Start load_start(const StartSpec& spec) {
         // Only for the reader's messages: not held while the engine is made (a move frees it;
         // `= {}` would keep its capacity).
         input.line_of = std::vector<std::size_t>();
-        return Start{AnySimulation(AnySystem(std::move(input.system)), settings), spec.path,
-                     spec.path, false, std::move(note), seed};
+        return Start{AnySimulation(AnySystem(std::move(input.system)), settings),
+                     spec.path,
+                     spec.path,
+                     false,
+                     std::move(note),
+                     seed};
       },
       read_any_start_file(spec.path, spec.boundary));
 }
@@ -145,18 +150,17 @@ Start resume_start(const std::string& path) {
 Start init_start(int dimension, const InitialOptions& options, const Settings& settings) {
   require_dimension(dimension);
   check_settings(settings);
-  AnySystem system = dimension == 2 ? AnySystem(make_initial<2>(options))
-                                    : AnySystem(make_initial<3>(options));
-  return Start{AnySimulation(std::move(system), settings), "", "(carom.init)", false,
-               "", std::nullopt};
+  AnySystem system =
+      dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
+  return Start{
+      AnySimulation(std::move(system), settings), "", "(carom.init)", false, "", std::nullopt};
 }
 
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
   require_dimension(arrays.dimension);
-  AnySystem system = arrays.dimension == 2 ? AnySystem(system_from<2>(arrays))
-                                           : AnySystem(system_from<3>(arrays));
-  return Start{AnySimulation(std::move(system), settings), "", "(arrays)", false, "",
-               std::nullopt};
+  AnySystem system =
+      arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
+  return Start{AnySimulation(std::move(system), settings), "", "(arrays)", false, "", std::nullopt};
 }
 
 }  // namespace carom

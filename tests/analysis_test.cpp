@@ -59,7 +59,8 @@ Frame clustered(int dimension, std::size_t n, double patch, bool periodic, std::
   }
   for (std::size_t i = 0; i < 8; ++i) {
     for (int k = 0; k < dimension; ++k) {
-      f.position[i * 7][static_cast<std::size_t>(k)] = side / 3.0 + 1e3 * static_cast<double>(i + k);
+      f.position[i * 7][static_cast<std::size_t>(k)] =
+          side / 3.0 + 1e3 * static_cast<double>(i + k);
     }
   }
   return f;

@@ -1368,8 +1368,8 @@ TEST_F(Cli, CheckedRunsFindNothingWrongAndChangeNothing) {
     ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.7", "--boundary", boundary, "-o", start})
                   .exit_code,
               0);
-    const std::vector<std::string> run{"run",        start,       "20",    "--rule", "elastic",
-                                       "--boundary", boundary,    "--format", "json"};
+    const std::vector<std::string> run{"run",        start,    "20",       "--rule", "elastic",
+                                       "--boundary", boundary, "--format", "json"};
     std::vector<std::string> checked = run;
     checked.insert(checked.end(), {"--check", "--check-every", "50"});
     const Result r = carom(checked);

@@ -350,8 +350,8 @@ TEST(CrossCheck, ListsEqualReferenceOnTouchingSphereLatticesWithTies) {
     if (trial % 4 >= 2) system.box.boundary = Boundary::periodic;
     if (!ListEngine<3>::suits(system, {})) continue;
     const CollisionRule rule{trial % 2 == 0 ? Rule::swap : Rule::elastic};
-    expect_same_runs(system, rule, 20.0, 1500, "sphere lattice, lists " + std::to_string(trial),
-                     37, 0.0, Checked::lists);
+    expect_same_runs(system, rule, 20.0, 1500, "sphere lattice, lists " + std::to_string(trial), 37,
+                     0.0, Checked::lists);
   }
 }
 
@@ -362,8 +362,8 @@ TEST(CrossCheck, CellsEqualReferenceForDenseSpheres) {
   options.n = 200;
   options.packing_fraction = 0.45;
   options.boundary = Boundary::periodic;
-  expect_same_runs(make_initial<3>(options), {Rule::elastic}, 1e9, 3000, "cells, spheres 0.45",
-                   37, 0.0, Checked::cells);
+  expect_same_runs(make_initial<3>(options), {Rule::elastic}, 1e9, 3000, "cells, spheres 0.45", 37,
+                   0.0, Checked::cells);
 }
 
 }  // namespace

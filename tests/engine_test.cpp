@@ -217,7 +217,6 @@ TEST(Engine, PeriodicBoxesMustExceedTwoDiameters) {
   EXPECT_NO_THROW(make_engine(EngineKind::fast, in_box(4.01), {Rule::swap}));
 }
 
-
 TEST(Engine, ThreeDimensionalSpheresRunInBothEngines) {
   pcg32 rng(3);
   System<3> system;

@@ -1,3 +1,5 @@
+#include "list_engine.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -6,7 +8,6 @@
 #include "carom/engine.hpp"
 #include "carom/initial.hpp"
 #include "fast_engine.hpp"
-#include "list_engine.hpp"
 #include "test_systems.hpp"
 
 namespace carom {
@@ -52,8 +53,8 @@ TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
   for (std::uint32_t i = 0; i < n; ++i) {
     const std::vector<std::uint32_t> list = engine.neighbours(i);
     // No particle has left its shell.
-    const Vec<3> moved = position_at(system.particles[i], engine.stored_time()) -
-                         engine.shell_centre(i);
+    const Vec<3> moved =
+        position_at(system.particles[i], engine.stored_time()) - engine.shell_centre(i);
     EXPECT_LE(std::sqrt(norm2(moved)), shell * (1 + 1e-9)) << "particle " << i;
     for (std::uint32_t j = 0; j < n; ++j) {
       if (j == i) continue;

@@ -35,19 +35,19 @@ namespace carom {
 
 // What a run does, as carom run's options say (their names are in the comments).
 struct RunSpec {
-  double end_time = 0.0;                // END_TIME: absolute, not before the run's time
-  std::optional<double> measure_from;   // --equilibrate: the measurement window opens then
-  std::string dump;                     // --dump: frames (.xyz, .lammpstrj, .gsd)
-  double dump_every = 0.0;              // --every
-  std::string events;                   // --events: every collision, csv
-  std::string log;                      // --log: the time series, csv
-  double log_every = 0.0;               // --log-every
-  std::string summary;                  // --summary: the json summary, written at the end
-  std::string checkpoint;               // --checkpoint: saved at the end and when stopped
+  double end_time = 0.0;                    // END_TIME: absolute, not before the run's time
+  std::optional<double> measure_from;       // --equilibrate: the measurement window opens then
+  std::string dump;                         // --dump: frames (.xyz, .lammpstrj, .gsd)
+  double dump_every = 0.0;                  // --every
+  std::string events;                       // --events: every collision, csv
+  std::string log;                          // --log: the time series, csv
+  double log_every = 0.0;                   // --log-every
+  std::string summary;                      // --summary: the json summary, written at the end
+  std::string checkpoint;                   // --checkpoint: saved at the end and when stopped
   std::optional<Trigger> checkpoint_every;  // --checkpoint-every: also this often
-  bool check = false;                   // --check: invariants checked as the run goes
-  std::uint64_t check_every = 0;        // --check-every: events between overlap checks (0: N,
-                                        // at least 1000)
+  bool check = false;                       // --check: invariants checked as the run goes
+  std::uint64_t check_every = 0;            // --check-every: events between overlap checks (0: N,
+                                            // at least 1000)
 };
 
 // What a run reports as it goes, to a front end that shows it.

@@ -38,10 +38,10 @@ struct StartSpec {
 // A run made ready to go.
 struct Start {
   AnySimulation simulation;
-  std::string input;       // what was read: the start file or the checkpoint
-  std::string source;      // the file the run began from (a checkpoint records it)
-  bool resumed = false;    // continues a checkpoint: its outputs continue their files
-  std::string note;        // what reading decided without being asked, and why ("" if nothing)
+  std::string input;     // what was read: the start file or the checkpoint
+  std::string source;    // the file the run began from (a checkpoint records it)
+  bool resumed = false;  // continues a checkpoint: its outputs continue their files
+  std::string note;      // what reading decided without being asked, and why ("" if nothing)
   std::optional<std::uint64_t> seed;  // of the velocities drawn, if any were
 };
 

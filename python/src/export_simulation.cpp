@@ -91,10 +91,14 @@ void export_simulation(py::module_& m) {
           [](const std::string& path, const std::optional<std::string>& boundary,
              const std::optional<std::string>& rule, double restitution, double tc,
              const std::string& engine, std::optional<double> kT, std::uint64_t seed) {
-            StartSpec spec{path,        choice<Boundary>("boundary", boundary),
-                           choice<Rule>("rule", rule), restitution,
-                           tc,          choice<EngineKind>("engine", engine),
-                           kT,          seed};
+            StartSpec spec{path,
+                           choice<Boundary>("boundary", boundary),
+                           choice<Rule>("rule", rule),
+                           restitution,
+                           tc,
+                           choice<EngineKind>("engine", engine),
+                           kT,
+                           seed};
             return PythonSimulation(load_start(spec));
           },
           "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a)
@@ -124,9 +128,9 @@ void export_simulation(py::module_& m) {
           },
           "dim"_a, "n"_a, "phi"_a, "box"_a, "aspect"_a, "radius"_a, "polydispersity"_a, "kT"_a,
           "seed"_a, "boundary"_a, "placement"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a)
-      .def_static("resume",
-                  [](const std::string& path) { return PythonSimulation(resume_start(path)); },
-                  "path"_a)
+      .def_static(
+          "resume", [](const std::string& path) { return PythonSimulation(resume_start(path)); },
+          "path"_a)
       .def(
           "run",
           [](PythonSimulation& self, double t, const std::string& dump, double every,
@@ -167,17 +171,17 @@ void export_simulation(py::module_& m) {
             return self.compress(spec);
           },
           "phi"_a, "rate"_a, "kT"_a, "jam_pressure"_a, "unit_diameter"_a)
-      .def_property_readonly("time", [](const PythonSimulation& s) { return s.simulation().time(); })
-      .def_property_readonly("events",
-                             [](const PythonSimulation& s) { return s.simulation().counts().events; })
+      .def_property_readonly("time",
+                             [](const PythonSimulation& s) { return s.simulation().time(); })
+      .def_property_readonly(
+          "events", [](const PythonSimulation& s) { return s.simulation().counts().events; })
       .def_property_readonly("n", [](const PythonSimulation& s) { return s.simulation().size(); })
       .def_property_readonly("dim",
                              [](const PythonSimulation& s) { return s.simulation().dimension(); })
       .def_property_readonly("box", &PythonSimulation::box)
-      .def_property_readonly("boundary",
-                             [](const PythonSimulation& s) {
-                               return std::string(name_of(s.simulation().boundary()));
-                             })
+      .def_property_readonly(
+          "boundary",
+          [](const PythonSimulation& s) { return std::string(name_of(s.simulation().boundary())); })
       .def_property_readonly("rule",
                              [](const PythonSimulation& s) {
                                return std::string(name_of(s.simulation().settings().rule.rule));
@@ -186,7 +190,8 @@ void export_simulation(py::module_& m) {
           "restitution",
           [](const PythonSimulation& s) { return s.simulation().settings().rule.restitution; })
       .def_property_readonly(
-          "tc", [](const PythonSimulation& s) { return s.simulation().settings().rule.elastic_within; })
+          "tc",
+          [](const PythonSimulation& s) { return s.simulation().settings().rule.elastic_within; })
       .def_property_readonly("engine",
                              [](const PythonSimulation& s) {
                                return std::string(name_of(s.simulation().settings().engine));
@@ -209,8 +214,7 @@ void export_simulation(py::module_& m) {
             return s.text(choice<Format>("format", format));
           },
           "format"_a)
-      .def("reset_measurement",
-           [](PythonSimulation& s) { s.simulation().reset_measurement(); })
+      .def("reset_measurement", [](PythonSimulation& s) { s.simulation().reset_measurement(); })
       .def("measure_from", &PythonSimulation::measure_from, "t"_a)
       .def("save", &PythonSimulation::save, "path"_a);
 }

@@ -61,7 +61,8 @@ class InterruptHandler {
 
 template <class T>
 py::array_t<T> vectors(const AnySimulation& s) {
-  return py::array_t<T>({static_cast<py::ssize_t>(s.size()), static_cast<py::ssize_t>(s.dimension())});
+  return py::array_t<T>(
+      {static_cast<py::ssize_t>(s.size()), static_cast<py::ssize_t>(s.dimension())});
 }
 template <class T>
 py::array_t<T> scalars(const AnySimulation& s) {
@@ -123,8 +124,12 @@ std::pair<PythonSimulation, std::string> PythonSimulation::compress(CompressionS
   }
   std::ostringstream summary;
   write_json(summary, result.summary);
-  Start start{AnySimulation(std::move(result.packing), simulation().settings()), "", source(),
-              false, "", std::nullopt};
+  Start start{AnySimulation(std::move(result.packing), simulation().settings()),
+              "",
+              source(),
+              false,
+              "",
+              std::nullopt};
   return {PythonSimulation(std::move(start)), summary.str()};
 }
 
