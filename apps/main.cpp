@@ -17,6 +17,7 @@
 #include "compress_command.hpp"
 #include "init_command.hpp"
 #include "run_command.hpp"
+#include "sweep_command.hpp"
 #include "view_command.hpp"
 
 namespace carom::cli {
@@ -87,7 +88,8 @@ int main(int argc, char** argv) {
   constexpr int kRuntimeError = 1;
 
   CLI::App app{"carom: event-driven molecular dynamics of hard disks and spheres.\n", "carom"};
-  app.set_version_flag("--version", std::string("carom ") + carom::kVersion);
+  app.set_version_flag("--version", std::string("carom ") + carom::kVersion + "\n" +
+                                        sweep_version_note());
   app.require_subcommand(1);
   app.footer(R"(Examples:
   carom run examples/walls_only.txt 20                   the classic assignment's first case
@@ -99,7 +101,9 @@ int main(int argc, char** argv) {
   carom run gas.txt 40 --dump run.gsd --every 0.5 && carom analyze run.gsd --html report.html
   carom compress spheres.txt --jam -o jammed.txt         grow until jammed (~0.64)
 
-Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command's options.)");
+  carom sweep eos.toml -o eos                            a plan's runs, on every core (or mpirun)
+
+Run 'carom COMMAND --help' (run, init, compress, sweep, view, analyze) for each command's options.)");
 
   RunArguments run_args;
   InitArguments init_args;
@@ -111,6 +115,8 @@ Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command
   CLI::App* analyze = add_analyze_command(app, analyze_args);
   CompressArguments compress_args;
   CLI::App* compress = add_compress_command(app, compress_args);
+  SweepArguments sweep_args;
+  CLI::App* sweep = add_sweep_command(app, sweep_args);
 
   if (argc <= 1) {
     std::cout << app.help();
@@ -118,7 +124,7 @@ Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command
   }
   // The command named on the line, for messages (the parser may fail before it knows).
   CLI::App* named = nullptr;
-  for (CLI::App* command : {run, init, view, analyze, compress}) {
+  for (CLI::App* command : {run, init, view, analyze, compress, sweep}) {
     if (command->get_name() == argv[1]) named = command;
   }
   const std::string usage = named != nullptr ? "carom " + named->get_name() : "carom";
@@ -133,13 +139,16 @@ Run 'carom COMMAND --help' (run, init, compress, view, analyze) for each command
 
   // Only a run and a compression have state worth saving on a signal; the others stop at once,
   // as any program.
-  if (run->parsed() || compress->parsed()) carom::install_stop_handlers(stop_signal());
+  if (run->parsed() || compress->parsed() || sweep->parsed()) {
+    carom::install_stop_handlers(stop_signal());
+  }
   try {
     if (run->parsed()) run_command(run_args);
     if (init->parsed()) init_command(init_args);
     if (view->parsed()) view_command(view_args);
     if (analyze->parsed()) analyze_command(analyze_args);
     if (compress->parsed()) compress_command(compress_args);
+    if (sweep->parsed()) return sweep_command(sweep_args);
     return 0;
   } catch (const Interrupted& e) {
     std::cerr << "carom: " << e.what() << '\n';

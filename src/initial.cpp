@@ -334,6 +334,14 @@ void check_options(const InitialOptions& o) {
 
 }  // namespace
 
+void check_initial_options(std::size_t dimension, const InitialOptions& options) {
+  if (dimension == 3) {
+    check_options<3>(options);
+  } else {
+    check_options<2>(options);
+  }
+}
+
 template <std::size_t D>
 System<D> make_initial(const InitialOptions& o) {
   check_options<D>(o);

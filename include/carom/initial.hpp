@@ -62,6 +62,11 @@ constexpr double random_placement_limit(std::size_t dimension) {
 template <std::size_t D>
 System<D> make_initial(const InitialOptions& options);
 
+// Throws the InitialError make_initial would for options no start of `dimension` (2 or 3) can
+// have (a packing fraction above close packing, a polydispersity above 0.5, ...), without
+// making one. A random placement that jams is found only by making it.
+void check_initial_options(std::size_t dimension, const InitialOptions& options);
+
 // Gives every particle of `system` a velocity as make_initial does (Maxwell-Boltzmann at
 // `temperature` over each mass, zero total momentum, kinetic temperature kT exactly), from pcg32
 // seeded with `seed`: for a start that has none, or is to be rethermalised. Throws

@@ -1,0 +1,171 @@
+// A sweep: many runs or compressions made from one plan file, each a task in its own folder,
+// what `carom sweep` (on this machine's cores, or on MPI ranks) and carom.sweep (on Dask) do.
+//
+// A plan (TOML) has a [start] (carom init's options, or `file = "start.txt"`), a [run] (carom
+// run's options, `end_time` first) or a [compress] (carom compress's), and a [sweep] of axes,
+// lists of values of any of those keys, whose Cartesian product makes the tasks:
+//
+//   carom::SweepPlan plan = carom::SweepPlan::read("eos.toml");
+//   for (std::size_t i = 0; i < plan.tasks().size(); ++i) carom::run_task(plan, i, "eos");
+//   carom::write_sweep_tables(plan, "eos", carom::read_task_results(plan, "eos"));
+//
+// A task is exactly the commands task_commands() prints (carom init, then carom run or carom
+// compress), whatever runs it: its files are theirs, bit for bit. Tasks are resumable: a task
+// whose summary is in its folder is done; one with a checkpoint continues it; any other starts
+// over. Where a task runs, or on how many workers, changes nothing in what it writes.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "carom/request.hpp"
+
+namespace carom {
+
+// A plan that cannot be run, with the file, line and key: "eos.toml:7: [sweep] phi: ...".
+class PlanError : public RequestError {
+  using RequestError::RequestError;
+};
+
+// A key's value, as TOML gives it (numbers that must be integers stay integers).
+using PlanValue = std::variant<bool, std::int64_t, double, std::string, std::vector<double>>;
+
+// One key of a task's start, run or compression, and the plan line it comes from.
+struct PlanSetting {
+  std::string key;  // as in the plan: carom's option without its dashes, '-' as '_'
+  PlanValue value;
+  int line = 0;
+  bool swept = false;  // from a [sweep] axis
+};
+
+enum class TaskKind { run, compress };
+
+struct SweepTask {
+  std::string name;  // its folder: "phi=0.3,seed=1", the swept keys in the plan's order ("task"
+                     // when nothing is swept)
+  // The swept keys and their values as the plan writes them ("0.3", "elastic").
+  std::vector<std::pair<std::string, std::string>> point;
+  std::vector<PlanSetting> start;   // carom init's options, or `file`
+  std::vector<PlanSetting> action;  // carom run's (end_time included) or carom compress's
+};
+
+class SweepPlan {
+ public:
+  // Reads and checks a plan: every key known and of its type, every axis a non-empty list, every
+  // task's options accepted by what will run them. Throws PlanError naming the line.
+  static SweepPlan read(const std::string& path);
+  // The same from the plan's text; `name` names it in messages and `folder` is where a start
+  // `file` is looked for (the plan's folder).
+  static SweepPlan parse(std::string_view text, const std::string& name,
+                         const std::string& folder);
+
+  const std::string& name() const { return name_; }
+  const std::string& text() const { return text_; }
+  const std::string& folder() const { return folder_; }
+  TaskKind kind() const { return kind_; }
+  // The swept keys, in the plan's order.
+  const std::vector<std::string>& axes() const { return axes_; }
+  const std::vector<SweepTask>& tasks() const { return tasks_; }
+
+ private:
+  std::string name_, text_, folder_;
+  TaskKind kind_ = TaskKind::run;
+  std::vector<std::string> axes_;
+  std::vector<SweepTask> tasks_;
+};
+
+// The files of a task, in its folder.
+namespace task_files {
+inline constexpr const char* kCommands = "task.txt";     // task_commands(), one a line
+inline constexpr const char* kStart = "start.txt";       // carom init's start (not with `file`)
+inline constexpr const char* kSummary = "summary.json";  // there only when the task is done
+inline constexpr const char* kLog = "log.csv";           // a run's time series
+inline constexpr const char* kCheckpoint = "checkpoint.ckpt";  // a run's state
+inline constexpr const char* kPacking = "packing.txt";         // a compression's packing
+inline constexpr const char* kError = "error.txt";             // why the task failed
+}  // namespace task_files
+
+// The carom commands that do what the task does, alone, with its files in `folder`.
+std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
+                                       const std::string& folder);
+
+enum class TaskStatus { done, failed, stopped, pending };
+
+// What a task measured: its summary's observables, by the names of results.csv.
+struct TaskResult {
+  TaskStatus status = TaskStatus::pending;
+  std::string error;  // why it failed
+  int dimension = 0;  // of its particles, once started
+  std::vector<std::pair<std::string, double>> measures;  // NaN: not measured
+  double wall_seconds = 0.0;                             // its last piece's
+
+  static TaskResult with(TaskStatus status, std::string error = {}) {
+    TaskResult result;
+    result.status = status;
+    result.error = std::move(error);
+    return result;
+  }
+};
+
+// The measures of a task of `kind`, in results.csv's order.
+const std::vector<std::string>& measure_names(TaskKind kind);
+
+struct TaskHooks {
+  const std::atomic<int>* stop = nullptr;  // nonzero stops the task (its checkpoint saved)
+  // Now and then, the task's fraction done (0 to 1), from whatever thread runs it.
+  std::function<void(double)> progress;
+};
+
+// Runs task `index` of `plan` in out_dir/<task name>/, going on from what an earlier attempt left
+// there (done: read; a checkpoint: continued; else from the start). A task that cannot be done
+// (a state point the options cannot make) is failed, its error in error.txt; a stopped one keeps
+// its checkpoint. Throws RequestError only when the folder holds another task's files.
+TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string& out_dir,
+                    const TaskHooks& hooks = {});
+
+// What the tasks' folders hold now: done, failed (error.txt, no summary) or pending.
+std::vector<TaskResult> read_task_results(const SweepPlan& plan, const std::string& out_dir);
+
+// Refuses (RequestError) an out_dir whose task folders hold the files of other tasks (their
+// task.txt differs: the plan changed), before anything is written.
+void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir);
+
+// out_dir/results.csv (a row a task: the swept keys, status, the measures, the error) and
+// out_dir/summary.csv (a row a state point, every axis but `seed`: each measure's mean and
+// standard error over the done tasks), written atomically; full precision, and the same bytes
+// whatever ran the tasks.
+void write_sweep_tables(const SweepPlan& plan, const std::string& out_dir,
+                        const std::vector<TaskResult>& results);
+
+struct SweepProgress {
+  std::size_t total = 0, done = 0, failed = 0, running = 0;
+  double fraction = 0.0;  // of the work, counting each running task's part
+  double wall_seconds = 0.0;
+};
+
+struct SweepHooks {
+  const std::atomic<int>* stop = nullptr;  // stops every running task (checkpoints saved)
+  // Called about twice a second from the thread that called run_sweep.
+  std::function<void(const SweepProgress&)> progress;
+};
+
+// Runs every task not yet done on `jobs` threads of this process, then writes the tables.
+// Returns every task's result, in the plan's order.
+std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir,
+                                  unsigned jobs, const SweepHooks& hooks = {});
+
+// The swept observables against the first swept axis other than `seed`, with error bars, and
+// the equation of state of hard disks (Henderson) or spheres (Kolafa, Labik and Malijevsky)
+// beside Z where one applies: a self-contained HTML page.
+void write_sweep_report(std::ostream& out, const SweepPlan& plan,
+                        const std::vector<TaskResult>& results);
+
+}  // namespace carom

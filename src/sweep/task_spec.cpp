@@ -1,0 +1,232 @@
+#include "sweep/task_spec.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "carom/names.hpp"
+#include "carom/simulation.hpp"
+#include "sweep/plan_keys.hpp"
+
+namespace carom::sweep {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+double as_number(const PlanValue& v) {
+  if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<double>(*i);
+  return std::get<double>(v);
+}
+std::uint64_t as_integer(const PlanValue& v) {
+  return static_cast<std::uint64_t>(std::get<std::int64_t>(v));
+}
+const std::string& as_text(const PlanValue& v) { return std::get<std::string>(v); }
+bool as_flag(const PlanValue& v) { return std::get<bool>(v); }
+
+template <class E>
+E as_choice(const PlanValue& v) {
+  return *from_name<E>(as_text(v));  // the parser checked the name
+}
+
+// A word for a shell: quoted unless it is made of characters no shell treats specially.
+std::string shell_word(const std::string& word) {
+  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                              "0123456789-_./=,:+@%") == std::string::npos) {
+    return word;
+  }
+  std::string quoted = "'";
+  for (char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+// "--key value" as carom's parser takes it ("--flag" alone when true, nothing when false).
+void append_option(std::string& command, const PlanSetting& s) {
+  std::string option = "--" + s.key;
+  for (char& c : option) c = c == '_' ? '-' : c;
+  if (const bool* flag = std::get_if<bool>(&s.value)) {
+    if (*flag) command += " " + option;
+    return;
+  }
+  command += " " + option + " " + shell_word(value_text(s.value));
+}
+
+std::string in_folder(const std::string& folder, const std::string& file) {
+  return (fs::path(folder) / file).string();
+}
+
+// The setting whose option a library message names ("--phi 0.95 is above ..."), else the first.
+const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std::string& message) {
+  for (const PlanSetting& s : settings) {
+    std::string option = "--" + s.key;
+    for (char& c : option) c = c == '_' ? '-' : c;
+    if (message.find(option) != std::string::npos) return s;
+  }
+  return settings.front();
+}
+
+void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
+  InitialOptions& o = spec.initial;
+  for (const PlanSetting& s : settings) {
+    const PlanValue& v = s.value;
+    if (s.key == "dim") spec.dimension = static_cast<int>(as_integer(v));
+    if (s.key == "n") o.n = as_integer(v);
+    if (s.key == "phi") o.packing_fraction = as_number(v);
+    if (s.key == "box") o.box = std::get<std::vector<double>>(v);
+    if (s.key == "aspect") o.aspect = as_number(v);
+    if (s.key == "radius") o.radius = as_number(v);
+    if (s.key == "polydispersity") o.polydispersity = as_number(v);
+    if (s.key == "kT") o.temperature = as_number(v);
+    if (s.key == "seed") o.seed = as_integer(v);
+    if (s.key == "boundary") o.boundary = as_choice<Boundary>(v);
+    if (s.key == "lattice" && as_flag(v)) o.placement = Placement::lattice;
+    if (s.key == "random" && as_flag(v)) o.placement = Placement::random;
+  }
+}
+
+void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
+                 const std::string& folder) {
+  StartSpec& start = spec.start;
+  RunSpec& run = spec.run;
+  std::optional<std::string> cadence;
+  std::optional<double> log_every;
+  for (const PlanSetting& s : settings) {
+    const PlanValue& v = s.value;
+    if (s.key == "end_time") run.end_time = as_number(v) + 0.0;  // -0 as 0, as carom run
+    if (s.key == "equilibrate") run.measure_from = as_number(v);
+    if (s.key == "rule") start.rule = as_choice<Rule>(v);
+    if (s.key == "restitution") start.restitution = as_number(v);
+    if (s.key == "tc") start.tc = as_number(v);
+    if (s.key == "boundary") start.boundary = as_choice<Boundary>(v);
+    if (s.key == "engine") start.engine = as_choice<EngineKind>(v);
+    if (s.key == "kT") start.temperature = as_number(v);
+    if (s.key == "seed") start.seed = as_integer(v);
+    if (s.key == "dump") run.dump = in_folder(folder, as_text(v));
+    if (s.key == "every") run.dump_every = as_number(v);
+    if (s.key == "events") run.events = in_folder(folder, as_text(v));
+    if (s.key == "log_every") log_every = as_number(v);
+    if (s.key == "checkpoint_every") cadence = value_text(v);
+    if (s.key == "check") run.check = as_flag(v);
+    if (s.key == "check_every") run.check_every = as_integer(v);
+  }
+  // Every task keeps a time series (the error bars of results.csv), its summary and its state.
+  const double measured = run.end_time - run.measure_from.value_or(0.0);
+  run.log = in_folder(folder, task_files::kLog);
+  run.log_every = log_every.value_or((measured > 0.0 ? measured : run.end_time) / 200.0);
+  run.summary = in_folder(folder, task_files::kSummary);
+  run.checkpoint = in_folder(folder, task_files::kCheckpoint);
+  spec.checkpoint_every = cadence.value_or(spec.checkpoint_every);
+  run.checkpoint_every = checkpoint_cadence(spec.checkpoint_every);
+}
+
+void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
+  CompressionSpec& c = spec.compress;
+  bool jam = false;
+  for (const PlanSetting& s : settings) {
+    const PlanValue& v = s.value;
+    if (s.key == "phi") c.settings.target = as_number(v);
+    if (s.key == "jam") jam = as_flag(v);
+    if (s.key == "rate") c.settings.rate = as_number(v);
+    if (s.key == "boundary") spec.compress_boundary = as_choice<Boundary>(v);
+    if (s.key == "kT") c.settings.temperature = as_number(v);
+    if (s.key == "jam_pressure") c.settings.jammed_pressure = as_number(v);
+    if (s.key == "engine") c.settings.engine = as_choice<EngineKind>(v);
+    if (s.key == "unit_diameter") c.unit_diameter = as_flag(v);
+  }
+  if (jam) c.settings.target.reset();
+}
+
+// The two commands, with the sweep's own files added as carom run's options.
+void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& folder) {
+  const std::string start_path = spec.start_file ? *spec.start_file
+                                                 : in_folder(folder, task_files::kStart);
+  if (!spec.start_file) {
+    std::string init = "carom init";
+    for (const PlanSetting& s : task.start) append_option(init, s);
+    spec.commands.push_back(init + " -o " + shell_word(start_path));
+  }
+  if (spec.kind == TaskKind::compress) {
+    std::string compress = "carom compress " + shell_word(start_path);
+    for (const PlanSetting& s : task.action) append_option(compress, s);
+    spec.commands.push_back(
+        compress + " -o " + shell_word(in_folder(folder, task_files::kPacking)) + " --summary " +
+        shell_word(in_folder(folder, task_files::kSummary)) + " -q");
+    return;
+  }
+  const RunSpec& run = spec.run;
+  std::string command = "carom run " + shell_word(start_path) + " " + value_text(run.end_time);
+  for (const PlanSetting& s : task.action) {
+    if (s.key != "end_time" && s.key != "log_every" && s.key != "checkpoint_every") {
+      append_option(command, s);
+    }
+  }
+  command += " --log " + shell_word(run.log) + " --log-every " + value_text(run.log_every) +
+             " --summary " + shell_word(run.summary) + " --checkpoint " +
+             shell_word(run.checkpoint) + " --checkpoint-every " + spec.checkpoint_every +
+             " -q -o /dev/null";
+  spec.commands.push_back(command);
+}
+
+}  // namespace
+
+std::string value_text(const PlanValue& value) {
+  return std::visit(
+      [](const auto& v) -> std::string {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return v ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          return fmt::format("{}", fmt::join(v, " "));
+        } else {
+          return fmt::format("{}", v);
+        }
+      },
+      value);
+}
+
+PlanError setting_error(const SweepPlan& plan, const SweepTask* task, const PlanSetting& setting,
+                        std::string_view section, const std::string& why) {
+  const std::string where = setting.swept ? "sweep" : std::string(section);
+  const std::string which = task != nullptr && setting.swept ? fmt::format(" (task {})", task->name)
+                                                             : std::string();
+  return PlanError(fmt::format("{}:{}: [{}] {} = {}{}: {}", plan.name(), setting.line, where,
+                               setting.key, value_text(setting.value), which, why));
+}
+
+TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder) {
+  TaskSpec spec;
+  spec.kind = plan.kind();
+  for (const PlanSetting& s : task.start) {
+    if (s.key == "file") spec.start_file = (fs::path(plan.folder()) / as_text(s.value)).string();
+  }
+  const std::string_view action = spec.kind == TaskKind::run ? "run" : "compress";
+  if (!spec.start_file) {
+    init_options(spec, task.start);
+    try {
+      check_initial_options(static_cast<std::size_t>(spec.dimension), spec.initial);
+    } catch (const InitialError& e) {
+      throw setting_error(plan, &task, named_in(task.start, e.what()), "start", e.what());
+    }
+  }
+  try {
+    if (spec.kind == TaskKind::compress) {
+      compress_options(spec, task.action);
+    } else {
+      run_options(spec, task.action, folder);
+      const StartSpec& s = spec.start;
+      check_settings({{s.rule.value_or(s.restitution < 1.0 ? Rule::elastic : Rule::swap),
+                       s.restitution, s.tc},
+                      s.engine});
+      check_run_spec(spec.run);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw setting_error(plan, &task, named_in(task.action, e.what()), action, e.what());
+  }
+  spec.start.path = spec.start_file.value_or(in_folder(folder, task_files::kStart));
+  spec.compress.input = spec.start.path;
+  write_commands(spec, task, folder);
+  return spec;
+}
+
+}  // namespace carom::sweep

@@ -1,0 +1,45 @@
+// What a task's settings ask for, as the library's own descriptions (InitialOptions, StartSpec,
+// RunSpec, CompressionSpec) and as the carom commands that do the same alone.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "carom/compress_run.hpp"
+#include "carom/initial.hpp"
+#include "carom/run.hpp"
+#include "carom/start.hpp"
+#include "carom/sweep.hpp"
+
+namespace carom::sweep {
+
+struct TaskSpec {
+  TaskKind kind = TaskKind::run;
+  std::optional<std::string> start_file;  // `file`, from the plan's folder; else carom init's:
+  int dimension = 2;
+  InitialOptions initial;
+  // A run: its start read as carom run reads it (the path is the start file), then the run,
+  // whose files are in the task's folder.
+  StartSpec start;
+  RunSpec run;
+  std::string checkpoint_every = "600s";  // the run's cadence, as carom run takes it
+  // A compression, of the start read in compress_boundary.
+  CompressionSpec compress;
+  std::optional<Boundary> compress_boundary;
+  // The commands: carom init's (empty with `file`), then carom run's or compress's.
+  std::vector<std::string> commands;
+};
+
+// The task's description with its files in `folder`. Throws PlanError, naming the plan's line,
+// for options the library refuses (a packing fraction above close packing, a restitution of 2).
+TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder);
+
+// A PlanError for `setting` of `task`: "PLAN:LINE: [SECTION] KEY = VALUE (task NAME): WHY".
+PlanError setting_error(const SweepPlan& plan, const SweepTask* task, const PlanSetting& setting,
+                        std::string_view section, const std::string& why);
+
+// The value as the plan wrote it (a number in its shortest exact form).
+std::string value_text(const PlanValue& value);
+
+}  // namespace carom::sweep
