@@ -7,8 +7,9 @@ set -euo pipefail
 what="${1:-test}"
 packages=(
   g++ cmake make
-  libfmt-dev nlohmann-json3-dev libcli11-dev libpcg-cpp-dev libnanoflann-dev
-  python3 python3-dev python3-numpy pybind11-dev
+  libfmt-dev nlohmann-json3-dev libcli11-dev libpcg-cpp-dev libnanoflann-dev libtomlplusplus-dev
+  libopenmpi-dev openmpi-bin
+  python3 python3-dev python3-numpy pybind11-dev python3-distributed
 )
 case "$what" in
   run) ;;
