@@ -8,4 +8,5 @@ PYBIND11_MODULE(_carom, m) {
   carom::python::export_errors(m);
   carom::python::export_simulation(m);
   carom::python::export_analysis(m);
+  carom::python::export_sweep(m);
 }
