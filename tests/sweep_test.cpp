@@ -1,1 +1,274 @@
+// The sweep's plan (what it accepts and refuses, and where it says the fault is), its tasks and
+// their commands, resumable tasks and the tables.
+#include "carom/sweep.hpp"
+
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace carom {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The plan of the documentation (README, carom sweep --help).
+constexpr const char* kPlan = R"([start]
+n = 256
+dim = 2
+boundary = "periodic"
+
+[run]
+end_time = 40
+equilibrate = 10
+rule = "elastic"
+
+[sweep]
+phi = [0.3, 0.5]
+seed = [1, 2]
+)";
+
+SweepPlan parse(const std::string& text) { return SweepPlan::parse(text, "plan.toml", "."); }
+
+// The message of the PlanError `text` raises ("" if it parses).
+std::string refusal(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const PlanError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+class Folder {
+ public:
+  Folder() : path_(fs::temp_directory_path() / ("carom_sweep_test_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~Folder() { fs::remove_all(path_); }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  fs::path path_;
+};
+
+TEST(SweepPlan, TheDocumentedPlanMakesTheProductOfItsAxesFirstAxisOutermost) {
+  const SweepPlan plan = parse(kPlan);
+  EXPECT_EQ(plan.kind(), TaskKind::run);
+  EXPECT_EQ(plan.axes(), (std::vector<std::string>{"phi", "seed"}));
+  std::vector<std::string> names;
+  for (const SweepTask& task : plan.tasks()) names.push_back(task.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"phi=0.3,seed=1", "phi=0.3,seed=2", "phi=0.5,seed=1",
+                                             "phi=0.5,seed=2"}));
+}
+
+TEST(SweepPlan, ATaskIsTheCommandsOfCaromInitAndRunWithItsFilesInItsFolder) {
+  const SweepPlan plan = parse(kPlan);
+  const std::vector<std::string> commands = task_commands(plan, 3, "out/phi=0.5,seed=2");
+  ASSERT_EQ(commands.size(), 2u);
+  // seed is carom init's option, so a swept seed makes another start.
+  EXPECT_EQ(commands[0],
+            "carom init --n 256 --dim 2 --boundary periodic --phi 0.5 --seed 2 -o "
+            "out/phi=0.5,seed=2/start.txt");
+  EXPECT_EQ(commands[1],
+            "carom run out/phi=0.5,seed=2/start.txt 40 --equilibrate 10 --rule elastic --log "
+            "out/phi=0.5,seed=2/log.csv --log-every 0.15 --summary out/phi=0.5,seed=2/summary.json "
+            "--checkpoint out/phi=0.5,seed=2/checkpoint.ckpt --checkpoint-every 600s -q -o "
+            "/dev/null");
+}
+
+TEST(SweepPlan, KeysOnlyARunHasAreSweptInTheRunAndCompressionsHaveTheirOwn) {
+  const SweepPlan plan = parse(R"([start]
+n = 64
+phi = 0.3
+[run]
+end_time = 5
+[sweep]
+equilibrate = [1, 2]
+checkpoint_every = ["10s", 1000]
+)");
+  ASSERT_EQ(plan.tasks().size(), 4u);
+  EXPECT_EQ(plan.tasks()[1].name, "equilibrate=1,checkpoint_every=1000");
+  EXPECT_NE(task_commands(plan, 1, "d")[1].find("--equilibrate 1 "), std::string::npos);
+  EXPECT_NE(task_commands(plan, 1, "d")[1].find("--checkpoint-every 1000 "), std::string::npos);
+
+  const SweepPlan compressions = parse(R"([start]
+n = 64
+phi = 0.3
+boundary = "periodic"
+[compress]
+jam = true
+[sweep]
+rate = [0.1, 0.01]
+)");
+  EXPECT_EQ(compressions.kind(), TaskKind::compress);
+  EXPECT_EQ(task_commands(compressions, 1, "d")[1],
+            "carom compress d/start.txt --jam --rate 0.01 -o d/packing.txt --summary "
+            "d/summary.json -q");
+}
+
+TEST(SweepPlan, AStartFromAFileIsReadFromThePlansFolder) {
+  const SweepPlan plan = SweepPlan::parse(R"([start]
+file = "gas.txt"
+[run]
+end_time = 5
+kT = 2
+)",
+                                          "studies/plan.toml", "studies");
+  const std::vector<std::string> commands = task_commands(plan, 0, "d/task");
+  ASSERT_EQ(commands.size(), 1u);  // no carom init
+  EXPECT_EQ(commands[0].rfind("carom run studies/gas.txt 5 --kT 2 ", 0), 0u) << commands[0];
+}
+
+TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nvelocity = 2\n",
+       "plan.toml:6: [run] velocity: not an option of carom run"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[sweep]\nseed = []\n",
+       "plan.toml:7: [sweep] seed: an axis is a non-empty list of values"},
+      {"[start]\nn = 64\n[run]\nend_time = 5\n[sweep]\nphi = [0.3,\n 2.0]\n",
+       "plan.toml:6: [sweep] phi = 2 (task phi=2): --phi 2 is above close packing"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nrule = \"sticky\"\n",
+       "plan.toml:6: [run] rule: takes swap or elastic"},
+      {"[start]\nn = 64.5\nphi = 0.3\n[run]\nend_time = 5\n",
+       "plan.toml:2: [start] n: takes a whole number >= 0"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nequilibrate = 5\n", "plan.toml:4: [run] needs end_time"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nsummary = \"s.json\"\n",
+       "plan.toml:6: [run] summary: the sweep writes each task's summary"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[sweep]\nphi = [0.2]\n",
+       "plan.toml:7: [sweep] phi: also set on line 3"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[sweep]\nseed = [1, 1]\n",
+       "plan.toml:7: [sweep] seed: 1 is listed twice"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nrestitution = 2\n",
+       "plan.toml:6: [run] restitution = 2: "},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\ndump = \"../x.gsd\"\n",
+       "plan.toml:6: [run] dump: takes a file name, without a folder"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[runs]\n",
+       "plan.toml:6: unknown section [runs]"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\njam = true\n",
+       "plan.toml:1: a plan has one of [run]"},
+      {"[start]\nfile = \"a.txt\"\nn = 3\n[run]\nend_time = 5\n",
+       "plan.toml:3: [start] n: a start read from a file takes no carom init options"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = = 5\n", "plan.toml:5: "},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\ncheckpoint_every = \"10m\"\n",
+       "plan.toml:6: [run] checkpoint_every: --checkpoint-every"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string said = refusal(text);
+    EXPECT_EQ(said.rfind(expected, 0), 0u) << "plan:\n" << text << "said: " << said;
+  }
+}
+
+TEST(SweepPlan, AMissingPlanIsRefused) {
+  EXPECT_THROW(SweepPlan::read("/nonexistent/plan.toml"), PlanError);
+}
+
+// A small plan whose tasks take milliseconds.
+constexpr const char* kSmallPlan = R"([start]
+n = 16
+boundary = "periodic"
+[run]
+end_time = 2
+equilibrate = 1
+rule = "elastic"
+checkpoint_every = 100
+[sweep]
+phi = [0.2, 0.3]
+seed = [1, 2]
+)";
+
+TEST(SweepTask, ADoneTaskIsReadNotRunAgainAndAChangedPlanIsRefused) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  const TaskResult first = run_task(plan, 0, folder / "out");
+  ASSERT_EQ(first.status, TaskStatus::done) << first.error;
+  EXPECT_EQ(first.dimension, 2);
+  const fs::path summary = fs::path(folder / "out") / plan.tasks()[0].name / "summary.json";
+  const auto written = fs::last_write_time(summary);
+  const TaskResult again = run_task(plan, 0, folder / "out");
+  EXPECT_EQ(fs::last_write_time(summary), written);
+  EXPECT_EQ(again.measures, first.measures);
+
+  std::string changed = kSmallPlan;
+  changed.replace(changed.find("end_time = 2"), 12, "end_time = 3");
+  EXPECT_THROW(check_sweep_folder(parse(changed), folder / "out"), RequestError);
+  EXPECT_THROW(run_task(parse(changed), 0, folder / "out"), RequestError);
+}
+
+TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  ASSERT_EQ(run_task(plan, 1, folder / "whole").status, TaskStatus::done);
+  // Stopped at once: the start is made, the checkpoint saved at t = 0, no summary.
+  const std::atomic<int> stop{15};
+  EXPECT_EQ(run_task(plan, 1, folder / "pieces", {&stop, nullptr}).status, TaskStatus::stopped);
+  const fs::path piece = fs::path(folder / "pieces") / plan.tasks()[1].name;
+  EXPECT_TRUE(fs::exists(piece / "checkpoint.ckpt"));
+  EXPECT_FALSE(fs::exists(piece / "summary.json"));
+  EXPECT_EQ(read_task_results(plan, folder / "pieces")[1].status, TaskStatus::pending);
+  // Continued from the checkpoint, the task does not make its start again.
+  fs::remove(piece / "start.txt");
+  ASSERT_EQ(run_task(plan, 1, folder / "pieces").status, TaskStatus::done);
+  EXPECT_FALSE(fs::exists(piece / "start.txt"));
+  const fs::path whole = fs::path(folder / "whole") / plan.tasks()[1].name;
+  EXPECT_EQ(read(piece / "log.csv"), read(whole / "log.csv"));
+  EXPECT_EQ(read_task_results(plan, folder / "pieces")[1].measures,
+            read_task_results(plan, folder / "whole")[1].measures);
+}
+
+TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {
+  const Folder folder;
+  const SweepPlan plan = parse(R"([start]
+n = 400
+random = true
+boundary = "periodic"
+[run]
+end_time = 1
+[sweep]
+phi = [0.2, 0.7]
+)");
+  const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 2);
+  EXPECT_EQ(results[0].status, TaskStatus::done);
+  ASSERT_EQ(results[1].status, TaskStatus::failed);
+  EXPECT_NE(results[1].error.find("random placement jammed"), std::string::npos) << results[1].error;
+  EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
+  const std::string table = read(fs::path(folder / "out") / "results.csv");
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,random placement jammed"), std::string::npos) << table;
+}
+
+TEST(SweepTables, ResultsKeepFullPrecisionAndSummariesAverageOverSeeds) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  std::vector<TaskResult> results(4, TaskResult::with(TaskStatus::done));
+  const double z[] = {1.0, 2.0, 0.1 + 0.2, 5.0};
+  for (std::size_t i = 0; i < 4; ++i) {
+    results[i].measures = {{"Z", z[i]}, {"Z_error", 0.25}, {"pressure", 1.0}};
+  }
+  results[3] = TaskResult::with(TaskStatus::failed, "it broke, \"badly\"");
+  write_sweep_tables(plan, folder / "", results);
+  const std::string table = read(folder / "results.csv");
+  EXPECT_EQ(table.substr(0, table.find('\n')),
+            "phi,seed,status,Z,Z_error,pressure,pressure_error,temperature,collision_rate,"
+            "packing_fraction,error");
+  EXPECT_NE(table.find("\n0.3,1,done,0.30000000000000004,0.25,1,,,,,\n"), std::string::npos)
+      << table;
+  EXPECT_NE(table.find("\n0.3,2,failed,,,,,,,,\"it broke, \"\"badly\"\"\"\n"), std::string::npos);
+  const std::string summary = read(folder / "summary.csv");
+  // phi 0.2: two seeds, Z 1 and 2: mean 1.5, standard error 0.5. phi 0.3: one done task, whose
+  // own error stands.
+  EXPECT_NE(summary.find("\n0.2,2,2,1.5,0.5,1,0,"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\n0.3,2,1,0.30000000000000004,0.25,1,,"), std::string::npos) << summary;
+}
+
+}  // namespace
+}  // namespace carom

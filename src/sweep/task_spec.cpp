@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <filesystem>
 #include <stdexcept>
 
@@ -56,12 +57,28 @@ std::string in_folder(const std::string& folder, const std::string& file) {
   return (fs::path(folder) / file).string();
 }
 
-// The setting whose option a library message names ("--phi 0.95 is above ..."), else the first.
+// Whether `word` is in `text` with no letter or '_' on either side.
+bool has_word(const std::string& text, const std::string& word) {
+  const auto part_of_word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) {
+    const std::size_t end = at + word.size();
+    if ((at == 0 || !part_of_word(text[at - 1])) && (end == text.size() || !part_of_word(text[end]))) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The setting a library message is about: the one whose option it names ("--phi 0.95 is above
+// ..."), else whose key it names ("the restitution must be ..."), else the first.
 const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std::string& message) {
   for (const PlanSetting& s : settings) {
     std::string option = "--" + s.key;
     for (char& c : option) c = c == '_' ? '-' : c;
     if (message.find(option) != std::string::npos) return s;
+  }
+  for (const PlanSetting& s : settings) {
+    if (has_word(message, s.key)) return s;
   }
   return settings.front();
 }
