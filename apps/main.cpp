@@ -12,6 +12,7 @@
 #include "analyze_command.hpp"
 #include "carom/classic_input.hpp"
 #include "carom/request.hpp"
+#include "carom/sweep.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
 #include "compress_command.hpp"
@@ -155,6 +156,9 @@ Run 'carom COMMAND --help' (run, init, compress, sweep, view, analyze) for each 
     return 128 + e.signal;
   } catch (const UsageError& e) {
     std::cerr << "carom: error: " << e.what() << "\nRun '" << usage << " --help' for usage.\n";
+    return kUsageError;
+  } catch (const carom::PlanError& e) {  // names the plan's line: the help would not help
+    std::cerr << "carom: error: " << e.what() << '\n';
     return kUsageError;
   } catch (const carom::RequestError& e) {  // the library's word for the same
     std::cerr << "carom: error: " << e.what() << "\nRun '" << usage << " --help' for usage.\n";

@@ -1,5 +1,6 @@
 #include "carom/mpi_sweep.hpp"
 
+#include <fmt/format.h>
 #include <mpi.h>
 
 #include <chrono>
@@ -133,6 +134,16 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
   MPI_Comm_rank(MPI_COMM_WORLD, &outcome.rank);
   MPI_Comm_size(MPI_COMM_WORLD, &outcome.ranks);
   if (outcome.ranks == 1) {
+    // A launcher that started several processes MPI cannot join (srun without --mpi=pmix, say)
+    // would have each run every task, over each other's files.
+    for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+      if (const char* launched = std::getenv(variable); launched != nullptr && std::atoi(launched) > 1) {
+        throw RequestError(fmt::format(
+            "launched as {} processes ({}), but MPI sees this one alone: the launcher and this "
+            "carom's MPI ({}) do not match",
+            launched, variable, mpi_library_version()));
+      }
+    }
     outcome.results = run_sweep(plan, out_dir, jobs, hooks);
     return outcome;
   }
