@@ -226,6 +226,28 @@ TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
             read_task_results(plan, folder / "whole")[1].measures);
 }
 
+// Stopped inside its measurement window, a task continues the window its checkpoint holds.
+TEST(SweepTask, AStoppedTaskContinuesItsMeasurementWindow) {
+  const Folder folder;
+  std::string text = kSmallPlan;
+  text.replace(text.find("n = 16"), 6, "n = 1000");  // progress is told every 4096 events
+  text.replace(text.find("end_time = 2"), 12, "end_time = 20");
+  text.replace(text.find("equilibrate = 1"), 15, "equilibrate = 10");
+  const SweepPlan plan = parse(text);
+  ASSERT_EQ(run_task(plan, 2, folder / "whole").status, TaskStatus::done);
+  std::atomic<int> stop{0};
+  TaskHooks hooks{&stop, [&](double fraction) {
+                    if (fraction > 0.6) stop = 15;  // after equilibrate = 10 of end_time = 20
+                  }};
+  ASSERT_EQ(run_task(plan, 2, folder / "pieces", hooks).status, TaskStatus::stopped);
+  const TaskResult resumed = run_task(plan, 2, folder / "pieces");
+  ASSERT_EQ(resumed.status, TaskStatus::done) << resumed.error;
+  EXPECT_EQ(resumed.measures, read_task_results(plan, folder / "whole")[2].measures);
+  const fs::path task = plan.tasks()[2].name;
+  EXPECT_EQ(read(fs::path(folder / "pieces") / task / "log.csv"),
+            read(fs::path(folder / "whole") / task / "log.csv"));
+}
+
 TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {
   const Folder folder;
   const SweepPlan plan = parse(R"([start]

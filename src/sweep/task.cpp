@@ -107,12 +107,17 @@ void make_start(const sweep::TaskSpec& spec) {
 
 TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
   const fs::path checkpoint = folder / task_files::kCheckpoint;
+  const bool resumed = fs::exists(checkpoint);
   const auto begin = [&] {
-    if (fs::exists(checkpoint)) return resume_start(checkpoint.string());
+    if (resumed) return resume_start(checkpoint.string());
     make_start(spec);
     return load_start(spec.start);
   };
   Runner runner(begin());
+  // The checkpoint holds the measurement window, open or still to open: continued as carom run
+  // --resume continues it, without --equilibrate.
+  RunSpec run_spec = spec.run;
+  if (resumed) run_spec.measure_from.reset();
   RunHooks run_hooks;
   run_hooks.stop = hooks.stop;
   if (hooks.progress) {
@@ -120,7 +125,7 @@ TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHo
       hooks.progress(spec.run.end_time > 0.0 ? simulation.time() / spec.run.end_time : 1.0);
     };
   }
-  return runner.run(spec.run, run_hooks).status == RunStatus::stopped ? TaskStatus::stopped
+  return runner.run(run_spec, run_hooks).status == RunStatus::stopped ? TaskStatus::stopped
                                                                        : TaskStatus::done;
 }
 
