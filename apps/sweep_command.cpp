@@ -61,7 +61,8 @@ Example (eos.toml):
 
 // Whether an MPI launcher (mpirun, mpiexec, srun) started this process: its environment says.
 bool launched_by_mpi_launcher() {
-  for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
+  for (const char* variable :
+       {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMIX_RANK", "MPI_LOCALNRANKS"}) {
     if (std::getenv(variable) != nullptr) return true;
   }
   return false;
@@ -79,8 +80,7 @@ void print_dry_run(const SweepPlan& plan, const std::string& folder) {
                            plan.tasks().size() == 1 ? "" : "s",
                            shape.empty() ? "" : " (" + shape + ")");
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
-    const std::string task_folder =
-        (std::filesystem::path(folder) / plan.tasks()[i].name).string();
+    const std::string task_folder = (std::filesystem::path(folder) / plan.tasks()[i].name).string();
     std::cout << plan.tasks()[i].name << '\n';
     for (const std::string& command : task_commands(plan, i, task_folder)) {
       std::cout << "  " << command << '\n';
@@ -120,10 +120,10 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
                                           describe_signal(signal), done, results.size()));
   }
   if (!args.quiet) {
-    std::cerr << fmt::format("carom: {} of {} tasks done{} in {}: {}/results.csv, summary.csv; {}\n",
-                             done, results.size(),
-                             failed > 0 ? fmt::format(", {} failed", failed) : "",
-                             clock_time(seconds), folder, "report " + page);
+    std::cerr << fmt::format(
+        "carom: {} of {} tasks done{} in {}: {}/results.csv, summary.csv; {}\n", done,
+        results.size(), failed > 0 ? fmt::format(", {} failed", failed) : "", clock_time(seconds),
+        folder, "report " + page);
   }
   constexpr std::size_t kMostCounted = 27;  // 100 + 27 = 127, below the signals' 128 + N
   return failed == 0 ? 0 : 100 + static_cast<int>(std::min(failed, kMostCounted));
@@ -142,8 +142,9 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArguments& args) {
                     "The folder of the tasks and the results (default: PLAN's name without .toml)");
   sweep->add_flag("--dry-run", args.dry_run,
                   "List the tasks and the carom commands each is, and run nothing");
-  sweep->add_option("-j,--jobs", args.jobs,
-                    "Tasks at a time on this machine (default: every core); under MPI, one a rank")
+  sweep
+      ->add_option("-j,--jobs", args.jobs,
+                   "Tasks at a time on this machine (default: every core); under MPI, one a rank")
       ->default_str("cores");
   sweep->add_option("--html", args.html, "Write the report to this page (default DIR/report.html)");
   sweep->add_flag("-q,--quiet", args.quiet, "No progress line and no closing line");
@@ -167,7 +168,8 @@ int sweep_command(const SweepArguments& args) {
     print_dry_run(plan, folder);
     return 0;
   }
-  const unsigned jobs = args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
+  const unsigned jobs =
+      args.jobs > 0 ? args.jobs : std::max(1u, std::thread::hardware_concurrency());
   StatusLine line(args.quiet, args.progress);
   SweepHooks hooks;
   hooks.stop = &stop_signal();

@@ -30,7 +30,9 @@ phi = [0.3, 0.5]
 seed = [1, 2]
 )";
 
-SweepPlan parse(const std::string& text) { return SweepPlan::parse(text, "plan.toml", "."); }
+SweepPlan parse(const std::string& text) {
+  return SweepPlan::parse(text, "plan.toml", ".");
+}
 
 // The message of the PlanError `text` raises ("" if it parses).
 std::string refusal(const std::string& text) {
@@ -262,7 +264,8 @@ phi = [0.2, 0.7]
   const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 2);
   EXPECT_EQ(results[0].status, TaskStatus::done);
   ASSERT_EQ(results[1].status, TaskStatus::failed);
-  EXPECT_NE(results[1].error.find("random placement jammed"), std::string::npos) << results[1].error;
+  EXPECT_NE(results[1].error.find("random placement jammed"), std::string::npos)
+      << results[1].error;
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
   EXPECT_NE(table.find("\n0.7,failed,,,,,,,,random placement jammed"), std::string::npos) << table;

@@ -64,8 +64,7 @@ class SweepPlan {
   static SweepPlan read(const std::string& path);
   // The same from the plan's text; `name` names it in messages and `folder` is where a start
   // `file` is looked for (the plan's folder).
-  static SweepPlan parse(std::string_view text, const std::string& name,
-                         const std::string& folder);
+  static SweepPlan parse(std::string_view text, const std::string& name, const std::string& folder);
 
   const std::string& name() const { return name_; }
   const std::string& text() const { return text_; }
@@ -102,8 +101,8 @@ enum class TaskStatus { done, failed, stopped, pending };
 // What a task measured: its summary's observables, by the names of results.csv.
 struct TaskResult {
   TaskStatus status = TaskStatus::pending;
-  std::string error;  // why it failed
-  int dimension = 0;  // of its particles, once started
+  std::string error;                                     // why it failed
+  int dimension = 0;                                     // of its particles, once started
   std::vector<std::pair<std::string, double>> measures;  // NaN: not measured
   double wall_seconds = 0.0;                             // its last piece's
 
@@ -159,8 +158,8 @@ struct SweepHooks {
 
 // Runs every task not yet done on `jobs` threads of this process, then writes the tables.
 // Returns every task's result, in the plan's order.
-std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir,
-                                  unsigned jobs, const SweepHooks& hooks = {});
+std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
+                                  const SweepHooks& hooks = {});
 
 // The swept observables against the first swept axis other than `seed`, with error bars, and
 // the equation of state of hard disks (Henderson) or spheres (Kolafa, Labik and Malijevsky)

@@ -11,8 +11,8 @@
 
 namespace carom {
 
-std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir,
-                                  unsigned jobs, const SweepHooks& hooks) {
+std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
+                                  const SweepHooks& hooks) {
   check_sweep_folder(plan, out_dir);
   std::filesystem::create_directories(out_dir);
   std::vector<TaskResult> results = read_task_results(plan, out_dir);
@@ -78,7 +78,8 @@ std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_
         p.fraction += fraction[i] / static_cast<double>(results.size());
       }
     }
-    p.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begun).count();
+    p.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - begun).count();
     hooks.progress(p);
   };
 

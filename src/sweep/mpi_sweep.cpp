@@ -36,7 +36,9 @@ struct MpiSession {
   MpiSession& operator=(const MpiSession&) = delete;
 };
 
-bool stopped(const SweepHooks& hooks) { return hooks.stop != nullptr && hooks.stop->load() != 0; }
+bool stopped(const SweepHooks& hooks) {
+  return hooks.stop != nullptr && hooks.stop->load() != 0;
+}
 
 // Rank 0: sends `text` (the plan) and whether to go on to every other rank.
 void broadcast(std::string& text, int& go_on) {
@@ -137,7 +139,8 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
     // A launcher that started several processes MPI cannot join (srun without --mpi=pmix, say)
     // would have each run every task, over each other's files.
     for (const char* variable : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
-      if (const char* launched = std::getenv(variable); launched != nullptr && std::atoi(launched) > 1) {
+      if (const char* launched = std::getenv(variable);
+          launched != nullptr && std::atoi(launched) > 1) {
         throw RequestError(fmt::format(
             "launched as {} processes ({}), but MPI sees this one alone: the launcher and this "
             "carom's MPI ({}) do not match",

@@ -1,6 +1,7 @@
 // Reading a plan: TOML (toml++) into settings, the axes' Cartesian product into tasks, and every
 // task checked by what will run it, so that a bad plan is refused before anything runs.
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -8,7 +9,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "carom/names.hpp"
 #include "carom/simulation.hpp"
@@ -24,7 +24,9 @@ using sweep::KeyInfo;
 using sweep::Section;
 using sweep::ValueType;
 
-int line_of(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
+int line_of(const toml::node& node) {
+  return static_cast<int>(node.source().begin.line);
+}
 
 bool is_choice(std::string_view key, std::string_view name) {
   if (key == "rule") return from_name<Rule>(name).has_value();
@@ -53,7 +55,6 @@ class Reader {
 
   // The value of `node` for `info`, or a PlanError saying what the key takes.
   PlanValue value(const KeyInfo& info, const toml::node& node, std::string_view where) const {
-    const auto refuse = [&](std::string_view takes) { refuse_value(node, where, info, takes); };
     switch (info.type) {
       case ValueType::integer:
         if (const auto* i = node.as_integer(); i != nullptr && i->get() >= 0) return i->get();
@@ -72,9 +73,12 @@ class Reader {
         std::vector<double> numbers;
         if (list != nullptr) {
           for (const toml::node& element : *list) {
-            if (element.is_integer()) numbers.push_back(static_cast<double>(*element.value<std::int64_t>()));
-            else if (element.is_floating_point()) numbers.push_back(*element.value<double>());
-            else refuse("takes a list of numbers");
+            if (element.is_integer())
+              numbers.push_back(static_cast<double>(*element.value<std::int64_t>()));
+            else if (element.is_floating_point())
+              numbers.push_back(*element.value<double>());
+            else
+              refuse_value(node, where, info, "takes a list of numbers");
           }
           return numbers;
         }
@@ -90,7 +94,8 @@ class Reader {
           }
           return s->get();
         }
-        refuse_value(node, where, info, "takes a number of events (1000000) or of seconds (\"600s\")");
+        refuse_value(node, where, info,
+                     "takes a number of events (1000000) or of seconds (\"600s\")");
       case ValueType::choice:
         if (const auto* s = node.as_string(); s != nullptr && is_choice(info.key, s->get())) {
           return s->get();
@@ -102,14 +107,17 @@ class Reader {
       case ValueType::file_name:
         if (const auto* s = node.as_string()) {
           const std::string& file = s->get();
-          if (file.empty() || file.find('/') != std::string::npos || file == "." ||
-              file == "..") {
-            refuse_value(node, where, info, "takes a file name, without a folder: the file is written in each task's folder");
+          if (file.empty() || file.find('/') != std::string::npos || file == "." || file == "..") {
+            refuse_value(
+                node, where, info,
+                "takes a file name, without a folder: the file is written in each task's folder");
           }
-          for (const char* own : {task_files::kCommands, task_files::kStart, task_files::kSummary,
-                                  task_files::kLog, task_files::kCheckpoint, task_files::kPacking,
-                                  task_files::kError}) {
-            if (file == own) refuse(fmt::format("{} is a file the sweep writes itself", own));
+          for (const char* own :
+               {task_files::kCommands, task_files::kStart, task_files::kSummary, task_files::kLog,
+                task_files::kCheckpoint, task_files::kPacking, task_files::kError}) {
+            if (file == own)
+              refuse_value(node, where, info,
+                           fmt::format("{} is a file the sweep writes itself", own));
           }
           return file;
         }
@@ -180,8 +188,9 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   const toml::table* compress = root["compress"].as_table();
   if (start == nullptr) reader.fail(1, "no [start]: carom init's options, or file = \"START\"");
   if ((run == nullptr) == (compress == nullptr)) {
-    reader.fail(1, "a plan has one of [run] (carom run's options) and [compress] (carom "
-                   "compress's)");
+    reader.fail(1,
+                "a plan has one of [run] (carom run's options) and [compress] (carom "
+                "compress's)");
   }
   plan.kind_ = run != nullptr ? TaskKind::run : TaskKind::compress;
   const toml::table& action = run != nullptr ? *run : *compress;
@@ -207,10 +216,9 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     const std::optional<KeyInfo> info = find_key(action_section, key);
     if (!info) {
       const auto why = action_section == Section::run ? sweep::refused_run_key(key) : std::nullopt;
-      reader.fail(line_of(*node),
-                  why ? fmt::format("[run] {}: {}", key, *why)
-                      : fmt::format("[{}] {}: not an option of carom {}", action_name, key,
-                                    action_name));
+      reader.fail(line_of(*node), why ? fmt::format("[run] {}: {}", key, *why)
+                                      : fmt::format("[{}] {}: not an option of carom {}",
+                                                    action_name, key, action_name));
     }
     fixed_action.push_back({key, reader.value(*info, *node, action_name), line_of(*node)});
   }
@@ -224,8 +232,8 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
       axis.in_start = info.has_value();
       if (!info) info = find_key(action_section, key);
       if (!info) {
-        reader.fail(axis.line, fmt::format("[sweep] {}: not an option of [start] or [{}]", key,
-                                           action_name));
+        reader.fail(axis.line,
+                    fmt::format("[sweep] {}: not an option of [start] or [{}]", key, action_name));
       }
       const std::vector<PlanSetting>& fixed = axis.in_start ? fixed_start : fixed_action;
       for (const PlanSetting& s : fixed) {
@@ -237,9 +245,9 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
       }
       const toml::array* values = node->as_array();
       if (values == nullptr || values->empty()) {
-        reader.fail(axis.line,
-                    fmt::format("[sweep] {}: an axis is a non-empty list of values, {} = [...]",
-                                key, key));
+        reader.fail(
+            axis.line,
+            fmt::format("[sweep] {}: an axis is a non-empty list of values, {} = [...]", key, key));
       }
       std::set<std::string> seen;
       for (const toml::node& element : *values) {
@@ -272,8 +280,9 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   }
   if (plan.kind_ == TaskKind::compress && !has(fixed_action, false, "phi") &&
       !has(fixed_action, false, "jam")) {
-    reader.fail(line_of(action), "[compress] needs phi (the packing fraction to stop at) or "
-                                 "jam = true");
+    reader.fail(line_of(action),
+                "[compress] needs phi (the packing fraction to stop at) or "
+                "jam = true");
   }
 
   // The Cartesian product, the first axis outermost.
@@ -285,8 +294,7 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
       const PlanSetting setting{axes[a].key, value, axes[a].line, true};
       (axes[a].in_start ? task.start : task.action).push_back(setting);
       task.point.emplace_back(axes[a].key, sweep::value_text(value));
-      task.name += fmt::format("{}{}={}", a == 0 ? "" : ",", axes[a].key,
-                               sweep::value_text(value));
+      task.name += fmt::format("{}{}={}", a == 0 ? "" : ",", axes[a].key, sweep::value_text(value));
     }
     if (task.name.empty()) task.name = "task";
     for (char& c : task.name) c = c == '/' || c == ' ' ? '_' : c;

@@ -13,13 +13,13 @@ namespace carom::sweep {
 enum class Section { init, start_file, run, compress };
 
 enum class ValueType {
-  integer,  // a whole number >= 0
-  number,   // any number (an integer is taken as one)
-  text,     // a string
-  choice,   // a string naming a rule, boundary or engine
-  flag,     // true or false (an option without a value)
-  numbers,  // a list of numbers (--box)
-  cadence,  // a whole number of events or a string "600s" (--checkpoint-every)
+  integer,    // a whole number >= 0
+  number,     // any number (an integer is taken as one)
+  text,       // a string
+  choice,     // a string naming a rule, boundary or engine
+  flag,       // true or false (an option without a value)
+  numbers,    // a list of numbers (--box)
+  cadence,    // a whole number of events or a string "600s" (--checkpoint-every)
   file_name,  // a file name inside the task's folder (no '/')
 };
 

@@ -126,7 +126,7 @@ TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHo
     };
   }
   return runner.run(run_spec, run_hooks).status == RunStatus::stopped ? TaskStatus::stopped
-                                                                       : TaskStatus::done;
+                                                                      : TaskStatus::done;
 }
 
 TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
@@ -138,9 +138,8 @@ TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const T
       hooks.progress(p.packing_fraction / *spec.compress.settings.target);
     };
   }
-  const CompressionResult result =
-      carom::compress(read_start_system(spec.start.path, spec.compress_boundary), spec.compress,
-                      compression_hooks);
+  const CompressionResult result = carom::compress(
+      read_start_system(spec.start.path, spec.compress_boundary), spec.compress, compression_hooks);
   if (result.summary.status == "interrupted") return TaskStatus::stopped;
   {
     AtomicFile packing((folder / task_files::kPacking).string());
@@ -161,8 +160,8 @@ fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string
 
 const std::vector<std::string>& measure_names(TaskKind kind) {
   static const std::vector<std::string> run = {
-      "Z", "Z_error", "pressure", "pressure_error", "temperature", "collision_rate",
-      "packing_fraction"};
+      "Z",           "Z_error",        "pressure",        "pressure_error",
+      "temperature", "collision_rate", "packing_fraction"};
   static const std::vector<std::string> compress = {"packing_fraction", "Z", "time", "events"};
   return kind == TaskKind::run ? run : compress;
 }
@@ -202,8 +201,8 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
   if (fs::exists(folder / task_files::kSummary)) return done_result(plan.kind(), folder);
   fs::remove(error);
   try {
-    const TaskStatus status = plan.kind() == TaskKind::run ? run(spec, folder, hooks)
-                                                           : compress(spec, folder, hooks);
+    const TaskStatus status =
+        plan.kind() == TaskKind::run ? run(spec, folder, hooks) : compress(spec, folder, hooks);
     if (status == TaskStatus::stopped) return TaskResult::with(TaskStatus::stopped);
     return done_result(plan.kind(), folder);
   } catch (const std::exception& e) {

@@ -23,8 +23,12 @@ double as_number(const PlanValue& v) {
 std::uint64_t as_integer(const PlanValue& v) {
   return static_cast<std::uint64_t>(std::get<std::int64_t>(v));
 }
-const std::string& as_text(const PlanValue& v) { return std::get<std::string>(v); }
-bool as_flag(const PlanValue& v) { return std::get<bool>(v); }
+const std::string& as_text(const PlanValue& v) {
+  return std::get<std::string>(v);
+}
+bool as_flag(const PlanValue& v) {
+  return std::get<bool>(v);
+}
 
 template <class E>
 E as_choice(const PlanValue& v) {
@@ -59,10 +63,13 @@ std::string in_folder(const std::string& folder, const std::string& file) {
 
 // Whether `word` is in `text` with no letter or '_' on either side.
 bool has_word(const std::string& text, const std::string& word) {
-  const auto part_of_word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  const auto part_of_word = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  };
   for (std::size_t at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) {
     const std::size_t end = at + word.size();
-    if ((at == 0 || !part_of_word(text[at - 1])) && (end == text.size() || !part_of_word(text[end]))) {
+    if ((at == 0 || !part_of_word(text[at - 1])) &&
+        (end == text.size() || !part_of_word(text[end]))) {
       return true;
     }
   }
@@ -156,8 +163,8 @@ void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) 
 
 // The two commands, with the sweep's own files added as carom run's options.
 void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& folder) {
-  const std::string start_path = spec.start_file ? *spec.start_file
-                                                 : in_folder(folder, task_files::kStart);
+  const std::string start_path =
+      spec.start_file ? *spec.start_file : in_folder(folder, task_files::kStart);
   if (!spec.start_file) {
     std::string init = "carom init";
     for (const PlanSetting& s : task.start) append_option(init, s);
@@ -166,9 +173,9 @@ void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& fo
   if (spec.kind == TaskKind::compress) {
     std::string compress = "carom compress " + shell_word(start_path);
     for (const PlanSetting& s : task.action) append_option(compress, s);
-    spec.commands.push_back(
-        compress + " -o " + shell_word(in_folder(folder, task_files::kPacking)) + " --summary " +
-        shell_word(in_folder(folder, task_files::kSummary)) + " -q");
+    spec.commands.push_back(compress + " -o " +
+                            shell_word(in_folder(folder, task_files::kPacking)) + " --summary " +
+                            shell_word(in_folder(folder, task_files::kSummary)) + " -q");
     return;
   }
   const RunSpec& run = spec.run;
@@ -205,8 +212,8 @@ std::string value_text(const PlanValue& value) {
 PlanError setting_error(const SweepPlan& plan, const SweepTask* task, const PlanSetting& setting,
                         std::string_view section, const std::string& why) {
   const std::string where = setting.swept ? "sweep" : std::string(section);
-  const std::string which = task != nullptr && setting.swept ? fmt::format(" (task {})", task->name)
-                                                             : std::string();
+  const std::string which =
+      task != nullptr && setting.swept ? fmt::format(" (task {})", task->name) : std::string();
   return PlanError(fmt::format("{}:{}: [{}] {} = {}{}: {}", plan.name(), setting.line, where,
                                setting.key, value_text(setting.value), which, why));
 }
@@ -232,9 +239,9 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
     } else {
       run_options(spec, task.action, folder);
       const StartSpec& s = spec.start;
-      check_settings({{s.rule.value_or(s.restitution < 1.0 ? Rule::elastic : Rule::swap),
-                       s.restitution, s.tc},
-                      s.engine});
+      check_settings(
+          {{s.rule.value_or(s.restitution < 1.0 ? Rule::elastic : Rule::swap), s.restitution, s.tc},
+           s.engine});
       check_run_spec(spec.run);
     }
   } catch (const std::invalid_argument& e) {
