@@ -1581,3 +1581,56 @@ TEST_F(Cli, BundledExamplesAreTheReferenceCasesAndReproduceThem) {
 }
 
 }  // namespace
+
+namespace {
+
+constexpr const char* kSweepPlan = R"([start]
+n = 64
+boundary = "periodic"
+[run]
+end_time = 4
+equilibrate = 1
+rule = "elastic"
+[sweep]
+phi = [0.2, 0.3]
+)";
+
+}  // namespace
+
+TEST_F(Cli, SweepListsItsTasksAsCommandsAndVersionSaysWhereItRuns) {
+  std::ofstream(dir_ / "plan.toml") << kSweepPlan;
+  const Result listed = carom({"sweep", (dir_ / "plan.toml").string(), "-o", "out", "--dry-run"});
+  ASSERT_EQ(listed.exit_code, 0) << listed.err;
+  EXPECT_NE(
+      listed.out.find("2 tasks (phi)\nphi=0.2\n  carom init --n 64 --boundary periodic "
+                      "--phi 0.2 -o out/phi=0.2/start.txt\n  carom run out/phi=0.2/start.txt 4 "),
+      std::string::npos)
+      << listed.out;
+  EXPECT_FALSE(fs::exists("out"));  // nothing run, nothing written
+  const Result version = carom({"--version"});
+  EXPECT_NE(version.out.find("\nsweep: "), std::string::npos) << version.out;
+}
+
+TEST_F(Cli, SweepWritesItsTablesAndAnotherPlansFolderIsRefused) {
+  std::ofstream(dir_ / "plan.toml") << kSweepPlan;
+  const std::string out = (dir_ / "out").string();
+  const Result ran = carom({"sweep", (dir_ / "plan.toml").string(), "-o", out, "-j", "2"});
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  EXPECT_NE(ran.err.find("2 of 2 tasks done"), std::string::npos) << ran.err;
+  for (const char* file : {"results.csv", "summary.csv", "report.html", "phi=0.3/summary.json",
+                           "phi=0.3/log.csv", "phi=0.3/checkpoint.ckpt", "phi=0.3/task.txt"}) {
+    EXPECT_TRUE(fs::exists(dir_ / "out" / file)) << file;
+  }
+  const std::string results = read_file(dir_ / "out/results.csv");
+  const Result again = carom({"sweep", (dir_ / "plan.toml").string(), "-o", out});
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(read_file(dir_ / "out/results.csv"), results);
+
+  std::string changed = kSweepPlan;
+  changed.replace(changed.find("end_time = 4"), 12, "end_time = 5");
+  std::ofstream(dir_ / "plan.toml") << changed;
+  const Result refused = carom({"sweep", (dir_ / "plan.toml").string(), "-o", out});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("holds the files of another task"), std::string::npos) << refused.err;
+  EXPECT_EQ(read_file(dir_ / "out/results.csv"), results);
+}
