@@ -18,6 +18,7 @@ command line's results bit for bit::
 
     dense, summary = carom.compress(sim, phi=0.7)          # `carom compress`: growing disks
     result = carom.analyze("movie.xyz", equilibrate=50)    # `carom analyze`: g(r), MSD, psi6
+    table = carom.sweep("eos.toml", "eos")                 # `carom sweep`, its tasks on Dask
 
 Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the module is built for.
 Bad arguments raise ``ValueError`` with the command line's messages; a broken file raises
@@ -27,9 +28,11 @@ particles) raises ``carom.JamError`` (a ``RuntimeError``). Ctrl-C during ``run``
 saved or run on.
 """
 
+import csv as _csv
 import json as _json
 import math as _math
 import numbers as _numbers
+import os as _os
 
 import numpy as _np
 
@@ -39,8 +42,8 @@ from ._carom import InputError, JamError
 __version__ = _carom.__version__
 # Every default a signature below shows is the library's, read from it here.
 _D = _carom.defaults
-__all__ = ["Simulation", "read", "init", "resume", "compress", "analyze", "InputError", "JamError",
-           "__version__"]
+__all__ = ["Simulation", "read", "init", "resume", "compress", "analyze", "sweep", "InputError",
+           "JamError", "__version__"]
 
 def _float_array(name, value, shape=None):
     """value as a C-contiguous float64 array of `shape` (None: any; an entry None: any length),
@@ -479,3 +482,116 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         -1, result["dimension"])
     result["time"] = _np.array(result["time"], dtype=_np.float64)
     return result
+
+
+def _file_name(name, value):
+    if not isinstance(value, (str, _os.PathLike)):
+        raise ValueError(f"{name} must be a path (str or os.PathLike), got {value!r}")
+    return _os.fspath(value)
+
+
+def _sweep_task(text, name, folder, out_dir, index):
+    """One task of carom.sweep, on a Dask worker: the plan parsed again from its text (a worker
+    needs to see out_dir, not the plan's file), then the task run, or continued from what an
+    earlier attempt left. Returns (status, error)."""
+    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir)
+
+
+def _typed(text, kind):
+    """A swept value as results.csv writes it, as the plan types it (like `kind`)."""
+    if isinstance(kind, bool):
+        return text == "true"
+    if isinstance(kind, list):
+        return [float(x) for x in text.split()]
+    return type(kind)(text)
+
+
+def _results_table(plan, path):
+    """results.csv as a pandas DataFrame, or as a numpy structured array without pandas: the swept
+    keys typed as in the plan, status and error as text, every measure a float (NaN: none)."""
+    with open(path, newline="") as f:
+        header, *rows = list(_csv.reader(f))
+    first = plan.points[0]
+    columns = {}
+    for k, name in enumerate(header):
+        texts = [row[k] for row in rows]
+        if name in first:
+            values = [_typed(text, first[name]) for text in texts]
+            if isinstance(first[name], list):
+                column = _np.empty(len(values), dtype=object)
+                column[:] = values
+            else:
+                column = _np.array(values)
+        elif name in ("status", "error"):
+            column = _np.array(texts, dtype=str)
+        else:
+            column = _np.array([float(text) if text else _np.nan for text in texts])
+        columns[name] = column
+    try:
+        import pandas
+    except ImportError:
+        table = _np.empty(len(rows), dtype=[(name, c.dtype) for name, c in columns.items()])
+        for name, column in columns.items():
+            table[name] = column
+        return table
+    return pandas.DataFrame(columns)
+
+
+def sweep(plan, out_dir, client=None):
+    """`carom sweep PLAN -o OUT_DIR` with its tasks handed out by Dask: the same folder, the same
+    files, byte for byte, and its results.csv as a table.
+
+    plan: a plan file (TOML), as `carom sweep` reads it (`carom sweep --help` describes it): a
+    [start], a [run] or a [compress], and the [sweep] axes whose every combination is a task. A
+    bad plan raises ValueError naming the file, line and key, before anything runs; so does an
+    out_dir whose task folders hold another plan's tasks.
+
+    Each task not yet done is a Dask task (pure=False) that runs it in out_dir/<task>/ exactly as
+    `carom sweep` would, on whatever worker gets it: workers must see out_dir and a start `file`
+    the plan names (relative paths are taken from each worker's working folder: give absolute
+    ones on a shared file system for a cluster), not the plan itself. client: a dask.distributed Client; None makes a LocalCluster of one
+    single-threaded worker process per core, closed at the end. The tasks are resumable, as
+    `carom sweep`'s are: a worker that dies mid-task has the task rerun by Dask elsewhere (the
+    scheduler's allowed-failures), continuing it from its checkpoint; a sweep stopped (Ctrl-C)
+    and called again, by carom.sweep or `carom sweep`, runs only what is not done. A task that
+    fails (a start its options cannot make) raises nothing: its row says status "failed" and why.
+
+    Then out_dir/results.csv, summary.csv and report.html are written, as `carom sweep` writes
+    them, and results.csv is returned: a pandas DataFrame (a numpy structured array without
+    pandas), a row a task in the plan's order, with the swept keys as the plan types them, status
+    ("done", "failed"), the measures as floats (NaN: not measured) and the error.
+    """
+    plan = _file_name("plan", plan)
+    out_dir = _file_name("out_dir", out_dir)
+    import distributed  # here: only a sweep needs Dask, which takes a second to import
+    if client is not None and not isinstance(client, distributed.Client):
+        raise ValueError(f"client must be a dask.distributed Client or None, got {client!r}")
+    core = _carom.SweepPlan.read(plan)
+    _carom.check_sweep_folder(core, out_dir)
+    _os.makedirs(out_dir, exist_ok=True)
+    waiting = [i for i, result in enumerate(_carom.read_task_results(core, out_dir))
+               if result.status != "done"]
+    if waiting:
+        if client is None:
+            with distributed.LocalCluster(n_workers=_os.cpu_count() or 1, threads_per_worker=1,
+                                          processes=True) as cluster, \
+                    distributed.Client(cluster) as own:
+                _run_tasks(own, core, out_dir, waiting)
+        else:
+            _run_tasks(client, core, out_dir, waiting)
+    results = _carom.read_task_results(core, out_dir)
+    _carom.write_sweep_tables(core, out_dir, results)
+    _carom.write_sweep_report(core, results, _os.path.join(out_dir, "report.html"))
+    return _results_table(core, _os.path.join(out_dir, "results.csv"))
+
+
+def _run_tasks(client, plan, out_dir, indices):
+    """The tasks `indices` of plan on client's workers, until every one has returned."""
+    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i,
+                             pure=False) for i in indices]
+    try:
+        client.gather(futures)
+    except BaseException:
+        # Stopped (Ctrl-C) or refused: nothing left queued on a client that outlives the sweep.
+        client.cancel(futures)
+        raise

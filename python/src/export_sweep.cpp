@@ -1,7 +1,169 @@
+// carom._carom's sweep: SweepPlan, and the steps of a sweep that carom.sweep hands out (check
+// the folder, run a task, read the tasks' results, write the tables and the report). A bad plan
+// (PlanError) or a folder holding other tasks (RequestError) is a std::invalid_argument, which
+// pybind11 raises as ValueError.
+#include <fmt/format.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <thread>
+
+#include "carom/atomic_file.hpp"
+#include "carom/sweep.hpp"
 #include "exports.hpp"
 
 namespace carom::python {
 
-void export_sweep(pybind11::module_&) {}
+namespace {
+
+namespace py = pybind11;
+
+std::string status_name(TaskStatus status) {
+  switch (status) {
+    case TaskStatus::done:
+      return "done";
+    case TaskStatus::failed:
+      return "failed";
+    case TaskStatus::stopped:
+      return "stopped";
+    case TaskStatus::pending:
+      return "pending";
+  }
+  return "?";
+}
+
+// Each task's swept keys and their values as the plan types them (bool, int, float, str, list),
+// in the axes' order.
+py::list points(const SweepPlan& plan) {
+  py::list all;
+  for (const SweepTask& task : plan.tasks()) {
+    py::dict point;
+    for (const std::string& axis : plan.axes()) {
+      for (const auto* settings : {&task.start, &task.action}) {
+        for (const PlanSetting& s : *settings) {
+          if (s.swept && s.key == axis) point[py::str(axis)] = py::cast(s.value);
+        }
+      }
+    }
+    all.append(point);
+  }
+  return all;
+}
+
+// Python runs its SIGINT handler only on the main thread, and only while that thread runs
+// Python, which it does not while a task works. So the task works on a thread of its own while
+// this one looks for signals every 50 ms, the GIL released in between; what the handler raises
+// (KeyboardInterrupt) stops the task, its checkpoint saved, and is raised once it has stopped.
+// Off the main thread (a Dask worker's) no signal is ever seen and this only waits.
+TaskResult run_task_interruptibly(const SweepPlan& plan, std::size_t index,
+                                  const std::string& out_dir) {
+  std::atomic<int> stop{0};
+  TaskHooks hooks;
+  hooks.stop = &stop;
+  std::packaged_task<TaskResult()> work([&] { return run_task(plan, index, out_dir, hooks); });
+  std::future<TaskResult> result = work.get_future();
+  std::thread worker(std::move(work));
+  const auto join = [&] {
+    py::gil_scoped_release release;
+    worker.join();
+  };
+  for (;;) {
+    {
+      py::gil_scoped_release release;
+      if (result.wait_for(std::chrono::milliseconds(50)) == std::future_status::ready) break;
+    }
+    if (PyErr_CheckSignals() != 0) {
+      stop.store(1);
+      join();
+      throw py::error_already_set();
+    }
+  }
+  join();
+  return result.get();
+}
+
+void check_results(const SweepPlan& plan, const std::vector<TaskResult>& results) {
+  if (results.size() != plan.tasks().size()) {
+    throw std::invalid_argument(fmt::format("{} has {} tasks, but {} results were given",
+                                            plan.name(), plan.tasks().size(), results.size()));
+  }
+}
+
+}  // namespace
+
+void export_sweep(py::module_& m) {
+  using namespace py::literals;
+  py::class_<SweepPlan>(m, "SweepPlan")
+      .def_static("read", &SweepPlan::read, "path"_a)
+      .def_static(
+          "parse",
+          [](const std::string& text, const std::string& name, const std::string& folder) {
+            return SweepPlan::parse(text, name, folder);
+          },
+          "text"_a, "name"_a, "folder"_a)
+      .def_property_readonly("name", &SweepPlan::name)
+      .def_property_readonly("text", &SweepPlan::text)
+      .def_property_readonly("folder", &SweepPlan::folder)
+      .def_property_readonly(
+          "kind", [](const SweepPlan& p) { return p.kind() == TaskKind::run ? "run" : "compress"; })
+      .def_property_readonly("axes", &SweepPlan::axes)
+      .def_property_readonly("tasks",
+                             [](const SweepPlan& p) {
+                               std::vector<std::string> names;
+                               for (const SweepTask& task : p.tasks()) names.push_back(task.name);
+                               return names;
+                             })
+      .def_property_readonly("points", &points)
+      .def(
+          "commands",
+          [](const SweepPlan& p, std::size_t index, const std::string& folder) {
+            return task_commands(p, index, folder);
+          },
+          "index"_a, "folder"_a);
+
+  py::class_<TaskResult>(m, "TaskResult")
+      .def_property_readonly("status", [](const TaskResult& r) { return status_name(r.status); })
+      .def_readonly("error", &TaskResult::error)
+      .def_readonly("dimension", &TaskResult::dimension)
+      .def_property_readonly("measures",
+                             [](const TaskResult& r) {
+                               py::dict measures;
+                               for (const auto& [name, value] : r.measures) {
+                                 measures[py::str(name)] = value;
+                               }
+                               return measures;
+                             })
+      .def_readonly("wall_seconds", &TaskResult::wall_seconds);
+
+  // (status, error): what a Dask task sends back, plain Python that pickles.
+  m.def(
+      "run_task",
+      [](const SweepPlan& plan, std::size_t index, const std::string& out_dir) {
+        const TaskResult result = run_task_interruptibly(plan, index, out_dir);
+        return std::make_pair(status_name(result.status), result.error);
+      },
+      "plan"_a, "index"_a, "out_dir"_a);
+  m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
+  m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a);
+  m.def(
+      "write_sweep_tables",
+      [](const SweepPlan& plan, const std::string& out_dir,
+         const std::vector<TaskResult>& results) {
+        check_results(plan, results);
+        write_sweep_tables(plan, out_dir, results);
+      },
+      "plan"_a, "out_dir"_a, "results"_a);
+  m.def(
+      "write_sweep_report",
+      [](const SweepPlan& plan, const std::vector<TaskResult>& results, const std::string& path) {
+        check_results(plan, results);
+        AtomicFile page(path);
+        write_sweep_report(page.stream(), plan, results);
+        page.commit();
+      },
+      "plan"_a, "results"_a, "path"_a);
+}
 
 }  // namespace carom::python
