@@ -171,8 +171,12 @@ TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
   }
 }
 
-TEST(SweepPlan, AMissingPlanIsRefused) {
+TEST(SweepPlan, AMissingPlanATaskOutOfRangeAndResultsOfAnotherPlanAreRefused) {
   EXPECT_THROW(SweepPlan::read("/nonexistent/plan.toml"), PlanError);
+  const SweepPlan plan = parse(kPlan);
+  EXPECT_THROW(task_commands(plan, 4, "d"), RequestError);
+  EXPECT_THROW(run_task(plan, 4, "d"), RequestError);
+  EXPECT_THROW(check_task_results(plan, std::vector<TaskResult>(3)), std::invalid_argument);
 }
 
 // A small plan whose tasks take milliseconds.
@@ -218,10 +222,13 @@ TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
   EXPECT_TRUE(fs::exists(piece / "checkpoint.ckpt"));
   EXPECT_FALSE(fs::exists(piece / "summary.json"));
   EXPECT_EQ(read_task_results(plan, folder / "pieces")[1].status, TaskStatus::pending);
-  // Continued from the checkpoint, the task does not make its start again.
+  // Continued from the checkpoint, the task does not make its start again; what a kill left
+  // half written is removed.
   fs::remove(piece / "start.txt");
+  std::ofstream(piece / "summary.json.tmp.k1LL3d") << "{";
   ASSERT_EQ(run_task(plan, 1, folder / "pieces").status, TaskStatus::done);
   EXPECT_FALSE(fs::exists(piece / "start.txt"));
+  EXPECT_FALSE(fs::exists(piece / "summary.json.tmp.k1LL3d"));
   const fs::path whole = fs::path(folder / "whole") / plan.tasks()[1].name;
   EXPECT_EQ(read(piece / "log.csv"), read(whole / "log.csv"));
   EXPECT_EQ(read_task_results(plan, folder / "pieces")[1].measures,

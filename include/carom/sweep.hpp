@@ -98,6 +98,9 @@ std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
 
 enum class TaskStatus { done, failed, stopped, pending };
 
+// "done", "failed", "stopped" or "pending": results.csv's status column.
+std::string_view status_name(TaskStatus status);
+
 // What a task measured: its summary's observables, by the names of results.csv.
 struct TaskResult {
   TaskStatus status = TaskStatus::pending;
@@ -137,10 +140,13 @@ std::vector<TaskResult> read_task_results(const SweepPlan& plan, const std::stri
 // task.txt differs: the plan changed), before anything is written.
 void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir);
 
+// Throws std::invalid_argument unless `results` has one result for each task of `plan`.
+void check_task_results(const SweepPlan& plan, const std::vector<TaskResult>& results);
+
 // out_dir/results.csv (a row a task: the swept keys, status, the measures, the error) and
 // out_dir/summary.csv (a row a state point, every axis but `seed`: each measure's mean and
 // standard error over the done tasks), written atomically; full precision, and the same bytes
-// whatever ran the tasks.
+// whatever ran the tasks. Throws what check_task_results throws.
 void write_sweep_tables(const SweepPlan& plan, const std::string& out_dir,
                         const std::vector<TaskResult>& results);
 

@@ -20,20 +20,6 @@ namespace {
 
 namespace py = pybind11;
 
-std::string status_name(TaskStatus status) {
-  switch (status) {
-    case TaskStatus::done:
-      return "done";
-    case TaskStatus::failed:
-      return "failed";
-    case TaskStatus::stopped:
-      return "stopped";
-    case TaskStatus::pending:
-      return "pending";
-  }
-  return "?";
-}
-
 // Each task's swept keys and their values as the plan types them (bool, int, float, str, list),
 // in the axes' order.
 py::list points(const SweepPlan& plan) {
@@ -84,13 +70,6 @@ TaskResult run_task_interruptibly(const SweepPlan& plan, std::size_t index,
   return result.get();
 }
 
-void check_results(const SweepPlan& plan, const std::vector<TaskResult>& results) {
-  if (results.size() != plan.tasks().size()) {
-    throw std::invalid_argument(fmt::format("{} has {} tasks, but {} results were given",
-                                            plan.name(), plan.tasks().size(), results.size()));
-  }
-}
-
 }  // namespace
 
 void export_sweep(py::module_& m) {
@@ -124,7 +103,8 @@ void export_sweep(py::module_& m) {
           "index"_a, "folder"_a);
 
   py::class_<TaskResult>(m, "TaskResult")
-      .def_property_readonly("status", [](const TaskResult& r) { return status_name(r.status); })
+      .def_property_readonly("status",
+                             [](const TaskResult& r) { return std::string(status_name(r.status)); })
       .def_readonly("error", &TaskResult::error)
       .def_readonly("dimension", &TaskResult::dimension)
       .def_property_readonly("measures",
@@ -142,23 +122,16 @@ void export_sweep(py::module_& m) {
       "run_task",
       [](const SweepPlan& plan, std::size_t index, const std::string& out_dir) {
         const TaskResult result = run_task_interruptibly(plan, index, out_dir);
-        return std::make_pair(status_name(result.status), result.error);
+        return std::make_pair(std::string(status_name(result.status)), result.error);
       },
       "plan"_a, "index"_a, "out_dir"_a);
   m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
   m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a);
-  m.def(
-      "write_sweep_tables",
-      [](const SweepPlan& plan, const std::string& out_dir,
-         const std::vector<TaskResult>& results) {
-        check_results(plan, results);
-        write_sweep_tables(plan, out_dir, results);
-      },
-      "plan"_a, "out_dir"_a, "results"_a);
+  m.def("write_sweep_tables", &write_sweep_tables, "plan"_a, "out_dir"_a, "results"_a);
   m.def(
       "write_sweep_report",
       [](const SweepPlan& plan, const std::vector<TaskResult>& results, const std::string& path) {
-        check_results(plan, results);
+        check_task_results(plan, results);
         AtomicFile page(path);
         write_sweep_report(page.stream(), plan, results);
         page.commit();

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <stdexcept>
 
 #include "carom/atomic_file.hpp"
 #include "carom/sweep.hpp"
@@ -13,27 +14,15 @@ namespace carom {
 
 namespace {
 
-std::string field(double value) { return std::isfinite(value) ? fmt::format("{}", value) : ""; }
+std::string field(double value) {
+  return std::isfinite(value) ? fmt::format("{}", value) : "";
+}
 
 std::string quoted(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
   std::string q = "\"";
   for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
   return q + "\"";
-}
-
-std::string_view status_name(TaskStatus status) {
-  switch (status) {
-    case TaskStatus::done:
-      return "done";
-    case TaskStatus::failed:
-      return "failed";
-    case TaskStatus::stopped:
-      return "stopped";
-    case TaskStatus::pending:
-      return "pending";
-  }
-  return "?";
 }
 
 bool is_error(const std::string& name) {
@@ -119,9 +108,9 @@ void write_summary(std::ostream& out, const SweepPlan& plan,
       }
       // The standard error over the seeds; one task alone has its run's own (block average).
       const double n = static_cast<double>(count);
-      const double error = count >= 2     ? std::sqrt(sum_of_squares / (n - 1.0) / n)
-                           : count == 1   ? measure(*only, name + "_error")
-                                          : std::nan("");
+      const double error = count >= 2   ? std::sqrt(sum_of_squares / (n - 1.0) / n)
+                           : count == 1 ? measure(*only, name + "_error")
+                                        : std::nan("");
       out << ',' << field(mean) << ',' << field(error);
     }
     out << '\n';
@@ -130,8 +119,30 @@ void write_summary(std::ostream& out, const SweepPlan& plan,
 
 }  // namespace
 
+std::string_view status_name(TaskStatus status) {
+  switch (status) {
+    case TaskStatus::done:
+      return "done";
+    case TaskStatus::failed:
+      return "failed";
+    case TaskStatus::stopped:
+      return "stopped";
+    case TaskStatus::pending:
+      return "pending";
+  }
+  return "?";
+}
+
+void check_task_results(const SweepPlan& plan, const std::vector<TaskResult>& results) {
+  if (results.size() != plan.tasks().size()) {
+    throw std::invalid_argument(fmt::format("{} has {} tasks, but {} results were given",
+                                            plan.name(), plan.tasks().size(), results.size()));
+  }
+}
+
 void write_sweep_tables(const SweepPlan& plan, const std::string& out_dir,
                         const std::vector<TaskResult>& results) {
+  check_task_results(plan, results);
   const std::filesystem::path folder(out_dir);
   {
     AtomicFile file((folder / "results.csv").string());

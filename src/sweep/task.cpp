@@ -153,7 +153,20 @@ TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const T
 }
 
 fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string& out_dir) {
-  return fs::path(out_dir) / plan.tasks().at(index).name;
+  if (index >= plan.tasks().size()) {
+    throw RequestError(fmt::format("{} has {} tasks, numbered from 0: there is no task {}",
+                                   plan.name(), plan.tasks().size(), index));
+  }
+  return fs::path(out_dir) / plan.tasks()[index].name;
+}
+
+// The temporary files (AtomicFile's FILE.tmp.XXXXXX) of an attempt killed while it wrote.
+void remove_leftovers(const fs::path& folder) {
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (entry.path().filename().string().find(".tmp.") != std::string::npos) {
+      fs::remove(entry.path());
+    }
+  }
 }
 
 }  // namespace
@@ -168,7 +181,8 @@ const std::vector<std::string>& measure_names(TaskKind kind) {
 
 std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
                                        const std::string& folder) {
-  return sweep::task_spec(plan, plan.tasks().at(index), folder).commands;
+  task_folder(plan, index, folder);  // refuses an index out of range
+  return sweep::task_spec(plan, plan.tasks()[index], folder).commands;
 }
 
 void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir) {
@@ -200,6 +214,7 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
   const fs::path error = folder / task_files::kError;
   if (fs::exists(folder / task_files::kSummary)) return done_result(plan.kind(), folder);
   fs::remove(error);
+  remove_leftovers(folder);
   try {
     const TaskStatus status =
         plan.kind() == TaskKind::run ? run(spec, folder, hooks) : compress(spec, folder, hooks);
