@@ -109,6 +109,9 @@ struct TaskResult {
   std::vector<std::pair<std::string, double>> measures;  // NaN: not measured
   double wall_seconds = 0.0;                             // its last piece's
 
+  // The measure named `name`, NaN if there is none.
+  double measure(std::string_view name) const;
+
   static TaskResult with(TaskStatus status, std::string error = {}) {
     TaskResult result;
     result.status = status;

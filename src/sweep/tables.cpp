@@ -9,6 +9,7 @@
 
 #include "carom/atomic_file.hpp"
 #include "carom/sweep.hpp"
+#include "sweep/state_points.hpp"
 
 namespace carom {
 
@@ -25,17 +26,6 @@ std::string quoted(const std::string& text) {
   return q + "\"";
 }
 
-bool is_error(const std::string& name) {
-  return name.size() > 6 && name.compare(name.size() - 6, 6, "_error") == 0;
-}
-
-double measure(const TaskResult& result, const std::string& name) {
-  for (const auto& [n, value] : result.measures) {
-    if (n == name) return value;
-  }
-  return std::nan("");
-}
-
 void write_results(std::ostream& out, const SweepPlan& plan,
                    const std::vector<TaskResult>& results) {
   const std::vector<std::string>& measures = measure_names(plan.kind());
@@ -46,78 +36,36 @@ void write_results(std::ostream& out, const SweepPlan& plan,
   for (std::size_t i = 0; i < results.size(); ++i) {
     for (const auto& [axis, value] : plan.tasks()[i].point) out << quoted(value) << ',';
     out << status_name(results[i].status);
-    for (const std::string& name : measures) out << ',' << field(measure(results[i], name));
+    for (const std::string& name : measures) out << ',' << field(results[i].measure(name));
     out << ',' << quoted(results[i].error) << '\n';
   }
 }
 
-// The state points: every axis but seed, in the order their first task comes.
 void write_summary(std::ostream& out, const SweepPlan& plan,
                    const std::vector<TaskResult>& results) {
-  std::vector<std::size_t> kept;
-  for (std::size_t a = 0; a < plan.axes().size(); ++a) {
-    if (plan.axes()[a] != "seed") kept.push_back(a);
-  }
-  const auto point_of = [&](std::size_t task) {
-    std::vector<std::string> point;
-    for (std::size_t a : kept) point.push_back(plan.tasks()[task].point[a].second);
-    return point;
-  };
-  std::vector<std::vector<std::string>> points;
-  std::vector<std::vector<std::size_t>> members;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const std::vector<std::string> point = point_of(i);
-    std::size_t p = 0;
-    while (p < points.size() && points[p] != point) ++p;
-    if (p == points.size()) {
-      points.push_back(point);
-      members.emplace_back();
-    }
-    members[p].push_back(i);
-  }
-  std::vector<std::string> measures;
-  for (const std::string& name : measure_names(plan.kind())) {
-    if (!is_error(name)) measures.push_back(name);
-  }
-  for (std::size_t a : kept) out << plan.axes()[a] << ',';
+  const sweep::StatePoints s = sweep::state_points(plan, results);
+  for (const std::string& axis : s.axes) out << axis << ',';
   out << "tasks,done";
-  for (const std::string& name : measures) out << ',' << name << "_mean," << name << "_error";
+  for (const std::string& name : s.measures) out << ',' << name << "_mean," << name << "_error";
   out << '\n';
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    for (const std::string& value : points[p]) out << quoted(value) << ',';
-    std::size_t done = 0;
-    for (std::size_t i : members[p]) done += results[i].status == TaskStatus::done ? 1 : 0;
-    out << members[p].size() << ',' << done;
-    for (const std::string& name : measures) {
-      double sum = 0.0, sum_of_squares = 0.0;
-      std::size_t count = 0;
-      const TaskResult* only = nullptr;
-      for (std::size_t i : members[p]) {
-        const double x = measure(results[i], name);
-        if (results[i].status != TaskStatus::done || !std::isfinite(x)) continue;
-        sum += x;
-        ++count;
-        only = &results[i];
-      }
-      const double mean = count > 0 ? sum / static_cast<double>(count) : std::nan("");
-      for (std::size_t i : members[p]) {
-        const double x = measure(results[i], name);
-        if (results[i].status == TaskStatus::done && std::isfinite(x)) {
-          sum_of_squares += (x - mean) * (x - mean);
-        }
-      }
-      // The standard error over the seeds; one task alone has its run's own (block average).
-      const double n = static_cast<double>(count);
-      const double error = count >= 2   ? std::sqrt(sum_of_squares / (n - 1.0) / n)
-                           : count == 1 ? measure(*only, name + "_error")
-                                        : std::nan("");
-      out << ',' << field(mean) << ',' << field(error);
+  for (const sweep::StatePoint& point : s.points) {
+    for (const std::string& value : point.values) out << quoted(value) << ',';
+    out << point.tasks << ',' << point.done;
+    for (const sweep::Estimate& e : point.estimates) {
+      out << ',' << field(e.mean) << ',' << field(e.error);
     }
     out << '\n';
   }
 }
 
 }  // namespace
+
+double TaskResult::measure(std::string_view name) const {
+  for (const auto& [n, value] : measures) {
+    if (n == name) return value;
+  }
+  return std::nan("");
+}
 
 std::string_view status_name(TaskStatus status) {
   switch (status) {
