@@ -59,6 +59,15 @@ Json counts_json(const Counts& c) {
           {"wall_momentum", c.wall_momentum}};
 }
 
+// The drift record, null without one (the key is absent from checkpoints before carom 1.5).
+Json drift_json(const std::optional<DriftRecord>& drift) {
+  if (!drift) return nullptr;
+  return {{"every", drift->every},
+          {"last_time", drift->last_time ? Json(*drift->last_time) : Json(nullptr)},
+          {"last_totals", counts_json(drift->last_totals)},
+          {"z", drift->z}};
+}
+
 // A time that may be "never" (json null).
 Json time_or_null(double t) {
   return std::isfinite(t) ? Json(t) : Json(nullptr);
@@ -224,6 +233,19 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     if (const auto& from = f.at(j, "measure_from"); !from.is_null()) {
       c.measure_from = f.coordinate(from, "\"measure_from\"");
     }
+    if (const auto found = j.find("z_drift"); found != j.end() && !found->is_null()) {
+      const std::string where = "\"z_drift\"";
+      DriftRecord drift;
+      drift.every = f.coordinate(f.at(*found, "every", where), "the drift's interval");
+      if (const auto& last = f.at(*found, "last_time", where); !last.is_null()) {
+        drift.last_time = f.coordinate(last, "the drift's last_time");
+      }
+      drift.last_totals = f.counts(f.at(*found, "last_totals", where), where);
+      const auto& z = f.at(*found, "z", where);
+      if (!z.is_array()) fail("the drift's \"z\" must be a list of numbers");
+      for (const auto& value : z) drift.z.push_back(f.number(value, "a drift interval's Z"));
+      c.drift = std::move(drift);
+    }
   }
   const nlohmann::json& particles = f.at(j, "particles");
   if (!particles.is_array()) fail("\"particles\" must be a list of particle rows");
@@ -300,6 +322,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
         {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
         {"counts", counts_json(c.measurement.counts)}}},
       {"measure_from", c.measure_from ? Json(*c.measure_from) : Json(nullptr)},
+      {"z_drift", drift_json(c.drift)},
   };
   std::string text = head.dump(1);
   Fnv1a hash;
@@ -397,15 +420,19 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
 
 template <std::size_t D>
 void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
-                     const std::string& source) {
+                     const std::string& source, const std::optional<DriftRecord>& drift) {
+  Checkpoint<D> checkpoint = simulation.checkpoint(source);
+  checkpoint.drift = drift;
   AtomicFile file(path);
-  write_checkpoint(file.stream(), simulation.checkpoint(source));
+  write_checkpoint(file.stream(), checkpoint);
   file.commit();
 }
 
 template void write_checkpoint(std::ostream&, const Checkpoint<2>&);
 template void write_checkpoint(std::ostream&, const Checkpoint<3>&);
-template void save_checkpoint(const std::string&, const Simulation<2>&, const std::string&);
-template void save_checkpoint(const std::string&, const Simulation<3>&, const std::string&);
+template void save_checkpoint(const std::string&, const Simulation<2>&, const std::string&,
+                              const std::optional<DriftRecord>&);
+template void save_checkpoint(const std::string&, const Simulation<3>&, const std::string&,
+                              const std::optional<DriftRecord>&);
 
 }  // namespace carom

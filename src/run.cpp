@@ -318,20 +318,27 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
                                     : std::max<std::uint64_t>(1000, simulation.state().size());
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
-  if (spec.checkpoint_every) {
-    observers.add(std::make_shared<CheckpointWriter<D>>(spec.checkpoint, start.source,
-                                                        *spec.checkpoint_every, [&outputs] {
-                                                          if (!outputs.flush())
-                                                            throw std::runtime_error(kCannotStream);
-                                                        }));
-  }
-  // Z over 20 intervals of the measurement window, first half against second.
+  // Z over 20 intervals of the measurement window, first half against second; a run resumed
+  // from a checkpoint goes on with the intervals it holds.
   std::shared_ptr<ZDrift<D>> z_drift;
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
   if (spec.end_time > window_start) {
-    z_drift = observers.add(
-        std::make_shared<ZDrift<D>>((spec.end_time - window_start) / ZDrift<D>::kIntervals));
+    z_drift = observers.add(std::make_shared<ZDrift<D>>(
+        (spec.end_time - window_start) / ZDrift<D>::kIntervals, start.drift));
+  }
+  start.drift.reset();  // the first run() after a resume is the one it continues
+  const auto drift_record = [&z_drift]() -> std::optional<DriftRecord> {
+    if (!z_drift) return std::nullopt;
+    return z_drift->record();
+  };
+  if (spec.checkpoint_every) {
+    observers.add(std::make_shared<CheckpointWriter<D>>(
+        spec.checkpoint, start.source, *spec.checkpoint_every,
+        [&outputs] {
+          if (!outputs.flush()) throw std::runtime_error(kCannotStream);
+        },
+        drift_record));
   }
   if (hooks.progress) {
     observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
@@ -354,14 +361,19 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
                         dynamic_cast<const InvariantError*>(&e) != nullptr;
     if (spec.checkpoint.empty() || broken) throw;
-    save_checkpoint(spec.checkpoint, simulation, start.source);
+    save_checkpoint(spec.checkpoint, simulation, start.source, drift_record());
     throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
   }
   account();
   drift = z_drift ? z_drift->verdict() : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
-  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, simulation, start.source);
+  // The drift record helps only a run that goes on to the same end: one stopped on its way. A
+  // run that reached its end keeps none, as a state saved between runs (sim.save) keeps none.
+  if (!spec.checkpoint.empty()) {
+    save_checkpoint(spec.checkpoint, simulation, start.source,
+                    status == RunStatus::stopped ? drift_record() : std::nullopt);
+  }
   if (!streamed_ok) {
     throw std::runtime_error(
         fmt::format("{}{}", kCannotStream,

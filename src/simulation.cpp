@@ -282,7 +282,8 @@ void Simulation<D>::measure_from(double t) {
 
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
-  return {source, state(), settings_, time_, settled_, counts_, measurement_, measure_from_};
+  return {source,  state(),      settings_,     time_,       settled_,
+          counts_, measurement_, measure_from_, std::nullopt};
 }
 
 template class Simulation<2>;

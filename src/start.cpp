@@ -133,7 +133,8 @@ Start load_start(const StartSpec& spec) {
                      spec.path,
                      false,
                      std::move(note),
-                     seed};
+                     seed,
+                     std::nullopt};
       },
       read_any_start_file(spec.path, spec.boundary));
 }
@@ -142,7 +143,8 @@ Start resume_start(const std::string& path) {
   std::ifstream file = open_input(path);
   return std::visit(
       [&](const auto& checkpoint) {
-        return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", std::nullopt};
+        return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", std::nullopt,
+                     checkpoint.drift};
       },
       read_checkpoint(file, path));
 }
@@ -152,15 +154,26 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
   check_settings(settings);
   AnySystem system =
       dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
-  return Start{
-      AnySimulation(std::move(system), settings), "", "(carom.init)", false, "", std::nullopt};
+  return Start{AnySimulation(std::move(system), settings),
+               "",
+               "(carom.init)",
+               false,
+               "",
+               std::nullopt,
+               std::nullopt};
 }
 
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
   require_dimension(arrays.dimension);
   AnySystem system =
       arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
-  return Start{AnySimulation(std::move(system), settings), "", "(arrays)", false, "", std::nullopt};
+  return Start{AnySimulation(std::move(system), settings),
+               "",
+               "(arrays)",
+               false,
+               "",
+               std::nullopt,
+               std::nullopt};
 }
 
 }  // namespace carom

@@ -163,18 +163,21 @@ template <std::size_t D>
 void ZDrift<D>::observe(const Simulation<D>& simulation) {
   const double now = simulation.time();
   const bool measuring = !simulation.pending_measurement();
-  if (last_time_ && measuring && *last_time_ >= simulation.measurement().start_time &&
-      now > *last_time_) {
-    const Measurement interval{*last_time_, 0.0, difference(simulation.counts(), last_totals_)};
+  std::optional<double>& last_time = record_.last_time;
+  if (last_time && measuring && *last_time >= simulation.measurement().start_time &&
+      now > *last_time) {
+    const Measurement interval{*last_time, 0.0,
+                               difference(simulation.counts(), record_.last_totals)};
     const double z = measure(simulation.state(), interval, now).compressibility_factor;
-    if (std::isfinite(z)) z_.push_back(z);
+    if (std::isfinite(z)) record_.z.push_back(z);
   }
-  last_time_ = now;
-  last_totals_ = simulation.counts();
+  last_time = now;
+  record_.last_totals = simulation.counts();
 }
 
 template <std::size_t D>
 std::optional<DriftVerdict> ZDrift<D>::verdict() const {
+  const std::vector<double>& z_ = record_.z;
   const std::size_t half = z_.size() / 2;
   if (half < kLeastPerHalf) return std::nullopt;
   // The halves' means and the squared standard errors of those means.

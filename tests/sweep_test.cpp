@@ -255,6 +255,22 @@ TEST(SweepTask, AStoppedTaskContinuesItsMeasurementWindow) {
   const fs::path task = plan.tasks()[2].name;
   EXPECT_EQ(read(fs::path(folder / "pieces") / task / "log.csv"),
             read(fs::path(folder / "whole") / task / "log.csv"));
+  // The summary too, its drift verdict included (the checkpoint keeps Z's intervals so far);
+  // only the wall time and the folder's name differ.
+  const auto summary = [&](const std::string& run) {
+    std::istringstream in(read(fs::path(folder / run) / task / "summary.json"));
+    std::string kept;
+    for (std::string line; std::getline(in, line);) {
+      if (line.find("wall_seconds") == std::string::npos &&
+          line.find("events_per_second") == std::string::npos &&
+          line.find("\"input\"") == std::string::npos) {
+        kept += line + '\n';
+      }
+    }
+    return kept;
+  };
+  EXPECT_NE(summary("whole").find("\"intervals\": 20"), std::string::npos) << summary("whole");
+  EXPECT_EQ(summary("pieces"), summary("whole"));
 }
 
 TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <vector>
 
 #include "carom/event.hpp"
 
@@ -40,6 +42,18 @@ struct Measurement {
   Counts counts;
 
   friend bool operator==(const Measurement&, const Measurement&) = default;
+};
+
+// Where the drift verdict of a run's summary stands (ZDrift, time_series.hpp): Z over each
+// interval of length `every` of the measurement window so far, and the last interval's start.
+// A checkpoint keeps it, so that a run continued from one gives the verdict of a run in one piece.
+struct DriftRecord {
+  double every = 0.0;
+  std::optional<double> last_time;  // the start of the interval under way
+  Counts last_totals;               // the run's counts then
+  std::vector<double> z;
+
+  friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
 };
 
 }  // namespace carom

@@ -104,14 +104,16 @@ class ZDrift final : public Observer<D> {
   static constexpr std::size_t kLeastPerHalf = 4;
   // Intervals a window is cut into when its length is known.
   static constexpr double kIntervals = 20.0;
-  explicit ZDrift(double every) : Observer<D>(Trigger::every_time(every)) {}
+  // Continues `earlier` (a checkpoint's) when it has the same interval length.
+  explicit ZDrift(double every, const std::optional<DriftRecord>& earlier = std::nullopt)
+      : Observer<D>(Trigger::every_time(every)),
+        record_(earlier && earlier->every == every ? *earlier : DriftRecord{every, {}, {}, {}}) {}
   void observe(const Simulation<D>& simulation) override;
   std::optional<DriftVerdict> verdict() const;
+  const DriftRecord& record() const { return record_; }
 
  private:
-  std::optional<double> last_time_;
-  Counts last_totals_;
-  std::vector<double> z_;
+  DriftRecord record_;
 };
 
 // A time-series log (carom run --log FILE.csv) as read back: its columns, and rows of numbers

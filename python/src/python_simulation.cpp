@@ -129,6 +129,7 @@ std::pair<PythonSimulation, std::string> PythonSimulation::compress(CompressionS
               source(),
               false,
               "",
+              std::nullopt,
               std::nullopt};
   return {PythonSimulation(std::move(start)), summary.str()};
 }

@@ -22,7 +22,6 @@ from pathlib import Path
 import pytest
 
 import carom
-from _support import PIECE_DEPENDENT
 
 distributed = pytest.importorskip("distributed")
 
@@ -55,12 +54,12 @@ def write_plan(folder, text=None, **values):
     return path
 
 
-def contents(out, resumed=False):
+def contents(out):
     """What must not depend on how a sweep's tasks ran: the tables, and each task's files and its
-    summary without the clock (and, for a task resumed from a checkpoint, without the verdict on
-    Z's drift, which depends on where its run was cut, as for `carom run --resume`)."""
+    summary without the clock (the verdict on Z's drift included: a task resumed from a
+    checkpoint goes on with the intervals it holds)."""
     files = {name: (out / name).read_bytes() for name in ("results.csv", "summary.csv")}
-    left_out = CLOCK + (PIECE_DEPENDENT if resumed else ())
+    left_out = CLOCK
     for task in TASKS:
         for name in TASK_FILES + ("task.txt",):
             files[f"{task}/{name}"] = (out / task / name).read_bytes()
@@ -118,7 +117,7 @@ def long_sweep(cli, tmp_path_factory):
     base = tmp_path_factory.mktemp("long")
     plan = write_plan(base, **LONG)
     cli("sweep", plan, "-o", base / "out", "-q")
-    return plan, base / "out", contents(set_aside(base / "out", "reference"), resumed=True)
+    return plan, base / "out", contents(set_aside(base / "out", "reference"))
 
 
 def test_cli_mpi_and_dask_write_the_same_files(cli, tmp_path, client):
@@ -189,7 +188,7 @@ def test_a_sweep_killed_or_stopped_goes_on_to_the_same_files(cli, long_sweep, ho
         assert "run the same command again" in err, err
     assert len(done(out)) < len(TASKS)
     cli("sweep", plan, "-o", out, "-q")
-    assert_same_contents(contents(out, resumed=True), reference, f"after {how.name}")
+    assert_same_contents(contents(out), reference, f"after {how.name}")
 
 
 def test_a_dask_worker_killed_mid_task_changes_nothing(long_sweep, client):
@@ -215,7 +214,7 @@ def test_a_dask_worker_killed_mid_task_changes_nothing(long_sweep, client):
     assert killed, "the tasks ended before a worker could be killed"
     assert killed[0] not in client.run(os.getpid).values()
     assert list(table["status"]) == ["done"] * len(TASKS)
-    assert_same_contents(contents(out, resumed=True), reference, "a worker killed")
+    assert_same_contents(contents(out), reference, "a worker killed")
 
 
 CTRL_C = textwrap.dedent("""
@@ -247,7 +246,7 @@ def test_ctrl_c_stops_a_task_and_it_goes_on_to_the_same_files(long_sweep):
     for name in TASK_FILES:
         assert (out / task / name).read_bytes() == reference[f"{task}/{name}"], name
     summary = json.loads((out / task / "summary.json").read_text())
-    assert {k: v for k, v in summary.items() if k not in CLOCK + PIECE_DEPENDENT} \
+    assert {k: v for k, v in summary.items() if k not in CLOCK} \
         == reference[f"{task}/summary.json"]
 
 
