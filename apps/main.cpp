@@ -89,8 +89,8 @@ int main(int argc, char** argv) {
   constexpr int kRuntimeError = 1;
 
   CLI::App app{"carom: event-driven molecular dynamics of hard disks and spheres.\n", "carom"};
-  app.set_version_flag("--version", std::string("carom ") + carom::kVersion + "\n" +
-                                        sweep_version_note());
+  app.set_version_flag("--version",
+                       std::string("carom ") + carom::kVersion + "\n" + sweep_version_note());
   app.require_subcommand(1);
   app.footer(R"(Examples:
   carom run examples/walls_only.txt 20                   the classic assignment's first case

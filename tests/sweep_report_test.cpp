@@ -22,8 +22,10 @@ std::vector<TaskResult> results_of(const SweepPlan& plan, int dimension) {
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
     TaskResult r = TaskResult::with(TaskStatus::done);
     r.dimension = dimension;
-    r.measures = {{"Z", 2.0 + 0.5 * static_cast<double>(i)}, {"Z_error", 0.1},
-                  {"pressure", 1.0 + static_cast<double>(i)}, {"temperature", 1.0}};
+    r.measures = {{"Z", 2.0 + 0.5 * static_cast<double>(i)},
+                  {"Z_error", 0.1},
+                  {"pressure", 1.0 + static_cast<double>(i)},
+                  {"temperature", 1.0}};
     results.push_back(r);
   }
   results.back() = TaskResult::with(TaskStatus::failed, "no <room> left");
