@@ -549,8 +549,10 @@ def sweep(plan, out_dir, client=None):
     Each task not yet done is a Dask task (pure=False) that runs it in out_dir/<task>/ exactly as
     `carom sweep` would, on whatever worker gets it: workers must see out_dir and a start `file`
     the plan names (relative paths are taken from each worker's working folder: give absolute
-    ones on a shared file system for a cluster), not the plan itself. client: a dask.distributed Client; None makes a LocalCluster of one
-    single-threaded worker process per core, closed at the end. The tasks are resumable, as
+    ones on a shared file system for a cluster), not the plan itself.
+
+    client: a dask.distributed Client; None makes a LocalCluster of one single-threaded worker
+    process per core, closed at the end. The tasks are resumable, as
     `carom sweep`'s are: a worker that dies mid-task has the task rerun by Dask elsewhere (the
     scheduler's allowed-failures), continuing it from its checkpoint; a sweep stopped (Ctrl-C)
     and called again, by carom.sweep or `carom sweep`, runs only what is not done. A task that
