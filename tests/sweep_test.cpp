@@ -133,6 +133,8 @@ kT = 2
 }
 
 TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
+  std::string thousand = "[";
+  for (int i = 1; i <= 1000; ++i) thousand += std::to_string(i) + (i < 1000 ? ", " : "]");
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nvelocity = 2\n",
        "plan.toml:6: [run] velocity: not an option of carom run"},
@@ -164,6 +166,9 @@ TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = = 5\n", "plan.toml:5: "},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\ncheckpoint_every = \"10m\"\n",
        "plan.toml:6: [run] checkpoint_every: --checkpoint-every"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[sweep]\nseed = " + thousand +
+           "\nequilibrate = " + thousand + "\n",
+       "plan.toml:7: [sweep] makes 1000000 tasks, more than a plan may have (100000)"},
   };
   for (const auto& [text, expected] : cases) {
     const std::string said = refusal(text);

@@ -141,6 +141,8 @@ std::vector<std::pair<std::string, const toml::node*>> in_order(const toml::tabl
   return keys;
 }
 
+constexpr std::size_t kMostTasks = 100'000;
+
 struct Axis {
   std::string key;
   bool in_start = false;  // else the run's or the compression's
@@ -283,6 +285,17 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     reader.fail(line_of(action),
                 "[compress] needs phi (the packing fraction to stop at) or "
                 "jam = true");
+  }
+
+  // A product too large to list is refused before it is made (a plan that asks for it is a
+  // mistake; a study that large is several plans).
+  double count = 1.0;
+  for (const Axis& axis : axes) count *= static_cast<double>(axis.values.size());
+  if (count > static_cast<double>(kMostTasks)) {
+    reader.fail(axes.front().line,
+                fmt::format("[sweep] makes {:.0f} tasks, more than a plan may have ({}): split it "
+                            "into several plans",
+                            count, kMostTasks));
   }
 
   // The Cartesian product, the first axis outermost.
