@@ -89,8 +89,9 @@ test("playing advances the frame counter, pausing stops it", async () => {
   await page.waitForFunction(() => Number(document.querySelector("#frame").textContent) > 0,
                              null, { timeout: 20000 });
   await page.click("#play");
+  // No check that the paused frame is above 0: playback wraps after the last frame, and on a
+  // loaded machine it may have wrapped to frame 0 by the time the click lands.
   const paused = Number(await text("#frame"));
-  assert.ok(paused > 0, `frame ${paused} after playing`);
   await page.waitForTimeout(300);
   assert.equal(Number(await text("#frame")), paused);
 });
