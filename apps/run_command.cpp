@@ -77,6 +77,7 @@ RunSpec run_spec(const RunArguments& args, double end_time) {
   spec.log = args.log;
   spec.log_every = args.log_every;
   spec.summary = args.summary;
+  spec.transport = args.transport;
   spec.checkpoint = args.checkpoint;
   if (!args.checkpoint_every.empty())
     spec.checkpoint_every = checkpoint_cadence(args.checkpoint_every);
@@ -155,6 +156,11 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--summary", args.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
+  run->add_flag("--transport", args.transport,
+                "Measure the self-diffusion coefficient, shear viscosity and thermal "
+                "conductivity over the measurement window (Einstein-Helfand, errors from 10 "
+                "blocks; 3D also Yeh-Hummer's finite-size correction and Enskog's values) into "
+                "the summary's \"transport\" (periodic box)");
   add_choice<Rule>(run, "--rule", args.rule,
                    "swap: touching disks exchange whole velocities (the classic assignment's "
                    "rule); elastic: they exchange momentum along the line of centres, with "

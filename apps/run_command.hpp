@@ -17,6 +17,7 @@ struct RunArguments {
   bool trace = false;
   std::string output;
   std::string summary;
+  bool transport = false;
   std::string dump;
   double every = 0.0;
   std::string events;

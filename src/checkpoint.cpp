@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -50,13 +51,24 @@ void add_head(Fnv1a& hash, const nlohmann::json& head) {
   hash.add("\n");
 }
 
+// The fluxes' integrals and rates as stored: every field, so a resumed run goes on bit for bit.
+Json fluxes_json(const Fluxes& f) {
+  return {{"kinetic_stress", f.kinetic_stress}, {"collisional_stress", f.collisional_stress},
+          {"kinetic_heat", f.kinetic_heat},     {"collisional_heat", f.collisional_heat},
+          {"stress_rate", f.stress_rate},       {"heat_rate", f.heat_rate},
+          {"since", f.since},                   {"time", f.time}};
+}
+
+// The key "fluxes" only for a run that keeps them (and checkpoints before carom 1.6 have none).
 Json counts_json(const Counts& c) {
-  return {{"events", c.events},
-          {"pair_collisions", c.pair_collisions},
-          {"wall_collisions", c.wall_collisions},
-          {"elastic_by_tc", c.elastic_by_tc},
-          {"virial", c.virial},
-          {"wall_momentum", c.wall_momentum}};
+  Json j = {{"events", c.events},
+            {"pair_collisions", c.pair_collisions},
+            {"wall_collisions", c.wall_collisions},
+            {"elastic_by_tc", c.elastic_by_tc},
+            {"virial", c.virial},
+            {"wall_momentum", c.wall_momentum}};
+  if (c.fluxes) j["fluxes"] = fluxes_json(*c.fluxes);
+  return j;
 }
 
 // The drift record, null without one (the key is absent from checkpoints before carom 1.5).
@@ -65,7 +77,18 @@ Json drift_json(const std::optional<DriftRecord>& drift) {
   return {{"every", drift->every},
           {"last_time", drift->last_time ? Json(*drift->last_time) : Json(nullptr)},
           {"last_totals", counts_json(drift->last_totals)},
-          {"z", drift->z}};
+          {"z", drift->z},
+          {"pressure_tensors", drift->pressure_tensors}};
+}
+
+// The transport measurement under way (absent from checkpoints of runs without one).
+Json transport_json(const TransportRecord& t) {
+  Json blocks = Json::array();
+  for (const TransportBlock& b : t.blocks) {
+    blocks.push_back({b.self_diffusion, b.shear_viscosity, b.thermal_conductivity});
+  }
+  return {{"spacing", t.spacing},   {"block_samples", t.block_samples}, {"samples", t.samples},
+          {"origin", t.origin},     {"half_msd", t.half_msd},           {"blocks", blocks}};
 }
 
 // A time that may be "never" (json null).
@@ -172,6 +195,9 @@ class Fields {
     c.elastic_by_tc = get("elastic_by_tc");
     c.virial = real("virial");
     c.wall_momentum = real("wall_momentum");
+    if (const auto found = object.find("fluxes"); found != object.end()) {
+      c.fluxes = fluxes(*found, "\"fluxes\"" + in_where(where));
+    }
     // Counts::add counts every event as a wall or a pair collision, and TC-made-elastic ones
     // among the pair collisions.
     const std::string in = where.empty() ? "" : " in " + where;
@@ -189,7 +215,76 @@ class Fields {
     return c;
   }
 
+  // The transport record (its origin's size is checked once the particles are read).
+  TransportRecord transport(const nlohmann::json& object) const {
+    const std::string where = "\"transport\"";
+    const auto numbers = [&](const nlohmann::json& list, const std::string& what) {
+      if (!list.is_array()) fail_(fmt::format("{} in {} must be a list of numbers", what, where));
+      std::vector<double> out;
+      out.reserve(list.size());
+      for (const auto& value : list) out.push_back(number(value, fmt::format("{} in {}", what, where)));
+      return out;
+    };
+    TransportRecord t;
+    t.spacing = coordinate(at(object, "spacing", where), "the transport's spacing");
+    t.block_samples = count(at(object, "block_samples", where), "the transport's block_samples");
+    if (!(t.spacing > 0.0) || t.block_samples < 9) {
+      fail_(fmt::format("the transport's spacing ({}) and block_samples ({}) are not a schedule",
+                        t.spacing, t.block_samples));
+    }
+    const auto& samples = at(object, "samples", where);
+    if (!samples.is_array() || samples.size() >= t.block_samples) {
+      fail_(fmt::format("\"samples\" in {} must be a list of fewer than {} samples", where,
+                        t.block_samples));
+    }
+    for (const auto& sample : samples) {
+      const std::vector<double> values = numbers(sample, "a sample");
+      if (values.size() != 9) fail_(fmt::format("a sample in {} must have 9 numbers", where));
+      MomentSample s;
+      std::copy(values.begin(), values.end(), s.begin());
+      t.samples.push_back(s);
+    }
+    t.origin = numbers(at(object, "origin", where), "\"origin\"");
+    t.half_msd = number(at(object, "half_msd", where), "the transport's half_msd");
+    const auto& blocks = at(object, "blocks", where);
+    if (!blocks.is_array()) fail_(fmt::format("\"blocks\" in {} must be a list", where));
+    for (const auto& block : blocks) {
+      const std::vector<double> values = numbers(block, "a block");
+      if (values.size() != 3) fail_(fmt::format("a block in {} must have 3 numbers", where));
+      t.blocks.push_back({values[0], values[1], values[2]});
+    }
+    return t;
+  }
+
+  Fluxes fluxes(const nlohmann::json& object, const std::string& where) const {
+    const auto components = [&]<std::size_t K>(const char* key, std::array<double, K>& out) {
+      const nlohmann::json& list = at(object, key, where);
+      if (!list.is_array() || list.size() != K) {
+        fail_(fmt::format("\"{}\" in {} must be a list of {} numbers, found {}", key, where, K,
+                          shown(list)));
+      }
+      for (std::size_t k = 0; k < K; ++k) out[k] = number(list[k], fmt::format("\"{}\" in {}", key, where));
+    };
+    Fluxes f;
+    components("kinetic_stress", f.kinetic_stress);
+    components("collisional_stress", f.collisional_stress);
+    components("kinetic_heat", f.kinetic_heat);
+    components("collisional_heat", f.collisional_heat);
+    components("stress_rate", f.stress_rate);
+    components("heat_rate", f.heat_rate);
+    f.since = coordinate(at(object, "since", where), fmt::format("\"since\" in {}", where));
+    f.time = coordinate(at(object, "time", where), fmt::format("\"time\" in {}", where));
+    if (f.since > f.time) {
+      fail_(fmt::format("the fluxes in {} begin at {}, after their time {}", where, f.since, f.time));
+    }
+    return f;
+  }
+
  private:
+  static std::string in_where(const std::string& where) {
+    return where.empty() ? "" : " in " + where;
+  }
+
   const Fail& fail_;
 };
 
@@ -244,7 +339,25 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
       const auto& z = f.at(*found, "z", where);
       if (!z.is_array()) fail("the drift's \"z\" must be a list of numbers");
       for (const auto& value : z) drift.z.push_back(f.number(value, "a drift interval's Z"));
-      c.drift = std::move(drift);
+      // Absent before carom 1.6.
+      if (const auto tensors = found->find("pressure_tensors"); tensors != found->end()) {
+        if (!tensors->is_array()) fail("the drift's \"pressure_tensors\" must be a list");
+        for (const auto& tensor : *tensors) {
+          if (!tensor.is_array() || tensor.size() != 6) {
+            fail(fmt::format("a drift interval's pressure tensor must be a list of 6 numbers, found {}",
+                             shown(tensor)));
+          }
+          SymmetricTensor t;
+          for (std::size_t c = 0; c < 6; ++c) {
+            t[c] = f.number(tensor[c], "a drift interval's pressure tensor component");
+          }
+          drift.pressure_tensors.push_back(t);
+        }
+      }
+      c.records.drift = std::move(drift);
+    }
+    if (const auto found = j.find("transport"); found != j.end()) {
+      c.records.transport = f.transport(*found);
     }
   }
   const nlohmann::json& particles = f.at(j, "particles");
@@ -293,6 +406,11 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     // Absolute stored times, as older carom ran on: made small as a new run's would be.
     c.system.shift_epoch(c.system.latest_stored());
   }
+  if (const auto& t = c.records.transport;
+      t && !t->origin.empty() && t->origin.size() != c.system.size() * D) {
+    fail(fmt::format("\"origin\" in \"transport\" has {} numbers, not the particles' {}",
+                     t->origin.size(), c.system.size() * D));
+  }
   return c;
 }
 
@@ -302,7 +420,7 @@ template <std::size_t D>
 void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   Json box = Json::array();
   for (std::size_t k = 0; k < D; ++k) box.push_back(c.system.box.size[k]);
-  const Json head = {
+  Json head = {
       {"carom_checkpoint", kCheckpointFormat},
       {"carom_version", kVersion},
       {"source", c.source},
@@ -322,8 +440,9 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
         {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
         {"counts", counts_json(c.measurement.counts)}}},
       {"measure_from", c.measure_from ? Json(*c.measure_from) : Json(nullptr)},
-      {"z_drift", drift_json(c.drift)},
+      {"z_drift", drift_json(c.records.drift)},
   };
+  if (c.records.transport) head["transport"] = transport_json(*c.records.transport);
   std::string text = head.dump(1);
   Fnv1a hash;
   add_head(hash, nlohmann::json::parse(text));  // keys sorted, as the reader sees them
@@ -420,9 +539,9 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
 
 template <std::size_t D>
 void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
-                     const std::string& source, const std::optional<DriftRecord>& drift) {
+                     const std::string& source, const WindowRecords& records) {
   Checkpoint<D> checkpoint = simulation.checkpoint(source);
-  checkpoint.drift = drift;
+  checkpoint.records = records;
   AtomicFile file(path);
   write_checkpoint(file.stream(), checkpoint);
   file.commit();
@@ -431,8 +550,8 @@ void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
 template void write_checkpoint(std::ostream&, const Checkpoint<2>&);
 template void write_checkpoint(std::ostream&, const Checkpoint<3>&);
 template void save_checkpoint(const std::string&, const Simulation<2>&, const std::string&,
-                              const std::optional<DriftRecord>&);
+                              const WindowRecords&);
 template void save_checkpoint(const std::string&, const Simulation<3>&, const std::string&,
-                              const std::optional<DriftRecord>&);
+                              const WindowRecords&);
 
 }  // namespace carom

@@ -53,12 +53,14 @@ Event Engine<D>::apply(Event event) {
   ParticleRecord& ra = system_.records[event.first];
   if (event.is_wall()) {
     advance(a, t);
+    const Vec<D> before = a.velocity;
     if (growing()) [[unlikely]] {
       event.impulse = growing_bounce(a, event.partner, system_.box, ra.mass, growth_.rate);
       fastest_ = std::max(fastest_, std::sqrt(norm2(a.velocity)) * (1.0 + 1e-9));
     } else {
       event.impulse = bounce(a, event.partner, system_.box, ra.mass);
     }
+    for (std::size_t k = 0; k < D; ++k) event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
     ++ra.wall_collisions;
   } else {
     const auto j = static_cast<std::size_t>(event.partner);
@@ -70,14 +72,18 @@ Event Engine<D>::apply(Event event) {
     advance(a, t);
     advance(b, t);
     const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
+    const Vec<D> r = separation(a, b, system_.box), before = a.velocity;
     if (growing()) [[unlikely]] {
-      event.impulse = collide(a, b, separation(a, b, system_.box), rule_.rule, restitution, ra.mass,
-                              rb.mass, (a.radius + b.radius) * growth_.rate);
+      event.impulse = collide(a, b, r, rule_.rule, restitution, ra.mass, rb.mass,
+                              (a.radius + b.radius) * growth_.rate);
       const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
       fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
     } else {
-      event.impulse =
-          collide(a, b, separation(a, b, system_.box), rule_.rule, restitution, ra.mass, rb.mass);
+      event.impulse = collide(a, b, r, rule_.rule, restitution, ra.mass, rb.mass);
+    }
+    for (std::size_t k = 0; k < D; ++k) {
+      event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
+      event.contact[k] = r[k];
     }
     wrap(a.position, system_.box, ra.image);
     wrap(b.position, system_.box, rb.image);

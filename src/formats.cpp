@@ -125,6 +125,30 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
     for (std::size_t k = 0; k < D; ++k) list.push_back(v[k]);
     return list;
   };
+  // A tensor as {"xx": ..., "yy": ..., "xy": ...} (and the z components in 3D).
+  const auto tensor = [](const std::optional<SymmetricTensor>& t) {
+    if (!t) return nlohmann::ordered_json(nullptr);
+    nlohmann::ordered_json object;
+    for (const std::size_t c : tensor_components<D>()) object[kTensorComponents[c]] = (*t)[c];
+    return object;
+  };
+  const auto optional = [](const std::optional<double>& x) {
+    return x ? nlohmann::ordered_json(*x) : nlohmann::ordered_json(nullptr);
+  };
+  nlohmann::ordered_json transport = nullptr;
+  if (const auto& t = report.transport) {
+    transport = {{"blocks", t->blocks},
+                 {"self_diffusion", t->self_diffusion},
+                 {"self_diffusion_error", t->self_diffusion_error},
+                 {"self_diffusion_yeh_hummer", optional(t->self_diffusion_corrected)},
+                 {"shear_viscosity", t->shear_viscosity},
+                 {"shear_viscosity_error", t->shear_viscosity_error},
+                 {"thermal_conductivity", t->thermal_conductivity},
+                 {"thermal_conductivity_error", t->thermal_conductivity_error},
+                 {"enskog_self_diffusion", optional(t->enskog_self_diffusion)},
+                 {"enskog_shear_viscosity", optional(t->enskog_shear_viscosity)},
+                 {"enskog_thermal_conductivity", optional(t->enskog_thermal_conductivity)}};
+  }
   const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
       {"input", report.input},
@@ -167,6 +191,12 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
                     : nlohmann::ordered_json(nullptr)},
       {"collision_rate", o.collision_rate},
       {"mean_free_time", number(o.mean_free_time)},
+      // Present when the run kept its fluxes (fluxes.hpp): the window's pressure tensor and the
+      // standard error of each component over the drift verdict's intervals.
+      {"pressure_tensor", tensor(o.pressure_tensor)},
+      {"pressure_tensor_error", tensor(report.pressure_tensor_error)},
+      // With --transport: the coefficients over the window's blocks (transport.hpp).
+      {"transport", transport},
       {"wall_seconds", report.wall_seconds},
       {"events_per_second",
        report.wall_seconds > 0.0

@@ -82,6 +82,15 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
     o.collision_rate = 2.0 * static_cast<double>(counts.pair_collisions) / (n * o.elapsed);
     o.mean_free_time = o.collision_rate > 0.0 ? 1.0 / o.collision_rate : kNever;
   }
+  if (counts.fluxes) {
+    const Fluxes fluxes = counts.fluxes->at(now);
+    const double elapsed = now - fluxes.since;
+    if (elapsed > 0.0) {
+      SymmetricTensor p = fluxes.stress_moment();
+      for (double& component : p) component /= elapsed * volume;
+      o.pressure_tensor = p;
+    }
+  }
   return o;
 }
 

@@ -14,6 +14,7 @@
 #include "carom/time_series.hpp"
 #include "carom/trajectory.hpp"
 #include "run_outputs.hpp"
+#include "transport_meter.hpp"
 
 namespace carom {
 
@@ -238,6 +239,8 @@ struct Runner::State {
   double wall_seconds = 0.0;          // in run(), over the Runner's life
   std::uint64_t events = 0;           // the events of that time
   std::optional<DriftVerdict> drift;  // of the last run
+  std::optional<SymmetricTensor> pressure_tensor_error;  // of the last run
+  std::optional<TransportEstimate> transport;            // of the last run
 
   template <std::size_t D>
   RunOutputs<D>& outputs_of(Simulation<D>& simulation) {
@@ -274,6 +277,11 @@ void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
                                    spec.log_every, spec.end_time));
   }
   check_outputs_fit(simulation, spec);
+  if (spec.transport && !simulation.state().box.periodic()) {
+    throw RequestError(
+        "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
+        "the coefficients come from");
+  }
   if (spec.measure_from) {
     const double from = *spec.measure_from;
     if (from < now && start.resumed) {
@@ -325,12 +333,19 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
   if (spec.end_time > window_start) {
     z_drift = observers.add(std::make_shared<ZDrift<D>>(
-        (spec.end_time - window_start) / ZDrift<D>::kIntervals, start.drift));
+        (spec.end_time - window_start) / ZDrift<D>::kIntervals, start.records.drift));
   }
-  start.drift.reset();  // the first run() after a resume is the one it continues
-  const auto drift_record = [&z_drift]() -> std::optional<DriftRecord> {
-    if (!z_drift) return std::nullopt;
-    return z_drift->record();
+  std::shared_ptr<TransportMeter<D>> transport_meter;
+  if (spec.transport && spec.end_time > window_start) {
+    transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
+        TransportMeter<D>::spacing(window_start, spec.end_time), start.records.transport));
+  }
+  start.records = {};  // the first run() after a resume is the one it continues
+  const auto window_records = [&z_drift, &transport_meter] {
+    WindowRecords records;
+    if (z_drift) records.drift = z_drift->record();
+    if (transport_meter) records.transport = transport_meter->record();
+    return records;
   };
   if (spec.checkpoint_every) {
     observers.add(std::make_shared<CheckpointWriter<D>>(
@@ -338,7 +353,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
         [&outputs] {
           if (!outputs.flush()) throw std::runtime_error(kCannotStream);
         },
-        drift_record));
+        window_records));
   }
   if (hooks.progress) {
     observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
@@ -361,18 +376,20 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
                         dynamic_cast<const InvariantError*>(&e) != nullptr;
     if (spec.checkpoint.empty() || broken) throw;
-    save_checkpoint(spec.checkpoint, simulation, start.source, drift_record());
+    save_checkpoint(spec.checkpoint, simulation, start.source, window_records());
     throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
   }
   account();
   drift = z_drift ? z_drift->verdict() : std::nullopt;
+  pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
+  transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
   // The drift record helps only a run that goes on to the same end: one stopped on its way. A
   // run that reached its end keeps none, as a state saved between runs (sim.save) keeps none.
   if (!spec.checkpoint.empty()) {
     save_checkpoint(spec.checkpoint, simulation, start.source,
-                    status == RunStatus::stopped ? drift_record() : std::nullopt);
+                    status == RunStatus::stopped ? window_records() : WindowRecords{});
   }
   if (!streamed_ok) {
     throw std::runtime_error(
@@ -391,6 +408,8 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   outcome.report.events = events;
   outcome.report.seed = start.seed;
   outcome.report.drift = drift;
+  outcome.report.pressure_tensor_error = pressure_tensor_error;
+  outcome.report.transport = transport;
   if (summary) {
     write_json(summary->stream(), simulation, outcome.report, false);
     summary->commit();
@@ -433,6 +452,8 @@ RunReport Runner::report() const {
   report.events = state_->events;
   report.seed = state_->start.seed;
   report.drift = state_->drift;
+  report.pressure_tensor_error = state_->pressure_tensor_error;
+  report.transport = state_->transport;
   return report;
 }
 

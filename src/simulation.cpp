@@ -48,6 +48,7 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
   engine_->rebase();
   stored_time_ = engine_->stored_time();
   measurement_ = {time_, kinetic_energy(state()), {}};
+  track_fluxes();
 }
 
 template <std::size_t D>
@@ -67,6 +68,7 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
   }
   // Saved just after an event, at that event's stored time; saved whole, at its own.
   stored_time_ = settled_ ? state().stored(time_) : engine_->stored_time();
+  track_fluxes();  // a checkpoint of carom before 1.6 kept none
 }
 
 template <std::size_t D>
@@ -128,12 +130,22 @@ template <std::size_t D>
 void Simulation<D>::record(const Event& event) {
   counts_.add(event);
   measurement_.counts.add(event);
+  if (counts_.fluxes) {
+    const System<D>& system = state();
+    const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
+    const FluxChange change =
+        flux_change(event, system.records[event.first].mass, system.particles[event.first].velocity,
+                    system.records[partner].mass, system.particles[partner].velocity);
+    counts_.fluxes->add(change);
+    measurement_.counts.fluxes->add(change);
+  }
   last_event_ = event;
   time_ = event.time;
   settled_ = false;
   if (--events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
     engine_->rebase();
     events_to_rebase_ = rebase_period_;
+    if (counts_.fluxes) renew_flux_rates();
   }
   stored_time_ = engine_->stored_time();
   if (!watch_events_) return;
@@ -267,7 +279,24 @@ void Simulation<D>::remove_observer(const Observer<D>* observer) {
 template <std::size_t D>
 void Simulation<D>::reset_measurement() {
   measurement_ = {time_, kinetic_energy(state()), {}};
+  if (counts_.fluxes) measurement_.counts.fluxes = counts_.fluxes->restarted(time_);
   measure_from_.reset();
+}
+
+template <std::size_t D>
+void Simulation<D>::track_fluxes() {
+  if (counts_.fluxes) return;
+  counts_.fluxes = fluxes_of(state(), time_);
+  measurement_.counts.fluxes = counts_.fluxes;
+}
+
+template <std::size_t D>
+void Simulation<D>::renew_flux_rates() {
+  const Fluxes exact = fluxes_of(state(), time_);
+  for (Fluxes* f : {&*counts_.fluxes, &*measurement_.counts.fluxes}) {
+    f->stress_rate = exact.stress_rate;
+    f->heat_rate = exact.heat_rate;
+  }
 }
 
 template <std::size_t D>
@@ -283,7 +312,7 @@ void Simulation<D>::measure_from(double t) {
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
   return {source,  state(),      settings_,     time_,       settled_,
-          counts_, measurement_, measure_from_, std::nullopt};
+          counts_, measurement_, measure_from_, {}};
 }
 
 template class Simulation<2>;

@@ -134,7 +134,7 @@ Start load_start(const StartSpec& spec) {
                      false,
                      std::move(note),
                      seed,
-                     std::nullopt};
+                     WindowRecords{}};
       },
       read_any_start_file(spec.path, spec.boundary));
 }
@@ -144,7 +144,7 @@ Start resume_start(const std::string& path) {
   return std::visit(
       [&](const auto& checkpoint) {
         return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", std::nullopt,
-                     checkpoint.drift};
+                     checkpoint.records};
       },
       read_checkpoint(file, path));
 }
@@ -160,7 +160,7 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
                false,
                "",
                std::nullopt,
-               std::nullopt};
+               WindowRecords{}};
 }
 
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
@@ -173,7 +173,7 @@ Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
                false,
                "",
                std::nullopt,
-               std::nullopt};
+               WindowRecords{}};
 }
 
 }  // namespace carom

@@ -55,13 +55,26 @@ double BlockAverage::error() const {
 
 namespace {
 
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
 Counts difference(const Counts& later, const Counts& earlier) {
   return {later.events - earlier.events,
           later.wall_collisions - earlier.wall_collisions,
           later.pair_collisions - earlier.pair_collisions,
           later.elastic_by_tc - earlier.elastic_by_tc,
           later.virial - earlier.virial,
-          later.wall_momentum - earlier.wall_momentum};
+          later.wall_momentum - earlier.wall_momentum,
+          later.fluxes && earlier.fluxes
+              ? std::optional<Fluxes>(flux_difference(*later.fluxes, *earlier.fluxes))
+              : std::nullopt};
+}
+
+// A run's counts at its time, the fluxes' integrals brought to it.
+template <std::size_t D>
+Counts counts_at_time(const Simulation<D>& simulation) {
+  Counts counts = simulation.counts();
+  if (counts.fluxes) counts.fluxes = counts.fluxes->at(simulation.time());
+  return counts;
 }
 
 // A value in full precision (it reads back as the same double), or an empty field.
@@ -94,10 +107,23 @@ void TimeSeriesWriter<D>::take(const Row& row, std::optional<double> window_star
 }
 
 template <std::size_t D>
+std::string TimeSeriesWriter<D>::header() {
+  std::string text = kHeader;
+  text.pop_back();
+  for (const char* prefix : {"p", "G"}) {
+    for (const std::size_t c : tensor_components<D>()) {
+      text += fmt::format(",{}{}", prefix, kTensorComponents[c]);
+    }
+  }
+  return text + "\n";
+}
+
+template <std::size_t D>
 void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
   const System<D>& system = simulation.state();
-  Row row{simulation.time(), simulation.counts(), 0.0, 0.0, false};
+  Row row{simulation.time(), counts_at_time(simulation), 0.0, 0.0, false};
   double rate = 0.0;
+  std::optional<SymmetricTensor> tensor;
   if (started_ && row.time > last_.time) {
     const Measurement interval{last_.time, 0.0, difference(row.totals, last_.totals)};
     const Observables<D> o = measure(system, interval, row.time);
@@ -105,14 +131,24 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
     row.z = o.compressibility_factor;
     row.measured = true;
     rate = o.collision_rate;
+    if (row.totals.fluxes && last_.totals.fluxes) {
+      double volume = 1.0;
+      for (std::size_t k = 0; k < D; ++k) volume *= system.box.size[k];
+      tensor = pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, volume);
+    }
   }
   take(row, window(simulation));
   const Counts& c = row.totals;
-  out_ << fmt::format(
-      "{},{},{},{},{},{},{},{},{},{},{},{},{}\n", row.time, c.events, c.pair_collisions,
+  std::string line = fmt::format(
+      "{},{},{},{},{},{},{},{},{},{},{},{},{}", row.time, c.events, c.pair_collisions,
       field(c.virial), field(c.wall_momentum), field(kinetic_temperature(system)),
       field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
       field(pressure_.mean()), field(pressure_.error()), field(z_.mean()), field(z_.error()));
+  const SymmetricTensor moment =
+      c.fluxes ? c.fluxes->stress_moment() : SymmetricTensor{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+  for (const std::size_t k : tensor_components<D>()) line += "," + field(tensor ? (*tensor)[k] : kNaN);
+  for (const std::size_t k : tensor_components<D>()) line += "," + field(moment[k]);
+  out_ << line << '\n';
   if (!out_.flush()) throw std::runtime_error("cannot write the time series");
 }
 
@@ -120,9 +156,10 @@ template <std::size_t D>
 std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclusive,
                                           const Simulation<D>& simulation) {
   LineReader reader{in, 0, {}};
-  if (!reader.next() || reader.line + "\n" != kHeader) return 0;
+  if (!reader.next() || reader.line + "\n" != header()) return 0;
   std::uint64_t kept = reader.offset;
   const std::optional<double> window_start = window(simulation);
+  constexpr std::size_t kComponents = tensor_components<D>().size();
   while (reader.next()) {
     // time,events,pair_collisions,virial,wall_momentum,temperature,pressure,Z,...
     std::vector<std::string> fields;
@@ -132,7 +169,7 @@ std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclu
       if (comma == std::string::npos) break;
       from = comma + 1;
     }
-    if (fields.size() != 13) break;
+    if (fields.size() != 13 + 2 * kComponents) break;
     const auto number = [](const std::string& text, double& value) {
       char* end = nullptr;
       value = std::strtod(text.c_str(), &end);
@@ -150,6 +187,15 @@ std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclu
       break;
     }
     row.measured = number(fields[6], row.pressure) && number(fields[7], row.z);
+    // The moment's kinetic and collisional parts only matter summed: kept as one.
+    Fluxes fluxes;
+    fluxes.time = row.time;
+    for (std::size_t m = 0; m < kComponents; ++m) {
+      if (!number(fields[13 + kComponents + m], fluxes.kinetic_stress[tensor_components<D>()[m]])) {
+        return kept;
+      }
+    }
+    row.totals.fluxes = fluxes;
     take(row, window_start);
     kept = reader.offset;
   }
@@ -167,12 +213,13 @@ void ZDrift<D>::observe(const Simulation<D>& simulation) {
   if (last_time && measuring && *last_time >= simulation.measurement().start_time &&
       now > *last_time) {
     const Measurement interval{*last_time, 0.0,
-                               difference(simulation.counts(), record_.last_totals)};
-    const double z = measure(simulation.state(), interval, now).compressibility_factor;
-    if (std::isfinite(z)) record_.z.push_back(z);
+                               difference(counts_at_time(simulation), record_.last_totals)};
+    const Observables<D> o = measure(simulation.state(), interval, now);
+    if (std::isfinite(o.compressibility_factor)) record_.z.push_back(o.compressibility_factor);
+    if (o.pressure_tensor) record_.pressure_tensors.push_back(*o.pressure_tensor);
   }
   last_time = now;
-  record_.last_totals = simulation.counts();
+  record_.last_totals = counts_at_time(simulation);
 }
 
 template <std::size_t D>
@@ -194,6 +241,21 @@ std::optional<DriftVerdict> ZDrift<D>::verdict() const {
   const double error = std::sqrt(first_variance + second_variance);
   const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
   return DriftVerdict{first, second, sigmas, z_.size()};
+}
+
+template <std::size_t D>
+std::optional<SymmetricTensor> ZDrift<D>::pressure_tensor_error() const {
+  const std::vector<SymmetricTensor>& tensors = record_.pressure_tensors;
+  if (tensors.size() < 2 * kLeastPerHalf) return std::nullopt;
+  const auto n = static_cast<double>(tensors.size());
+  SymmetricTensor error{};
+  for (std::size_t c = 0; c < 6; ++c) {
+    double mean = 0.0, squares = 0.0;
+    for (const SymmetricTensor& t : tensors) mean += t[c] / n;
+    for (const SymmetricTensor& t : tensors) squares += (t[c] - mean) * (t[c] - mean);
+    error[c] = std::sqrt(squares / (n - 1.0) / n);
+  }
+  return error;
 }
 
 template class ZDrift<2>;

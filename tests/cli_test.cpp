@@ -871,6 +871,38 @@ TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
   }
 }
 
+TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
+  const fs::path start = dir_ / "spheres.txt", summary = dir_ / "summary.json";
+  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "300", "--phi", "0.3", "--boundary", "periodic",
+                   "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "20", "--equilibrate", "5", "--transport", "--summary", summary,
+                   "-o", dir_ / "out.txt"})
+                .exit_code,
+            0);
+  const auto j = nlohmann::json::parse(read_file(summary));
+  for (const char* c : {"xx", "yy", "zz", "xy", "xz", "yz"}) {
+    EXPECT_TRUE(j["pressure_tensor"][c].is_number()) << c;
+    EXPECT_GT(j["pressure_tensor_error"][c].get<double>(), 0.0) << c;
+  }
+  EXPECT_NEAR(j["pressure_tensor"]["xx"].get<double>() / j["pressure"].get<double>(), 1.0, 0.1);
+  const auto& t = j["transport"];
+  EXPECT_EQ(t["blocks"], 10);
+  for (const char* key : {"self_diffusion", "shear_viscosity", "thermal_conductivity",
+                          "self_diffusion_yeh_hummer", "enskog_shear_viscosity"}) {
+    EXPECT_GT(t[key].get<double>(), 0.0) << key;
+  }
+  // Without --transport: none; with walls: refused.
+  ASSERT_EQ(carom({"run", start, "2", "--summary", summary, "-o", dir_ / "out.txt"}).exit_code, 0);
+  EXPECT_TRUE(nlohmann::json::parse(read_file(summary))["transport"].is_null());
+  const fs::path walled = dir_ / "walled.txt";
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  const Result walls = carom({"run", walled, "2", "--transport", "-o", dir_ / "out.txt"});
+  EXPECT_EQ(walls.exit_code, 2);
+  EXPECT_NE(walls.err.find("--transport needs a periodic box"), std::string::npos) << walls.err;
+}
+
 TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
   ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.5", "--boundary", "periodic", "-o", start})
@@ -891,7 +923,7 @@ TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
   const std::string text = read_file(whole_log);
   ASSERT_EQ(text.substr(0, text.find('\n') + 1),
             "time,events,pair_collisions,virial,wall_momentum,temperature,pressure,Z,"
-            "collision_rate,pressure_mean,pressure_error,Z_mean,Z_error\n");
+            "collision_rate,pressure_mean,pressure_error,Z_mean,Z_error,pxx,pyy,pxy,Gxx,Gyy,Gxy\n");
   std::vector<std::vector<std::string>> rows;
   for (std::size_t from = text.find('\n') + 1; from < text.size();) {
     const std::size_t end = text.find('\n', from);

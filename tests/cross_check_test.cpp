@@ -63,6 +63,9 @@ void expect_same_runs(const System<D>& system, const CollisionRule& rule, double
                       << a->time << ", reference " << describe(*b) << " at " << b->time;
     ASSERT_EQ(a->impulse, b->impulse) << label << " event " << events;
     ASSERT_EQ(a->elastic_by_tc, b->elastic_by_tc) << label << " event " << events;
+    // What the pressure tensor and the transport moments are made of (fluxes.hpp).
+    ASSERT_EQ(a->momentum, b->momentum) << label << " event " << events;
+    ASSERT_EQ(a->contact, b->contact) << label << " event " << events;
     ASSERT_GE(a->time, last) << label << " time ran backwards at event " << events;
     last = a->time;
     if ((events + 1) % rebase_every == 0) {

@@ -33,7 +33,7 @@ struct Checkpoint {
   Counts counts;         // since the run began
   Measurement measurement;
   std::optional<double> measure_from;  // a measurement window still to open
-  std::optional<DriftRecord> drift;    // of the run that saved it, if it judged one
+  WindowRecords records;               // of the run that saved it
 };
 
 using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;
@@ -50,7 +50,7 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name);
 template <std::size_t D>
 void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
                      const std::string& source,
-                     const std::optional<DriftRecord>& drift = std::nullopt);
+                     const WindowRecords& records = {});
 
 // Saves a checkpoint whenever its trigger fires (every so many events or seconds), once the run
 // is whole at that instant (Trigger::whole_instant): a checkpoint never splits the events of one
@@ -60,24 +60,24 @@ void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
 template <std::size_t D>
 class CheckpointWriter final : public Observer<D> {
  public:
-  // `drift` (optional) gives the drift record to keep with the state.
+  // `records` (optional) gives the window's records to keep with the state.
   CheckpointWriter(std::string path, std::string source, Trigger trigger,
                    std::function<void()> before_save = {},
-                   std::function<std::optional<DriftRecord>()> drift = {})
+                   std::function<WindowRecords()> records = {})
       : Observer<D>(trigger.at_whole_instants()),
         path_(std::move(path)),
         source_(std::move(source)),
         before_save_(std::move(before_save)),
-        drift_(std::move(drift)) {}
+        records_(std::move(records)) {}
   void observe(const Simulation<D>& simulation) override {
     if (before_save_) before_save_();
-    save_checkpoint(path_, simulation, source_, drift_ ? drift_() : std::nullopt);
+    save_checkpoint(path_, simulation, source_, records_ ? records_() : WindowRecords{});
   }
 
  private:
   std::string path_, source_;
   std::function<void()> before_save_;
-  std::function<std::optional<DriftRecord>()> drift_;
+  std::function<WindowRecords()> records_;
 };
 
 }  // namespace carom

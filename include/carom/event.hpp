@@ -1,6 +1,7 @@
 // A collision event and the total order in which events are processed.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -17,6 +18,12 @@ struct Event {
   // A pair: the collision virial r . (momentum given to `first`); a wall: the momentum given to it.
   double impulse = 0.0;
   bool elastic_by_tc = false;  // an inelastic collision made elastic by the TC model
+  // The momentum the first particle received (the partner received its opposite), and for a pair
+  // the contact vector r = first - partner between the touching images (zero for a wall); the
+  // third components are 0 in 2D. What the pressure tensor and the transport moments follow from
+  // (fluxes.hpp).
+  std::array<double, 3> momentum{};
+  std::array<double, 3> contact{};
 
   bool is_wall() const { return partner < 0; }
   // The same collision: who met whom when (what it did follows from that).

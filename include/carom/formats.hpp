@@ -54,6 +54,11 @@ struct RunReport {
   std::uint64_t events = 0;   // the events processed in that time
   std::optional<std::uint64_t> seed;  // of the velocities the run drew, if it drew any
   std::optional<DriftVerdict> drift;  // of Z over the measurement window, if measured
+  // The standard error of the window's pressure tensor (ZDrift::pressure_tensor_error).
+  std::optional<SymmetricTensor> pressure_tensor_error;
+  // The transport coefficients of a run that measured them (--transport), once two blocks of
+  // its window are done.
+  std::optional<TransportEstimate> transport;
 };
 
 // The settings, the whole run's counts (from t = 0, across resumes), the measurement window's

@@ -7,6 +7,8 @@
 #include <vector>
 
 #include "carom/event.hpp"
+#include "carom/fluxes.hpp"
+#include "carom/transport.hpp"
 
 namespace carom {
 
@@ -17,6 +19,8 @@ struct Counts {
   std::uint64_t elastic_by_tc = 0;  // inelastic collisions made elastic by the TC model
   double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
   double wall_momentum = 0.0;       // total momentum given to the walls
+  // The momentum and energy fluxes, when the run keeps them (Simulation::track_fluxes).
+  std::optional<Fluxes> fluxes;
 
   friend bool operator==(const Counts&, const Counts&) = default;
 
@@ -44,16 +48,27 @@ struct Measurement {
   friend bool operator==(const Measurement&, const Measurement&) = default;
 };
 
-// Where the drift verdict of a run's summary stands (ZDrift, time_series.hpp): Z over each
-// interval of length `every` of the measurement window so far, and the last interval's start.
+// Where the drift verdict of a run's summary stands (ZDrift, time_series.hpp): Z (and the
+// pressure tensor) over each interval of length `every` of the measurement window so far, and
+// the last interval's start.
 // A checkpoint keeps it, so that a run continued from one gives the verdict of a run in one piece.
 struct DriftRecord {
   double every = 0.0;
   std::optional<double> last_time;  // the start of the interval under way
   Counts last_totals;               // the run's counts then
   std::vector<double> z;
+  // The pressure tensor over each of those intervals, for a run that keeps its fluxes.
+  std::vector<SymmetricTensor> pressure_tensors;
 
   friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
+};
+
+// What the measurements over a run's window have gathered so far, beyond its counts: a
+// checkpoint keeps them, so that a run continued from one reports what a run in one piece would.
+struct WindowRecords {
+  std::optional<DriftRecord> drift;          // the drift verdict's (ZDrift)
+  std::optional<TransportRecord> transport;  // the transport coefficients' (TransportMeter)
+  friend bool operator==(const WindowRecords&, const WindowRecords&) = default;
 };
 
 }  // namespace carom

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 
 #include "carom/measurement.hpp"
 #include "carom/physics.hpp"
@@ -49,6 +50,11 @@ struct Observables {
   double collision_rate = 0.0;     // pair collisions per particle per unit time: 2 C / (N elapsed)
   double mean_free_time = kNever;  // 1 / collision_rate; never (json null) before a collision
   double packing_fraction = 0.0;
+  // When the run keeps its fluxes (Simulation::track_fluxes): the pressure tensor averaged over
+  // the window (from when the fluxes began, if later), kinetic plus collisional (fluxes.hpp).
+  // Its trace over D is the pressure but for the kinetic part, which here is the lab frame's
+  // sum m v v averaged in time rather than N kT.
+  std::optional<SymmetricTensor> pressure_tensor;
 };
 
 // The observables of `system` at time `now` over the window `measurement` opened.

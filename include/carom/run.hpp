@@ -45,6 +45,9 @@ struct RunSpec {
   std::string summary;                      // --summary: the json summary, written at the end
   std::string checkpoint;                   // --checkpoint: saved at the end and when stopped
   std::optional<Trigger> checkpoint_every;  // --checkpoint-every: also this often
+  // --transport: self-diffusion, shear viscosity and thermal conductivity over the measurement
+  // window (transport.hpp), in the summary; a periodic box only.
+  bool transport = false;
   bool check = false;                       // --check: invariants checked as the run goes
   std::uint64_t check_every = 0;            // --check-every: events between overlap checks (0: N,
                                             // at least 1000)

@@ -160,6 +160,11 @@ class Simulation {
   // Everything counted since the run began, across checkpoints.
   const Counts& counts() const { return counts_; }
 
+  // Every run keeps its momentum and energy fluxes (fluxes.hpp) in counts() and in the
+  // measurement window: the pressure tensor of observables() and the transport moments. A run
+  // continued from a checkpoint of carom before 1.6, which kept none, keeps them from then on.
+  bool tracks_fluxes() const { return counts_.fluxes.has_value(); }
+
   // The measurement window and the observables measured over it.
   const Measurement& measurement() const { return measurement_; }
   Observables<D> observables() const { return measure(state(), measurement_, time_); }
@@ -200,6 +205,11 @@ class Simulation {
   double next_due_time() const;
   // Records a processed event and calls the observers it makes due.
   void record(const Event& event);
+  // Keeps the fluxes from now on.
+  void track_fluxes();
+  // The fluxes' kinetic rates computed afresh from every particle (incremental updates gather
+  // round-off over a long run).
+  void renew_flux_rates();
   // Calls an observer that is due, or marks it to be called once the instant is complete.
   void call_or_await(Scheduled& entry);
   // Every event at the time of the last one, then the observers due then (those waiting for

@@ -43,7 +43,7 @@ struct Start {
   bool resumed = false;  // continues a checkpoint: its outputs continue their files
   std::string note;      // what reading decided without being asked, and why ("" if nothing)
   std::optional<std::uint64_t> seed;  // of the velocities drawn, if any were
-  std::optional<DriftRecord> drift;   // a checkpoint's: its run's drift verdict so far
+  WindowRecords records;              // a checkpoint's: its run's window records so far
 };
 
 // Reads a start file. Throws InputError for a broken file, RequestError for options it cannot

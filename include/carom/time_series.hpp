@@ -57,6 +57,11 @@ class TimeSeriesWriter final : public Observer<D> {
       "pressure_mean,pressure_error,Z_mean,Z_error\n";
   TimeSeriesWriter(std::ostream& out, double every)
       : Observer<D>(Trigger::every_time(every)), out_(out) {}
+  // The header of a log: kHeader's columns, then the pressure tensor over the row's interval
+  // (pxx, pyy, pxy; in 3D pxx, pyy, pzz, pxy, pxz, pyz) and its Einstein-Helfand moment, the
+  // integral of V P_ab since the run began keeping its fluxes (Gxx, ...: running totals, like
+  // virial).
+  static std::string header();
   void observe(const Simulation<D>& simulation) override;
   // The running means and errors of Z (what a progress line shows).
   const BlockAverage& compressibility() const { return z_; }
@@ -107,9 +112,12 @@ class ZDrift final : public Observer<D> {
   // Continues `earlier` (a checkpoint's) when it has the same interval length.
   explicit ZDrift(double every, const std::optional<DriftRecord>& earlier = std::nullopt)
       : Observer<D>(Trigger::every_time(every)),
-        record_(earlier && earlier->every == every ? *earlier : DriftRecord{every, {}, {}, {}}) {}
+        record_(earlier && earlier->every == every ? *earlier : DriftRecord{every, {}, {}, {}, {}}) {}
   void observe(const Simulation<D>& simulation) override;
   std::optional<DriftVerdict> verdict() const;
+  // The standard error of the pressure tensor's mean over the intervals (taken as independent:
+  // each is 1/20 of the window), once there are as many as a verdict needs.
+  std::optional<SymmetricTensor> pressure_tensor_error() const;
   const DriftRecord& record() const { return record_; }
 
  private:

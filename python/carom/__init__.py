@@ -181,7 +181,7 @@ class Simulation:
 
     def run(self, t, dump=None, every=None, log=None, log_every=None, events=None,
             checkpoint=None, checkpoint_every=None, summary=None, check=False, check_every=None,
-            equilibrate=None, collisions=False):
+            equilibrate=None, transport=False, collisions=False):
         """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
 
         Every event up to t is processed in time order; any sequence of runs ends exactly as one
@@ -197,6 +197,8 @@ class Simulation:
         or seconds as "600s"). summary: the json of observables() written at the end.
         check: verify as the run goes that event times never decrease and, every check_every
         events, that nothing overlaps. equilibrate: open the measurement window at that time.
+        transport: measure the self-diffusion coefficient, shear viscosity and thermal
+        conductivity over the measurement window (a periodic box; observables()["transport"]).
         A file named again by the next run with the same cadence goes on; a Simulation from
         carom.resume continues its files as `carom run --resume` does (cut at its time, then
         appended to); otherwise a file begins anew.
@@ -223,7 +225,7 @@ class Simulation:
             core.run(t, dump, every, log, log_every, _path(events), _path(checkpoint),
                      checkpoint_every, _path(summary), _flag("check", check), check_every,
                      None if equilibrate is None else _number("equilibrate", equilibrate),
-                     _flag("collisions", collisions))
+                     _flag("transport", transport), _flag("collisions", collisions))
         finally:
             self._running = False
         return core.collisions() if collisions else None

@@ -137,7 +137,7 @@ void export_simulation(py::module_& m) {
              const std::string& log, double log_every, const std::string& events,
              const std::string& checkpoint, const std::optional<std::string>& checkpoint_every,
              const std::string& summary, bool check, std::uint64_t check_every,
-             std::optional<double> equilibrate, bool collisions) {
+             std::optional<double> equilibrate, bool transport, bool collisions) {
             RunSpec spec;
             spec.end_time = t;
             spec.measure_from = equilibrate;
@@ -151,11 +151,12 @@ void export_simulation(py::module_& m) {
             spec.summary = summary;
             spec.check = check;
             spec.check_every = check_every;
+            spec.transport = transport;
             self.run(std::move(spec), collisions);
           },
           "t"_a, "dump"_a, "every"_a, "log"_a, "log_every"_a, "events"_a, "checkpoint"_a,
           "checkpoint_every"_a, "summary"_a, "check"_a, "check_every"_a, "equilibrate"_a,
-          "collisions"_a)
+          "transport"_a, "collisions"_a)
       .def("collisions", &PythonSimulation::collisions)
       .def(
           "compress",

@@ -130,7 +130,7 @@ std::pair<PythonSimulation, std::string> PythonSimulation::compress(CompressionS
               false,
               "",
               std::nullopt,
-              std::nullopt};
+              WindowRecords{}};
   return {PythonSimulation(std::move(start)), summary.str()};
 }
 

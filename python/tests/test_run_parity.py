@@ -25,7 +25,7 @@ FILES = ("series.csv", "events.csv", "run.ckpt", "summary.json")
 # Fields of the summary that depend on the wall clock, or (the drift verdict) on where a run
 # was cut: the verdict is made by each piece over what it saw.
 CLOCK = ("wall_seconds", "events_per_second")
-PIECEWISE = ("compressibility_factor_drift",)
+PIECEWISE = ("compressibility_factor_drift", "pressure_tensor_error", "transport")
 
 
 def outputs(dim):

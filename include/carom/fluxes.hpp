@@ -1,0 +1,214 @@
+// The momentum and energy fluxes of a run, integrated over time: the pressure tensor over any
+// interval, and the Einstein-Helfand moments the shear viscosity and the thermal conductivity
+// follow from. Kept event by event (Simulation::track_fluxes), in both engines alike.
+//
+// Between collisions the particles carry momentum and energy at a constant rate (the kinetic
+// parts); at a collision the pair exchanges them across its contact vector at once (the
+// collisional parts). So the time integral of V P_ab (the pressure tensor times the volume) is
+//   G_ab(t) = integral of sum_i m v_ia v_ib dt + sum over collisions of r_a dp_b,
+// and the one of V J_a (the heat flux) is
+//   H_a(t) = integral of sum_i (m v_i^2 / 2) v_ia dt + sum over collisions of r_a dE,
+// with r the contact vector (first minus partner), dp and dE the momentum and energy the first
+// particle received. Walls are outside: like `pressure`, the tensor is the bulk's.
+#pragma once
+
+#include <array>
+#include <cstddef>
+
+#include "carom/event.hpp"
+#include "carom/system.hpp"
+#include "carom/vec.hpp"
+
+namespace carom {
+
+// A symmetric tensor's components in the order xx, yy, zz, xy, xz, yz (the z ones 0 in 2D).
+using SymmetricTensor = std::array<double, 6>;
+inline constexpr std::array<const char*, 6> kTensorComponents{"xx", "yy", "zz", "xy", "xz", "yz"};
+// The components a dimension has, in the order above: xx, yy, xy in 2D, all six in 3D.
+template <std::size_t D>
+constexpr std::array<std::size_t, D == 2 ? 3 : 6> tensor_components() {
+  if constexpr (D == 2) {
+    return {0, 1, 3};
+  } else {
+    return {0, 1, 2, 3, 4, 5};
+  }
+}
+
+// The outer product a b^T, symmetrised.
+template <std::size_t D>
+constexpr SymmetricTensor symmetric_outer(const Vec<D>& a, const Vec<D>& b) {
+  SymmetricTensor t{};
+  t[0] = a[0] * b[0];
+  t[1] = a[1] * b[1];
+  t[3] = 0.5 * (a[0] * b[1] + a[1] * b[0]);
+  if constexpr (D == 3) {
+    t[2] = a[2] * b[2];
+    t[4] = 0.5 * (a[0] * b[2] + a[2] * b[0]);
+    t[5] = 0.5 * (a[1] * b[2] + a[2] * b[1]);
+  }
+  return t;
+}
+
+// What one event changes: the jumps of the kinetic rates (sum m v v and sum (m v^2 / 2) v over
+// the particles involved) and the collisional contributions.
+struct FluxChange {
+  double time = 0.0;  // absolute
+  SymmetricTensor stress_rate_jump{};
+  std::array<double, 3> heat_rate_jump{};
+  SymmetricTensor collisional_stress{};
+  std::array<double, 3> collisional_heat{};
+};
+
+// The change a particle of mass m makes going from velocity `before` to `after`.
+template <std::size_t D>
+constexpr void add_velocity_change(FluxChange& change, double mass, const Vec<D>& before,
+                                   const Vec<D>& after) {
+  const SymmetricTensor now = symmetric_outer(after, after), then = symmetric_outer(before, before);
+  for (std::size_t c = 0; c < 6; ++c) change.stress_rate_jump[c] += mass * (now[c] - then[c]);
+  const double energy_after = 0.5 * mass * norm2(after), energy_before = 0.5 * mass * norm2(before);
+  for (std::size_t k = 0; k < D; ++k) {
+    change.heat_rate_jump[k] += energy_after * after[k] - energy_before * before[k];
+  }
+}
+
+// The change a processed event makes, from the velocities after it (`first_after`, and
+// `partner_after` for a pair) and the momentum the event says the first particle received.
+// Per event, so in few operations: a particle of mass m whose velocity goes from v to v' =
+// v + dp / m changes sum m v v by sym(dp (v + v')) and its energy by dp . (v + v') / 2, so a
+// pair changes the kinetic rate by sym(dp (a + a' - b - b')) with one outer product.
+template <std::size_t D>
+constexpr FluxChange flux_change(const Event& event, double first_mass, const Vec<D>& first_after,
+                                 double partner_mass, const Vec<D>& partner_after) {
+  FluxChange change;
+  change.time = event.time;
+  Vec<D> dp, r;
+  for (std::size_t k = 0; k < D; ++k) {
+    dp[k] = event.momentum[k];
+    r[k] = event.contact[k];
+  }
+  const Vec<D> first_before = first_after - (1.0 / first_mass) * dp;
+  const auto carried_heat = [&change](double mass, const Vec<D>& before, const Vec<D>& after) {
+    const double energy_after = 0.5 * mass * norm2(after), energy_before = 0.5 * mass * norm2(before);
+    for (std::size_t k = 0; k < D; ++k) {
+      change.heat_rate_jump[k] += energy_after * after[k] - energy_before * before[k];
+    }
+  };
+  carried_heat(first_mass, first_before, first_after);
+  if (event.is_wall()) {
+    change.stress_rate_jump = symmetric_outer(dp, first_before + first_after);
+    return change;
+  }
+  const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dp;
+  carried_heat(partner_mass, partner_before, partner_after);
+  change.stress_rate_jump =
+      symmetric_outer(dp, (first_before + first_after) - (partner_before + partner_after));
+  change.collisional_stress = symmetric_outer(r, dp);
+  const double energy = 0.5 * dot(dp, first_before + first_after);
+  for (std::size_t k = 0; k < D; ++k) change.collisional_heat[k] = r[k] * energy;
+  return change;
+}
+
+// The fluxes since some time: each integral up to `time`, and the kinetic rates then.
+struct Fluxes {
+  SymmetricTensor kinetic_stress{};      // integral of sum m v v dt
+  SymmetricTensor collisional_stress{};  // sum of r dp (symmetrised)
+  std::array<double, 3> kinetic_heat{};  // integral of sum (m v^2 / 2) v dt
+  std::array<double, 3> collisional_heat{};  // sum of r dE
+  SymmetricTensor stress_rate{};             // sum m v v now
+  std::array<double, 3> heat_rate{};         // sum (m v^2 / 2) v now
+  double since = 0.0;                        // absolute: when the integrals began
+  double time = 0.0;                         // absolute: the integrals' end
+
+  friend bool operator==(const Fluxes&, const Fluxes&) = default;
+
+  // The integrals brought to time t (not before `time`).
+  Fluxes at(double t) const {
+    Fluxes f = *this;
+    const double dt = t - time;
+    for (std::size_t c = 0; c < 6; ++c) f.kinetic_stress[c] += stress_rate[c] * dt;
+    for (std::size_t k = 0; k < 3; ++k) f.kinetic_heat[k] += heat_rate[k] * dt;
+    f.time = t;
+    return f;
+  }
+
+  // The same rates, integrals from t on (t not before `time`).
+  Fluxes restarted(double t) const {
+    Fluxes f;
+    f.stress_rate = stress_rate;
+    f.heat_rate = heat_rate;
+    f.since = f.time = t;
+    return f;
+  }
+
+  // Brings the integrals to the change's time (as at() does, in place: this is per event), then
+  // adds it.
+  void add(const FluxChange& change) {
+    const double dt = change.time - time;
+    for (std::size_t c = 0; c < 6; ++c) {
+      kinetic_stress[c] += stress_rate[c] * dt;
+      stress_rate[c] += change.stress_rate_jump[c];
+      collisional_stress[c] += change.collisional_stress[c];
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      kinetic_heat[k] += heat_rate[k] * dt;
+      heat_rate[k] += change.heat_rate_jump[k];
+      collisional_heat[k] += change.collisional_heat[k];
+    }
+    time = change.time;
+  }
+
+  // The Einstein-Helfand moments: the integral of V P_ab, and of V J_a.
+  SymmetricTensor stress_moment() const {
+    SymmetricTensor g{};
+    for (std::size_t c = 0; c < 6; ++c) g[c] = kinetic_stress[c] + collisional_stress[c];
+    return g;
+  }
+  std::array<double, 3> heat_moment() const {
+    std::array<double, 3> h{};
+    for (std::size_t k = 0; k < 3; ++k) h[k] = kinetic_heat[k] + collisional_heat[k];
+    return h;
+  }
+};
+
+// Fluxes starting at the absolute time t, with the rates of the system's velocities.
+template <std::size_t D>
+Fluxes fluxes_of(const System<D>& system, double t) {
+  FluxChange rates;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    add_velocity_change(rates, system.records[i].mass, Vec<D>{}, system.particles[i].velocity);
+  }
+  Fluxes f;
+  f.stress_rate = rates.stress_rate_jump;
+  f.heat_rate = rates.heat_rate_jump;
+  f.since = f.time = t;
+  return f;
+}
+
+// The integrals between two flux records of one run, each brought to its own time (Fluxes::at):
+// `later`'s time and rates with the integrals since `earlier`.
+inline Fluxes flux_difference(const Fluxes& later, const Fluxes& earlier) {
+  Fluxes d = later;
+  d.since = earlier.time;
+  for (std::size_t c = 0; c < 6; ++c) {
+    d.kinetic_stress[c] -= earlier.kinetic_stress[c];
+    d.collisional_stress[c] -= earlier.collisional_stress[c];
+  }
+  for (std::size_t k = 0; k < 3; ++k) {
+    d.kinetic_heat[k] -= earlier.kinetic_heat[k];
+    d.collisional_heat[k] -= earlier.collisional_heat[k];
+  }
+  return d;
+}
+
+// The pressure tensor between two flux records of one run: the difference of their moments
+// over the time between and the volume. Taken from the moments alone (not their kinetic and
+// collisional parts), so that a log continued from the moments it wrote gives the same rows.
+inline SymmetricTensor pressure_tensor_between(const Fluxes& later, const Fluxes& earlier,
+                                               double volume) {
+  const SymmetricTensor now = later.stress_moment(), then = earlier.stress_moment();
+  SymmetricTensor p{};
+  for (std::size_t c = 0; c < 6; ++c) p[c] = (now[c] - then[c]) / ((later.time - earlier.time) * volume);
+  return p;
+}
+
+}  // namespace carom
