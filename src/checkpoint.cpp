@@ -56,7 +56,8 @@ Json fluxes_json(const Fluxes& f) {
   return {{"kinetic_stress", f.kinetic_stress}, {"collisional_stress", f.collisional_stress},
           {"kinetic_heat", f.kinetic_heat},     {"collisional_heat", f.collisional_heat},
           {"stress_rate", f.stress_rate},       {"heat_rate", f.heat_rate},
-          {"since", f.since},                   {"time", f.time}};
+          {"since", f.since},                   {"time", f.time},
+          {"stored", f.stored}};
 }
 
 // The key "fluxes" only for a run that keeps them (and checkpoints before carom 1.6 have none).
@@ -274,6 +275,7 @@ class Fields {
     components("heat_rate", f.heat_rate);
     f.since = coordinate(at(object, "since", where), fmt::format("\"since\" in {}", where));
     f.time = coordinate(at(object, "time", where), fmt::format("\"time\" in {}", where));
+    f.stored = coordinate(at(object, "stored", where), fmt::format("\"stored\" in {}", where));
     if (f.since > f.time) {
       fail_(fmt::format("the fluxes in {} begin at {}, after their time {}", where, f.since, f.time));
     }
@@ -311,7 +313,7 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     c.counts = f.counts(j, "");
     c.measurement = {f.coordinate(f.at(j, "equilibrate"), "\"equilibrate\""),
                      f.number(f.at(j, "kinetic_energy_initial"), "\"kinetic_energy_initial\""),
-                     c.counts};
+                     c.counts, std::nullopt};
     if (c.measurement.start_time > c.time) {
       c.measure_from = c.measurement.start_time;
       c.measurement.start_time = 0.0;
@@ -324,7 +326,11 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         f.coordinate(f.at(m, "start_time", "\"measurement\""), "the measurement's start_time"),
         f.number(f.at(m, "kinetic_energy_initial", "\"measurement\""),
                  "the measurement's kinetic_energy_initial"),
-        f.counts(f.at(m, "counts", "\"measurement\""), "\"measurement\"")};
+        f.counts(f.at(m, "counts", "\"measurement\""), "\"measurement\""),
+        std::nullopt};
+    if (const auto found = m.find("flux_origin"); found != m.end()) {  // from carom 1.6
+      c.measurement.flux_origin = f.fluxes(*found, "the measurement's \"flux_origin\"");
+    }
     if (const auto& from = f.at(j, "measure_from"); !from.is_null()) {
       c.measure_from = f.coordinate(from, "\"measure_from\"");
     }
@@ -420,6 +426,10 @@ template <std::size_t D>
 void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   Json box = Json::array();
   for (std::size_t k = 0; k < D; ++k) box.push_back(c.system.box.size[k]);
+  Json measurement = {{"start_time", c.measurement.start_time},
+                     {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
+                     {"counts", counts_json(c.measurement.counts)}};
+  if (c.measurement.flux_origin) measurement["flux_origin"] = fluxes_json(*c.measurement.flux_origin);
   Json head = {
       {"carom_checkpoint", kCheckpointFormat},
       {"carom_version", kVersion},
@@ -435,10 +445,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"epoch", c.system.epoch},
       {"settled", c.settled},
       {"counts", counts_json(c.counts)},
-      {"measurement",
-       {{"start_time", c.measurement.start_time},
-        {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
-        {"counts", counts_json(c.measurement.counts)}}},
+      {"measurement", measurement},
       {"measure_from", c.measure_from ? Json(*c.measure_from) : Json(nullptr)},
       {"z_drift", drift_json(c.records.drift)},
   };

@@ -83,7 +83,7 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
     o.mean_free_time = o.collision_rate > 0.0 ? 1.0 / o.collision_rate : kNever;
   }
   if (counts.fluxes) {
-    const Fluxes fluxes = counts.fluxes->at(now);
+    const Fluxes& fluxes = *counts.fluxes;  // brought to `now`
     const double elapsed = now - fluxes.since;
     if (elapsed > 0.0) {
       SymmetricTensor p = fluxes.stress_moment();

@@ -47,7 +47,7 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
   // Stored times far from zero (a system handed over mid-run) are made small before any event.
   engine_->rebase();
   stored_time_ = engine_->stored_time();
-  measurement_ = {time_, kinetic_energy(state()), {}};
+  measurement_ = {time_, kinetic_energy(state()), {}, std::nullopt};
   track_fluxes();
 }
 
@@ -133,11 +133,9 @@ void Simulation<D>::record(const Event& event) {
   if (counts_.fluxes) {
     const System<D>& system = state();
     const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
-    const FluxChange change =
-        flux_change(event, system.records[event.first].mass, system.particles[event.first].velocity,
-                    system.records[partner].mass, system.particles[partner].velocity);
-    counts_.fluxes->add(change);
-    measurement_.counts.fluxes->add(change);
+    counts_.fluxes->add_event(event, engine_->stored_time(), system.records[event.first].mass,
+                              system.particles[event.first].velocity, system.records[partner].mass,
+                              system.particles[partner].velocity);
   }
   last_event_ = event;
   time_ = event.time;
@@ -145,7 +143,10 @@ void Simulation<D>::record(const Event& event) {
   if (--events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
     engine_->rebase();
     events_to_rebase_ = rebase_period_;
-    if (counts_.fluxes) renew_flux_rates();
+    if (counts_.fluxes) {
+      counts_.fluxes->stored = engine_->stored_time();  // the same instant in the new epoch
+      renew_flux_rates();
+    }
   }
   stored_time_ = engine_->stored_time();
   if (!watch_events_) return;
@@ -278,25 +279,38 @@ void Simulation<D>::remove_observer(const Observer<D>* observer) {
 
 template <std::size_t D>
 void Simulation<D>::reset_measurement() {
-  measurement_ = {time_, kinetic_energy(state()), {}};
-  if (counts_.fluxes) measurement_.counts.fluxes = counts_.fluxes->restarted(time_);
+  measurement_ = {time_, kinetic_energy(state()), {}, current_counts().fluxes};
   measure_from_.reset();
+}
+
+template <std::size_t D>
+Counts Simulation<D>::current_counts() const {
+  Counts counts = counts_;
+  if (counts.fluxes) counts.fluxes = counts.fluxes->advanced(time_, stored_time_);
+  return counts;
+}
+
+template <std::size_t D>
+Measurement Simulation<D>::measurement() const {
+  Measurement m = measurement_;
+  if (counts_.fluxes && m.flux_origin) {
+    m.counts.fluxes = flux_difference(*current_counts().fluxes, *m.flux_origin);
+  }
+  return m;
 }
 
 template <std::size_t D>
 void Simulation<D>::track_fluxes() {
   if (counts_.fluxes) return;
-  counts_.fluxes = fluxes_of(state(), time_);
-  measurement_.counts.fluxes = counts_.fluxes;
+  counts_.fluxes = fluxes_of(state(), time_, stored_time_);
+  if (!measurement_.flux_origin) measurement_.flux_origin = counts_.fluxes;
 }
 
 template <std::size_t D>
 void Simulation<D>::renew_flux_rates() {
-  const Fluxes exact = fluxes_of(state(), time_);
-  for (Fluxes* f : {&*counts_.fluxes, &*measurement_.counts.fluxes}) {
-    f->stress_rate = exact.stress_rate;
-    f->heat_rate = exact.heat_rate;
-  }
+  const Fluxes exact = fluxes_of(state(), time_, stored_time_);
+  counts_.fluxes->stress_rate = exact.stress_rate;
+  counts_.fluxes->heat_rate = exact.heat_rate;
 }
 
 template <std::size_t D>

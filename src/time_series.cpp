@@ -69,13 +69,6 @@ Counts difference(const Counts& later, const Counts& earlier) {
               : std::nullopt};
 }
 
-// A run's counts at its time, the fluxes' integrals brought to it.
-template <std::size_t D>
-Counts counts_at_time(const Simulation<D>& simulation) {
-  Counts counts = simulation.counts();
-  if (counts.fluxes) counts.fluxes = counts.fluxes->at(simulation.time());
-  return counts;
-}
 
 // A value in full precision (it reads back as the same double), or an empty field.
 std::string field(double value, bool present = true) {
@@ -121,11 +114,11 @@ std::string TimeSeriesWriter<D>::header() {
 template <std::size_t D>
 void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
   const System<D>& system = simulation.state();
-  Row row{simulation.time(), counts_at_time(simulation), 0.0, 0.0, false};
+  Row row{simulation.time(), simulation.current_counts(), 0.0, 0.0, false};
   double rate = 0.0;
   std::optional<SymmetricTensor> tensor;
   if (started_ && row.time > last_.time) {
-    const Measurement interval{last_.time, 0.0, difference(row.totals, last_.totals)};
+    const Measurement interval{last_.time, 0.0, difference(row.totals, last_.totals), std::nullopt};
     const Observables<D> o = measure(system, interval, row.time);
     row.pressure = o.pressure;
     row.z = o.compressibility_factor;
@@ -213,13 +206,13 @@ void ZDrift<D>::observe(const Simulation<D>& simulation) {
   if (last_time && measuring && *last_time >= simulation.measurement().start_time &&
       now > *last_time) {
     const Measurement interval{*last_time, 0.0,
-                               difference(counts_at_time(simulation), record_.last_totals)};
+                               difference(simulation.current_counts(), record_.last_totals), std::nullopt};
     const Observables<D> o = measure(simulation.state(), interval, now);
     if (std::isfinite(o.compressibility_factor)) record_.z.push_back(o.compressibility_factor);
     if (o.pressure_tensor) record_.pressure_tensors.push_back(*o.pressure_tensor);
   }
   last_time = now;
-  record_.last_totals = counts_at_time(simulation);
+  record_.last_totals = simulation.current_counts();
 }
 
 template <std::size_t D>

@@ -41,7 +41,7 @@ class TransportMeter final : public Observer<D> {
         simulation.time() < simulation.measurement().start_time) {
       return;
     }
-    const Fluxes fluxes = simulation.counts().fluxes->at(simulation.time());
+    const Fluxes fluxes = *simulation.current_counts().fluxes;
     const SymmetricTensor g = fluxes.stress_moment();
     const std::array<double, 3> h = fluxes.heat_moment();
     record_.samples.push_back({g[0], g[1], g[2], g[3], g[4], g[5], h[0], h[1], h[2]});

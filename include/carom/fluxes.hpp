@@ -34,81 +34,22 @@ constexpr std::array<std::size_t, D == 2 ? 3 : 6> tensor_components() {
   }
 }
 
-// The outer product a b^T, symmetrised.
+// Adds sym(a b) to the components of t a dimension has, in place (per event: no zeros touched).
 template <std::size_t D>
-constexpr SymmetricTensor symmetric_outer(const Vec<D>& a, const Vec<D>& b) {
-  SymmetricTensor t{};
-  t[0] = a[0] * b[0];
-  t[1] = a[1] * b[1];
-  t[3] = 0.5 * (a[0] * b[1] + a[1] * b[0]);
+constexpr void add_symmetric_outer(SymmetricTensor& t, const Vec<D>& a, const Vec<D>& b) {
+  t[0] += a[0] * b[0];
+  t[1] += a[1] * b[1];
+  t[3] += 0.5 * (a[0] * b[1] + a[1] * b[0]);
   if constexpr (D == 3) {
-    t[2] = a[2] * b[2];
-    t[4] = 0.5 * (a[0] * b[2] + a[2] * b[0]);
-    t[5] = 0.5 * (a[1] * b[2] + a[2] * b[1]);
-  }
-  return t;
-}
-
-// What one event changes: the jumps of the kinetic rates (sum m v v and sum (m v^2 / 2) v over
-// the particles involved) and the collisional contributions.
-struct FluxChange {
-  double time = 0.0;  // absolute
-  SymmetricTensor stress_rate_jump{};
-  std::array<double, 3> heat_rate_jump{};
-  SymmetricTensor collisional_stress{};
-  std::array<double, 3> collisional_heat{};
-};
-
-// The change a particle of mass m makes going from velocity `before` to `after`.
-template <std::size_t D>
-constexpr void add_velocity_change(FluxChange& change, double mass, const Vec<D>& before,
-                                   const Vec<D>& after) {
-  const SymmetricTensor now = symmetric_outer(after, after), then = symmetric_outer(before, before);
-  for (std::size_t c = 0; c < 6; ++c) change.stress_rate_jump[c] += mass * (now[c] - then[c]);
-  const double energy_after = 0.5 * mass * norm2(after), energy_before = 0.5 * mass * norm2(before);
-  for (std::size_t k = 0; k < D; ++k) {
-    change.heat_rate_jump[k] += energy_after * after[k] - energy_before * before[k];
+    t[2] += a[2] * b[2];
+    t[4] += 0.5 * (a[0] * b[2] + a[2] * b[0]);
+    t[5] += 0.5 * (a[1] * b[2] + a[2] * b[1]);
   }
 }
 
-// The change a processed event makes, from the velocities after it (`first_after`, and
-// `partner_after` for a pair) and the momentum the event says the first particle received.
-// Per event, so in few operations: a particle of mass m whose velocity goes from v to v' =
-// v + dp / m changes sum m v v by sym(dp (v + v')) and its energy by dp . (v + v') / 2, so a
-// pair changes the kinetic rate by sym(dp (a + a' - b - b')) with one outer product.
-template <std::size_t D>
-constexpr FluxChange flux_change(const Event& event, double first_mass, const Vec<D>& first_after,
-                                 double partner_mass, const Vec<D>& partner_after) {
-  FluxChange change;
-  change.time = event.time;
-  Vec<D> dp, r;
-  for (std::size_t k = 0; k < D; ++k) {
-    dp[k] = event.momentum[k];
-    r[k] = event.contact[k];
-  }
-  const Vec<D> first_before = first_after - (1.0 / first_mass) * dp;
-  const auto carried_heat = [&change](double mass, const Vec<D>& before, const Vec<D>& after) {
-    const double energy_after = 0.5 * mass * norm2(after), energy_before = 0.5 * mass * norm2(before);
-    for (std::size_t k = 0; k < D; ++k) {
-      change.heat_rate_jump[k] += energy_after * after[k] - energy_before * before[k];
-    }
-  };
-  carried_heat(first_mass, first_before, first_after);
-  if (event.is_wall()) {
-    change.stress_rate_jump = symmetric_outer(dp, first_before + first_after);
-    return change;
-  }
-  const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dp;
-  carried_heat(partner_mass, partner_before, partner_after);
-  change.stress_rate_jump =
-      symmetric_outer(dp, (first_before + first_after) - (partner_before + partner_after));
-  change.collisional_stress = symmetric_outer(r, dp);
-  const double energy = 0.5 * dot(dp, first_before + first_after);
-  for (std::size_t k = 0; k < D; ++k) change.collisional_heat[k] = r[k] * energy;
-  return change;
-}
-
-// The fluxes since some time: each integral up to `time`, and the kinetic rates then.
+// The fluxes since some time: each integral up to `time`, and the kinetic rates then. The
+// integrals step on stored times (System::epoch), which resolve a run alike at any absolute
+// time, so that a run gives the same integrals whenever it starts.
 struct Fluxes {
   SymmetricTensor kinetic_stress{};      // integral of sum m v v dt
   SymmetricTensor collisional_stress{};  // sum of r dp (symmetrised)
@@ -118,43 +59,63 @@ struct Fluxes {
   std::array<double, 3> heat_rate{};         // sum (m v^2 / 2) v now
   double since = 0.0;                        // absolute: when the integrals began
   double time = 0.0;                         // absolute: the integrals' end
+  double stored = 0.0;                       // `time` as a stored time
 
   friend bool operator==(const Fluxes&, const Fluxes&) = default;
 
-  // The integrals brought to time t (not before `time`).
-  Fluxes at(double t) const {
+  // The integrals brought to the absolute time `now`, which is `now_stored` as a stored time
+  // (not before `stored`).
+  Fluxes advanced(double now, double now_stored) const {
     Fluxes f = *this;
-    const double dt = t - time;
+    const double dt = now_stored - stored;
     for (std::size_t c = 0; c < 6; ++c) f.kinetic_stress[c] += stress_rate[c] * dt;
     for (std::size_t k = 0; k < 3; ++k) f.kinetic_heat[k] += heat_rate[k] * dt;
-    f.time = t;
+    f.time = now;
+    f.stored = now_stored;
     return f;
   }
 
-  // The same rates, integrals from t on (t not before `time`).
-  Fluxes restarted(double t) const {
-    Fluxes f;
-    f.stress_rate = stress_rate;
-    f.heat_rate = heat_rate;
-    f.since = f.time = t;
-    return f;
-  }
+  // Brings the integrals to the time of a processed event, `event_stored` as a stored time (as
+  // advanced() does, in place), then adds what the event did, from the velocities after it
+  // (`first_after`, and `partner_after` for a pair) and the momentum dp the first particle
+  // received. Per event, so in few operations: a particle of mass m whose velocity goes from v to
+  // v' = v + dp / m changes sum m v v by sym(dp (v + v')) and its energy by dp . (v + v') / 2, so
+  // a pair changes the kinetic rate by sym(dp (a + a' - b - b')), one outer product, and
+  // transfers sym(r dp) and r dE across its contact r.
+  template <std::size_t D>
+  void add_event(const Event& event, double event_stored, double first_mass,
+                 const Vec<D>& first_after, double partner_mass, const Vec<D>& partner_after) {
+    const double dt = event_stored - stored;
+    for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
+    for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+    time = event.time;
+    stored = event_stored;
 
-  // Brings the integrals to the change's time (as at() does, in place: this is per event), then
-  // adds it.
-  void add(const FluxChange& change) {
-    const double dt = change.time - time;
-    for (std::size_t c = 0; c < 6; ++c) {
-      kinetic_stress[c] += stress_rate[c] * dt;
-      stress_rate[c] += change.stress_rate_jump[c];
-      collisional_stress[c] += change.collisional_stress[c];
+    Vec<D> dp, r;
+    for (std::size_t k = 0; k < D; ++k) {
+      dp[k] = event.momentum[k];
+      r[k] = event.contact[k];
     }
-    for (std::size_t k = 0; k < 3; ++k) {
-      kinetic_heat[k] += heat_rate[k] * dt;
-      heat_rate[k] += change.heat_rate_jump[k];
-      collisional_heat[k] += change.collisional_heat[k];
+    const auto carried_heat = [this](double mass, const Vec<D>& before, const Vec<D>& after) {
+      const double energy_after = 0.5 * mass * norm2(after);
+      const double energy_before = 0.5 * mass * norm2(before);
+      for (std::size_t k = 0; k < D; ++k) {
+        heat_rate[k] += energy_after * after[k] - energy_before * before[k];
+      }
+    };
+    const Vec<D> first_before = first_after - (1.0 / first_mass) * dp;
+    carried_heat(first_mass, first_before, first_after);
+    if (event.is_wall()) {
+      add_symmetric_outer<D>(stress_rate, dp, first_before + first_after);
+      return;
     }
-    time = change.time;
+    const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dp;
+    carried_heat(partner_mass, partner_before, partner_after);
+    add_symmetric_outer<D>(stress_rate, dp,
+                           (first_before + first_after) - (partner_before + partner_after));
+    add_symmetric_outer<D>(collisional_stress, r, dp);
+    const double energy = 0.5 * dot(dp, first_before + first_after);
+    for (std::size_t k = 0; k < D; ++k) collisional_heat[k] += r[k] * energy;
   }
 
   // The Einstein-Helfand moments: the integral of V P_ab, and of V J_a.
@@ -170,21 +131,24 @@ struct Fluxes {
   }
 };
 
-// Fluxes starting at the absolute time t, with the rates of the system's velocities.
+// Fluxes starting at the absolute time t (`stored` as a stored time), with the rates of the
+// system's velocities.
 template <std::size_t D>
-Fluxes fluxes_of(const System<D>& system, double t) {
-  FluxChange rates;
-  for (std::size_t i = 0; i < system.size(); ++i) {
-    add_velocity_change(rates, system.records[i].mass, Vec<D>{}, system.particles[i].velocity);
-  }
+Fluxes fluxes_of(const System<D>& system, double t, double stored) {
   Fluxes f;
-  f.stress_rate = rates.stress_rate_jump;
-  f.heat_rate = rates.heat_rate_jump;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    const double mass = system.records[i].mass;
+    const Vec<D>& v = system.particles[i].velocity;
+    add_symmetric_outer<D>(f.stress_rate, mass * v, v);
+    const double energy = 0.5 * mass * norm2(v);
+    for (std::size_t k = 0; k < D; ++k) f.heat_rate[k] += energy * v[k];
+  }
   f.since = f.time = t;
+  f.stored = stored;
   return f;
 }
 
-// The integrals between two flux records of one run, each brought to its own time (Fluxes::at):
+// The integrals between two flux records of one run, each brought to its own time (advanced()):
 // `later`'s time and rates with the integrals since `earlier`.
 inline Fluxes flux_difference(const Fluxes& later, const Fluxes& earlier) {
   Fluxes d = later;

@@ -19,7 +19,8 @@ struct Counts {
   std::uint64_t elastic_by_tc = 0;  // inelastic collisions made elastic by the TC model
   double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
   double wall_momentum = 0.0;       // total momentum given to the walls
-  // The momentum and energy fluxes, when the run keeps them (Simulation::track_fluxes).
+  // The momentum and energy fluxes (fluxes.hpp): a run's are kept event by event; a window's
+  // follow from them (Measurement::flux_origin).
   std::optional<Fluxes> fluxes;
 
   friend bool operator==(const Counts&, const Counts&) = default;
@@ -44,6 +45,9 @@ struct Measurement {
   double start_time = 0.0;
   double kinetic_energy_initial = 0.0;
   Counts counts;
+  // The run's fluxes when the window opened: the window's are the run's since (Simulation keeps
+  // one set event by event, and measurement() gives the window's as the difference).
+  std::optional<Fluxes> flux_origin;
 
   friend bool operator==(const Measurement&, const Measurement&) = default;
 };

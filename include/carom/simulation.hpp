@@ -157,8 +157,11 @@ class Simulation {
   std::vector<Particle<D>> snapshot() const { return synchronised(state(), stored_time_); }
   // The last processed event (valid once counts().events > 0).
   const Event& last_event() const { return last_event_; }
-  // Everything counted since the run began, across checkpoints.
+  // Everything counted since the run began, across checkpoints (the fluxes' integrals up to the
+  // last event).
   const Counts& counts() const { return counts_; }
+  // The same, the fluxes' integrals brought to time().
+  Counts current_counts() const;
 
   // Every run keeps its momentum and energy fluxes (fluxes.hpp) in counts() and in the
   // measurement window: the pressure tensor of observables() and the transport moments. A run
@@ -166,8 +169,9 @@ class Simulation {
   bool tracks_fluxes() const { return counts_.fluxes.has_value(); }
 
   // The measurement window and the observables measured over it.
-  const Measurement& measurement() const { return measurement_; }
-  Observables<D> observables() const { return measure(state(), measurement_, time_); }
+  // The window's fluxes are brought to time().
+  Measurement measurement() const;
+  Observables<D> observables() const { return measure(state(), measurement(), time_); }
   // Opens the window now: counts from zero, the kinetic energy now.
   void reset_measurement();
   // Opens the window at time t (now if t is not ahead): equilibrate until then.

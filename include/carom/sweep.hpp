@@ -120,8 +120,9 @@ struct TaskResult {
   }
 };
 
-// The measures of a task of `kind`, in results.csv's order.
-const std::vector<std::string>& measure_names(TaskKind kind);
+// The measures of the plan's tasks, in results.csv's order: a run's (with `transport = true`,
+// its transport coefficients too) or a compression's.
+std::vector<std::string> measure_names(const SweepPlan& plan);
 
 struct TaskHooks {
   const std::atomic<int>* stop = nullptr;  // nonzero stops the task (its checkpoint saved)

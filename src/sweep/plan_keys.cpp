@@ -40,6 +40,7 @@ constexpr std::array kKeys = {
     KeyInfo{"checkpoint_every", run, cadence},
     KeyInfo{"check", run, flag},
     KeyInfo{"check_every", run, integer},
+    KeyInfo{"transport", run, flag},
     KeyInfo{"phi", compress, number},
     KeyInfo{"jam", compress, flag},
     KeyInfo{"rate", compress, number},

@@ -44,7 +44,7 @@ StatePoints state_points(const SweepPlan& plan, const std::vector<TaskResult>& r
     kept.push_back(a);
     s.axes.push_back(plan.axes()[a]);
   }
-  for (const std::string& name : measure_names(plan.kind())) {
+  for (const std::string& name : measure_names(plan)) {
     if (!is_error(name)) s.measures.push_back(name);
   }
   std::vector<std::vector<const TaskResult*>> done;

@@ -28,7 +28,7 @@ std::string quoted(const std::string& text) {
 
 void write_results(std::ostream& out, const SweepPlan& plan,
                    const std::vector<TaskResult>& results) {
-  const std::vector<std::string>& measures = measure_names(plan.kind());
+  const std::vector<std::string> measures = measure_names(plan);
   for (const std::string& axis : plan.axes()) out << axis << ',';
   out << "status";
   for (const std::string& name : measures) out << ',' << name;

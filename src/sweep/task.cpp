@@ -2,6 +2,8 @@
 // resumed from what an earlier attempt left.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -61,20 +63,31 @@ double last_logged(const fs::path& log, const std::string& column) {
   return kNotMeasured;
 }
 
+// The keys of a summary's "transport" that results.csv shows, under the same names.
+constexpr std::array<const char*, 7> kTransportMeasures = {
+    "self_diffusion",       "self_diffusion_error",       "self_diffusion_yeh_hummer",
+    "shear_viscosity",      "shear_viscosity_error",      "thermal_conductivity",
+    "thermal_conductivity_error"};
+
 double number(const nlohmann::json& summary, const char* key) {
   const auto found = summary.find(key);
   return found != summary.end() && found->is_number() ? found->get<double>() : kNotMeasured;
 }
 
 // What a done task measured, from its summary (and a run's time series for the errors).
-TaskResult done_result(TaskKind kind, const fs::path& folder) {
+TaskResult done_result(const std::vector<std::string>& names, const fs::path& folder) {
   const nlohmann::json summary = nlohmann::json::parse(read_text(folder / task_files::kSummary));
   TaskResult result;
   result.status = TaskStatus::done;
   result.dimension = summary.value("dimension", 0);
   result.wall_seconds = number(summary, "wall_seconds");
-  for (const std::string& name : measure_names(kind)) {
+  for (const std::string& name : names) {
     double value = kNotMeasured;
+    if (std::find(kTransportMeasures.begin(), kTransportMeasures.end(), name) !=
+            kTransportMeasures.end() &&
+        summary.contains("transport")) {
+      value = number(summary["transport"], name.c_str());
+    }
     if (name == "Z") value = number(summary, "compressibility_factor");
     if (name == "Z_error") value = last_logged(folder / task_files::kLog, "Z_error");
     if (name == "pressure_error") value = last_logged(folder / task_files::kLog, "pressure_error");
@@ -171,12 +184,20 @@ void remove_leftovers(const fs::path& folder) {
 
 }  // namespace
 
-const std::vector<std::string>& measure_names(TaskKind kind) {
-  static const std::vector<std::string> run = {
-      "Z",           "Z_error",        "pressure",        "pressure_error",
-      "temperature", "collision_rate", "packing_fraction"};
-  static const std::vector<std::string> compress = {"packing_fraction", "Z", "time", "events"};
-  return kind == TaskKind::run ? run : compress;
+std::vector<std::string> measure_names(const SweepPlan& plan) {
+  if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
+  std::vector<std::string> names = {"Z",           "Z_error",        "pressure",
+                                    "pressure_error", "temperature", "collision_rate",
+                                    "packing_fraction"};
+  const auto transport = [](const SweepTask& task) {
+    return std::any_of(task.action.begin(), task.action.end(), [](const PlanSetting& s) {
+      return s.key == "transport" && std::get<bool>(s.value);
+    });
+  };
+  if (std::any_of(plan.tasks().begin(), plan.tasks().end(), transport)) {
+    names.insert(names.end(), kTransportMeasures.begin(), kTransportMeasures.end());
+  }
+  return names;
 }
 
 std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
@@ -212,14 +233,14 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
     check_sweep_folder(plan, out_dir);  // throws, saying what differs
   }
   const fs::path error = folder / task_files::kError;
-  if (fs::exists(folder / task_files::kSummary)) return done_result(plan.kind(), folder);
+  if (fs::exists(folder / task_files::kSummary)) return done_result(measure_names(plan), folder);
   fs::remove(error);
   remove_leftovers(folder);
   try {
     const TaskStatus status =
         plan.kind() == TaskKind::run ? run(spec, folder, hooks) : compress(spec, folder, hooks);
     if (status == TaskStatus::stopped) return TaskResult::with(TaskStatus::stopped);
-    return done_result(plan.kind(), folder);
+    return done_result(measure_names(plan), folder);
   } catch (const std::exception& e) {
     // Whatever the task could not do is its own failure: the sweep goes on.
     TaskResult failed = TaskResult::with(TaskStatus::failed, e.what());
@@ -233,7 +254,7 @@ std::vector<TaskResult> read_task_results(const SweepPlan& plan, const std::stri
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
     const fs::path folder = task_folder(plan, i, out_dir);
     if (fs::exists(folder / task_files::kSummary)) {
-      results.push_back(done_result(plan.kind(), folder));
+      results.push_back(done_result(measure_names(plan), folder));
     } else if (fs::exists(folder / task_files::kError)) {
       std::string error = read_text(folder / task_files::kError);
       while (!error.empty() && error.back() == '\n') error.pop_back();

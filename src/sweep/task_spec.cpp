@@ -133,6 +133,7 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "checkpoint_every") cadence = value_text(v);
     if (s.key == "check") run.check = as_flag(v);
     if (s.key == "check_every") run.check_every = as_integer(v);
+    if (s.key == "transport") run.transport = as_flag(v);
   }
   // Every task keeps a time series (the error bars of results.csv), its summary and its state.
   const double measured = run.end_time - run.measure_from.value_or(0.0);
