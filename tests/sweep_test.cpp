@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -214,6 +215,26 @@ TEST(SweepTask, ADoneTaskIsReadNotRunAgainAndAChangedPlanIsRefused) {
   changed.replace(changed.find("end_time = 2"), 12, "end_time = 3");
   EXPECT_THROW(check_sweep_folder(parse(changed), folder / "out"), RequestError);
   EXPECT_THROW(run_task(parse(changed), 0, folder / "out"), RequestError);
+}
+
+TEST(SweepTask, ATransportPlanMeasuresTransportCoefficients) {
+  const Folder folder;
+  std::string text = kSmallPlan;
+  text.replace(text.find("n = 16"), 6, "n = 60\ndim = 3");
+  text.replace(text.find("end_time = 2"), 12, "end_time = 8\ntransport = true");
+  const SweepPlan plan = parse(text);
+  const std::vector<std::string> names = measure_names(plan);
+  for (const char* name : {"self_diffusion", "shear_viscosity", "thermal_conductivity"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  }
+  EXPECT_NE(task_commands(plan, 0, "out").back().find(" --transport"), std::string::npos);
+  const TaskResult result = run_task(plan, 0, folder / "out");
+  ASSERT_EQ(result.status, TaskStatus::done) << result.error;
+  EXPECT_GT(result.measure("self_diffusion"), 0.0);
+  EXPECT_GT(result.measure("shear_viscosity"), 0.0);
+  // Without it, no such columns.
+  const std::vector<std::string> plain = measure_names(parse(kSmallPlan));
+  EXPECT_EQ(std::find(plain.begin(), plain.end(), "self_diffusion"), plain.end());
 }
 
 TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
