@@ -63,8 +63,16 @@ void check(const RunArguments& args) {
 }
 
 StartSpec start_spec(const RunArguments& args) {
-  return {args.input, args.boundary, args.rule,        args.restitution,
-          args.tc,    args.engine,   args.temperature, args.seed};
+  return {args.input,
+          args.boundary,
+          args.rule,
+          args.restitution,
+          args.tc,
+          args.engine,
+          args.temperature,
+          args.seed,
+          thermostat_request(args.thermostat, args.temperature, args.thermostat_every,
+                             args.thermostat_rate, args.seed)};
 }
 
 RunSpec run_spec(const RunArguments& args, double end_time) {
@@ -202,7 +210,19 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "(zero total momentum, kT exact), as carom init does: for a start without "
                   "velocities, or to rethermalise one")
       ->check(finite_number());
-  run->add_option("--seed", args.seed, "Random seed of --kT's velocities")->default_str("1");
+  run->add_option("--seed", args.seed, "Random seed of --kT's velocities (and Andersen's draws)")
+      ->default_str("1");
+  add_choice<ThermostatKind>(
+      run, "--thermostat", args.thermostat,
+      "Hold the run at --kT every --thermostat-every: rescale (every velocity relative to the "
+      "centre of mass scaled to kT exactly) or andersen (each particle, with probability 1 - "
+      "exp(-NU DT), a new Maxwell-Boltzmann velocity; --thermostat-rate NU)");
+  run->add_option("--thermostat-every", args.thermostat_every,
+                  "Time between the thermostat's actions (at DT, 2 DT, ...)")
+      ->check(finite_number());
+  run->add_option("--thermostat-rate", args.thermostat_rate,
+                  "Andersen's collision rate: resets per particle per unit time")
+      ->check(finite_number());
   add_choice<EngineKind>(run, "--engine", args.engine,
                          "fast: neighbour lists (dense systems) or a cell grid, and an event "
                          "calendar, O(1) per event; reference: the classic assignment's "
@@ -218,7 +238,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                                "if it had never stopped (its rule, boundary and engine apply)");
   run->get_option("--seed")->needs(run->get_option("--kT"));
   for (const char* fixed_by_checkpoint :
-       {"--rule", "--restitution", "--tc", "--boundary", "--engine", "--kT"}) {
+       {"--rule", "--restitution", "--tc", "--boundary", "--engine", "--kT", "--thermostat",
+        "--thermostat-every", "--thermostat-rate"}) {
     run->get_option(fixed_by_checkpoint)->excludes(resume);
   }
   return run;

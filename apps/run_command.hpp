@@ -38,6 +38,8 @@ struct RunArguments {
   std::optional<double> progress;     // seconds between status lines, whatever stderr is
   std::optional<double> temperature;  // --kT: draw new velocities at this kT
   std::uint64_t seed = 1;             // --seed: for them
+  ThermostatKind thermostat = ThermostatKind::none;
+  std::optional<double> thermostat_every, thermostat_rate;
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

@@ -85,8 +85,8 @@ void AnySimulation::measure_from(double t) {
 std::optional<double> AnySimulation::pending_measurement() const {
   return visit([](const auto& s) { return s.pending_measurement(); });
 }
-const Measurement& AnySimulation::measurement() const {
-  return visit([](const auto& s) -> const Measurement& { return s.measurement(); });
+Measurement AnySimulation::measurement() const {
+  return visit([](const auto& s) { return s.measurement(); });
 }
 std::optional<double> AnySimulation::compressibility_factor() const {
   return visit([](const auto& s) -> std::optional<double> {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string_view>
 
 #include "carom/atomic_file.hpp"
@@ -362,6 +363,23 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
       }
       c.records.drift = std::move(drift);
     }
+    if (const auto found = j.find("thermostat"); found != j.end()) {  // from carom 1.6
+      const std::string where = "\"thermostat\"";
+      Thermostat& t = c.settings.thermostat;
+      t.kind = f.template choice<ThermostatKind>(*found, "kind");
+      t.kT = f.number(f.at(*found, "kT", where), "the thermostat's kT");
+      t.every = f.number(f.at(*found, "every", where), "the thermostat's every");
+      t.rate = f.number(f.at(*found, "rate", where), "the thermostat's rate");
+      t.seed = f.count(f.at(*found, "seed", where), "the thermostat's seed");
+      c.thermostat_instants = f.count(f.at(*found, "instants", where), "the thermostat's instants");
+      std::istringstream rng(f.text(f.at(*found, "rng", where), "the thermostat's rng"));
+      if (!(rng >> c.thermostat_rng)) fail("the thermostat's \"rng\" is not a pcg32 state");
+      try {
+        check_thermostat(t);
+      } catch (const std::invalid_argument& e) {
+        fail(e.what());
+      }
+    }
     if (const auto found = j.find("transport"); found != j.end()) {
       c.records.transport = f.transport(*found);
     }
@@ -450,6 +468,14 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"z_drift", drift_json(c.records.drift)},
   };
   if (c.records.transport) head["transport"] = transport_json(*c.records.transport);
+  if (const Thermostat& t = c.settings.thermostat; t.kind != ThermostatKind::none) {
+    std::ostringstream rng;
+    rng << c.thermostat_rng;
+    head["thermostat"] = {{"kind", name_of(t.kind)}, {"kT", t.kT},
+                          {"every", t.every},        {"rate", t.rate},
+                          {"seed", t.seed},          {"instants", c.thermostat_instants},
+                          {"rng", rng.str()}};
+  }
   std::string text = head.dump(1);
   Fnv1a hash;
   add_head(hash, nlohmann::json::parse(text));  // keys sorted, as the reader sees them

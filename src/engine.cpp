@@ -109,6 +109,26 @@ void Engine<D>::rebase() {
 }
 
 template <std::size_t D>
+void Engine<D>::move_all_to(double t) {
+  if (growing()) throw std::logic_error("a growing engine cannot be intervened in");
+  if (!(t >= now_)) throw std::logic_error("an intervention before the last event");
+  for (std::size_t i = 0; i < system_.size(); ++i) {
+    Particle<D>& p = system_.particles[i];
+    p.position = position_at(p, t);
+    p.time = t;
+    wrap(p.position, system_.box, system_.records[i].image);
+  }
+}
+
+template <std::size_t D>
+void Engine<D>::restart_at(double t) {
+  system_.shift_epoch(t);
+  now_ = 0.0;
+  events_at_now_ = 0;
+  rebased(t);
+}
+
+template <std::size_t D>
 Vec<D> Engine<D>::image(std::uint32_t i, std::uint32_t j, double t) const {
   if (!system_.box.periodic()) return Vec<D>{};
   const auto& particles = system_.particles;

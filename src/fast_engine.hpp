@@ -32,6 +32,10 @@ class FastEngine final : public Engine<D> {
 
  private:
   void rebased(double shift) override;
+  // The image horizon follows the fastest speed the energy allows, which a thermostat changes.
+  void velocities_changed() override {
+    if (horizon_ != kNever) horizon_ = this->image_horizon();
+  }
   // Finds the earliest event of particle i from the current time and queues it: against every
   // particle in the cells around it, or after a crossing only against those in the layer of cells
   // the crossing brought within reach, the earlier prediction standing for the rest.

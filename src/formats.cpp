@@ -108,6 +108,21 @@ void write_csv(std::ostream& out, const Simulation<D>& simulation) {
   }
 }
 
+namespace {
+
+// A run's thermostat as its summary shows it: null without one.
+nlohmann::ordered_json thermostat_json(const Thermostat& t) {
+  if (t.kind == ThermostatKind::none) return nullptr;
+  nlohmann::ordered_json j = {{"kind", name_of(t.kind)}, {"kT", t.kT}, {"every", t.every}};
+  if (t.kind == ThermostatKind::andersen) {
+    j["rate"] = t.rate;
+    j["seed"] = t.seed;
+  }
+  return j;
+}
+
+}  // namespace
+
 template <std::size_t D>
 void write_json(std::ostream& out, const Simulation<D>& simulation, const RunReport& report,
                 bool particles) {
@@ -160,6 +175,7 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"restitution", rule.restitution},
       {"tc", rule.elastic_within},
       {"engine", name_of(simulation.settings().engine)},
+      {"thermostat", thermostat_json(simulation.settings().thermostat)},
       // A run draws random numbers only for --kT; the start file's seed is carom init's.
       {"seed",
        report.seed ? nlohmann::ordered_json(*report.seed) : nlohmann::ordered_json(nullptr)},

@@ -26,18 +26,19 @@ constexpr int kAttemptsPerParticle = 10000;
 // reader accepts overlaps up to kOverlapTolerance, 1e-9, as round-off.)
 constexpr double kLatticeSlack = 1e-12;
 
-// Uniform in [0, 1) with 53 random bits; pcg32 gives 32 a call. (std:: distributions differ
-// between standard libraries; this does not.)
-double uniform(pcg32& rng) {
+}  // namespace
+
+double uniform_deviate(pcg32& rng) {
   const std::uint64_t hi = rng() >> 5, lo = rng() >> 6;
   return (static_cast<double>(hi) * 67108864.0 + static_cast<double>(lo)) / 9007199254740992.0;
 }
 
-// A standard normal deviate (Box-Muller; one of the pair, so each deviate costs two draws).
-double normal(pcg32& rng) {
-  const double u = 1.0 - uniform(rng);  // in (0, 1]: the logarithm is finite
-  return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * std::numbers::pi * uniform(rng));
+double normal_deviate(pcg32& rng) {
+  const double u = 1.0 - uniform_deviate(rng);  // in (0, 1]: the logarithm is finite
+  return std::sqrt(-2.0 * std::log(u)) * std::cos(2.0 * std::numbers::pi * uniform_deviate(rng));
 }
+
+namespace {
 
 template <std::size_t D>
 void place_randomly(System<D>& system, pcg32& rng) {
@@ -50,7 +51,7 @@ void place_randomly(System<D>& system, pcg32& rng) {
     bool placed = false;
     for (int attempt = 0; attempt < kAttemptsPerParticle && !placed; ++attempt) {
       for (std::size_t k = 0; k < D; ++k) {
-        p.position[k] = margin + (box.size[k] - 2.0 * margin) * uniform(rng);
+        p.position[k] = margin + (box.size[k] - 2.0 * margin) * uniform_deviate(rng);
       }
       placed = true;
       grid.for_each_near(grid.locate(p.position), [&](std::uint32_t j) {
@@ -271,7 +272,7 @@ void draw_velocities(System<D>& system, double temperature, pcg32& rng) {
   double mass = 0.0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const double scale = std::sqrt(temperature / system.records[i].mass);
-    for (std::size_t k = 0; k < D; ++k) particles[i].velocity[k] = scale * normal(rng);
+    for (std::size_t k = 0; k < D; ++k) particles[i].velocity[k] = scale * normal_deviate(rng);
     mass += system.records[i].mass;
   }
   const Vec<D> drift = (1.0 / mass) * momentum(system);
@@ -353,7 +354,7 @@ System<D> make_initial(const InitialOptions& o) {
   // Radii relative to their mean, uniform with the requested relative standard deviation.
   double volume = 0.0;
   for (Particle<D>& p : system.particles) {
-    p.radius = 1.0 + o.polydispersity * std::sqrt(3.0) * (2.0 * uniform(rng) - 1.0);
+    p.radius = 1.0 + o.polydispersity * std::sqrt(3.0) * (2.0 * uniform_deviate(rng) - 1.0);
     volume += volume_of<D>(p.radius);
   }
   double scale = 0.0;

@@ -37,6 +37,8 @@ class ReferenceEngine final : public Engine<D> {
 
  private:
   void rebased(double) override { window_start_ = this->now_; }
+  // The window follows the fastest speed the energy allows, which a thermostat changes.
+  void velocities_changed() override { horizon_ = this->image_horizon(); }
 
   Event earliest() const {
     const auto& particles = this->system_.particles;

@@ -23,6 +23,7 @@ void check_settings(const Settings& settings) {
     throw std::invalid_argument(
         fmt::format("the TC time must be a number >= 0, got {}", rule.elastic_within));
   }
+  check_thermostat(settings.thermostat);
 }
 
 namespace {
@@ -49,6 +50,10 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
   stored_time_ = engine_->stored_time();
   measurement_ = {time_, kinetic_energy(state()), {}, std::nullopt};
   track_fluxes();
+  thermostat_rng_.seed(settings_.thermostat.seed);
+  if (settings_.thermostat.kind != ThermostatKind::none) {
+    thermostat_instants_ = static_cast<std::uint64_t>(std::floor(time_ / settings_.thermostat.every));
+  }
 }
 
 template <std::size_t D>
@@ -69,6 +74,8 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
   // Saved just after an event, at that event's stored time; saved whole, at its own.
   stored_time_ = settled_ ? state().stored(time_) : engine_->stored_time();
   track_fluxes();  // a checkpoint of carom before 1.6 kept none
+  thermostat_instants_ = checkpoint.thermostat_instants;
+  thermostat_rng_ = checkpoint.thermostat_rng;
 }
 
 template <std::size_t D>
@@ -210,11 +217,40 @@ void Simulation<D>::settle_at(double t) {
       schedule(entry);
     }
   }
+  // After the observers: they see the state the dynamics reached.
+  if (t >= next_thermostat_time()) apply_thermostat();
+}
+
+template <std::size_t D>
+double Simulation<D>::next_thermostat_time() const {
+  const Thermostat& thermostat = settings_.thermostat;
+  if (thermostat.kind == ThermostatKind::none) return kNever;
+  return thermostat.every * static_cast<double>(thermostat_instants_ + 1);
+}
+
+template <std::size_t D>
+void Simulation<D>::apply_thermostat() {
+  const Thermostat& thermostat = settings_.thermostat;
+  if (counts_.fluxes) *counts_.fluxes = counts_.fluxes->advanced(time_, stored_time_);
+  engine_->intervene(stored_time_, [&](System<D>& system) {
+    if (thermostat.kind == ThermostatKind::rescale) {
+      rescale_velocities(system, thermostat.kT);
+    } else {
+      andersen_resets(system, thermostat, thermostat_rng_);
+    }
+  });
+  stored_time_ = engine_->stored_time();  // the epoch is now: 0
+  if (counts_.fluxes) {
+    counts_.fluxes->stored = stored_time_;
+    renew_flux_rates();
+  }
+  slice_ = engine_->slice_length();  // speeds changed
+  ++thermostat_instants_;
 }
 
 template <std::size_t D>
 double Simulation<D>::next_due_time() const {
-  double due = measure_from_.value_or(kNever);
+  double due = std::min(measure_from_.value_or(kNever), next_thermostat_time());
   for (const Scheduled& entry : observers_) {
     if (entry.observer->trigger().kind == Trigger::Kind::time) due = std::min(due, entry.next_time);
   }
@@ -326,7 +362,7 @@ void Simulation<D>::measure_from(double t) {
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
   return {source,  state(),      settings_,     time_,       settled_,
-          counts_, measurement_, measure_from_, {}};
+          counts_, measurement_, measure_from_, {},     thermostat_instants_, thermostat_rng_};
 }
 
 template class Simulation<2>;

@@ -104,13 +104,40 @@ AnySystem read_start_system(const std::string& spec, std::optional<Boundary> bou
                     read_any_start_file(spec, boundary));
 }
 
+Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
+                              std::optional<double> every, std::optional<double> rate,
+                              std::uint64_t seed) {
+  if (kind == ThermostatKind::none) {
+    if (every || rate) {
+      throw RequestError("--thermostat-every and --thermostat-rate need --thermostat KIND");
+    }
+    return {};
+  }
+  if (!kT) throw RequestError("--thermostat needs --kT T: the temperature to hold");
+  if (!every) throw RequestError("--thermostat needs --thermostat-every DT: how often it acts");
+  if (kind == ThermostatKind::andersen && !rate) {
+    throw RequestError(
+        "--thermostat andersen needs --thermostat-rate NU: resets per particle per unit time");
+  }
+  if (kind != ThermostatKind::andersen && rate) {
+    throw RequestError("--thermostat-rate is Andersen's: --thermostat andersen");
+  }
+  const Thermostat thermostat{kind, *kT, *every, rate.value_or(0.0), seed};
+  try {
+    check_thermostat(thermostat);
+  } catch (const std::invalid_argument& e) {
+    throw RequestError(e.what());
+  }
+  return thermostat;
+}
+
 Start load_start(const StartSpec& spec) {
   return std::visit(
       [&](auto&& input) {
         const Boundary boundary = input.system.box.boundary;
         const Rule rule =
             spec.rule.value_or(default_rule(input.record, boundary, spec.restitution));
-        const Settings settings{{rule, spec.restitution, spec.tc}, spec.engine};
+        const Settings settings{{rule, spec.restitution, spec.tc}, spec.engine, spec.thermostat};
         std::string note = describe_defaults(spec, input.record, boundary, rule);
         std::optional<std::uint64_t> seed;
         if (spec.temperature) {

@@ -903,6 +903,37 @@ TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
   EXPECT_NE(walls.err.find("--transport needs a periodic box"), std::string::npos) << walls.err;
 }
 
+TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
+  const fs::path start = dir_ / "gas.txt", summary = dir_ / "summary.json";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  // An inelastic gas rescaled to kT = 2 at t = 1, 2, 3: at t = 3 its temperature is 2.
+  ASSERT_EQ(carom({"run", start, "3", "--restitution", "0.7", "--kT", "2", "--thermostat",
+                   "rescale", "--thermostat-every", "1", "--summary", summary, "-o",
+                   dir_ / "out.txt"})
+                .exit_code,
+            0);
+  const auto j = nlohmann::json::parse(read_file(summary));
+  EXPECT_NEAR(j["temperature"].get<double>(), 2.0, 1e-12);
+  EXPECT_EQ(j["thermostat"]["kind"], "rescale");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--thermostat", "rescale", "--thermostat-every", "1"}, "needs --kT"},
+      {{"--thermostat", "rescale", "--kT", "1"}, "needs --thermostat-every"},
+      {{"--thermostat", "andersen", "--kT", "1", "--thermostat-every", "1"}, "--thermostat-rate"},
+      {{"--thermostat", "rescale", "--kT", "1", "--thermostat-every", "-1"}, "greater than 0"},
+      {{"--thermostat-every", "1"}, "need --thermostat KIND"},
+      {{"--thermostat", "berendsen"}, "berendsen"},
+  };
+  for (const auto& [options, message] : refused) {
+    std::vector<std::string> args = {"run", start, "1", "-o", dir_ / "out.txt"};
+    args.insert(args.end(), options.begin(), options.end());
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << options.front();
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
   ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.5", "--boundary", "periodic", "-o", start})

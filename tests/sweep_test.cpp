@@ -237,6 +237,27 @@ TEST(SweepTask, ATransportPlanMeasuresTransportCoefficients) {
   EXPECT_EQ(std::find(plain.begin(), plain.end(), "self_diffusion"), plain.end());
 }
 
+TEST(SweepPlan, ThermostatsAreRunOptionsCheckedTaskByTask) {
+  std::string text = kSmallPlan;
+  text.replace(text.find("end_time = 2"), 12,
+               "end_time = 2\nkT = 1.5\nthermostat = \"andersen\"\nthermostat_every = 0.5");
+  // Andersen's without its rate: refused, naming the plan's line.
+  const std::string why = refusal(text);
+  EXPECT_NE(why.find("plan.toml:"), std::string::npos) << why;
+  EXPECT_NE(why.find("thermostat-rate"), std::string::npos) << why;
+  text += "thermostat_rate = [0.5, 2.0]\n";
+  const SweepPlan plan = parse(text);
+  EXPECT_EQ(plan.tasks().size(), 8u);
+  const std::string command = task_commands(plan, 0, "out").back();
+  for (const char* option : {"--kT 1.5", "--thermostat andersen", "--thermostat-every 0.5",
+                             "--thermostat-rate 0.5"}) {
+    EXPECT_NE(command.find(option), std::string::npos) << command;
+  }
+  EXPECT_NE(refusal("[start]\nn = 16\n[run]\nend_time = 1\nthermostat = \"hot\"\n")
+                .find("rescale"),
+            std::string::npos);
+}
+
 TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
   const Folder folder;
   const SweepPlan plan = parse(kSmallPlan);

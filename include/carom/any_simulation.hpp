@@ -56,7 +56,7 @@ class AnySimulation {
   void reset_measurement();
   void measure_from(double t);
   std::optional<double> pending_measurement() const;
-  const Measurement& measurement() const;
+  Measurement measurement() const;
   // Z measured over the window so far, when there is a window with a temperature.
   std::optional<double> compressibility_factor() const;
 

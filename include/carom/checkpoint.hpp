@@ -34,6 +34,8 @@ struct Checkpoint {
   Measurement measurement;
   std::optional<double> measure_from;  // a measurement window still to open
   WindowRecords records;               // of the run that saved it
+  std::uint64_t thermostat_instants = 0;  // the thermostat's instants done
+  pcg32 thermostat_rng;                   // Andersen's draws to come
 };
 
 using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;

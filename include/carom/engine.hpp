@@ -70,6 +70,18 @@ class Engine {
   // The Simulation does it every so many events (Simulation::rebase_period).
   void rebase();
 
+  // Brings every particle to the stored time t (not before the last event), lets `change` set
+  // their velocities (and nothing else of the System), then moves the epoch to t and predicts
+  // everything again, as rebase() does: what a thermostat does between collisions, in every
+  // engine alike. Not for a growing engine.
+  template <class F>
+  void intervene(double t, F&& change) {
+    move_all_to(t);
+    change(system_);
+    velocities_changed();
+    restart_at(t);
+  }
+
   const System<D>& system() const { return system_; }
   const CollisionRule& rule() const { return rule_; }
   // A stretch of simulated time in which the particles make at most about 10^5 cell crossings in
@@ -94,6 +106,9 @@ class Engine {
   bool due_by(double t, double end_time) const { return system_.absolute(t) <= end_time; }
   // After rebase() shifted every stored time by `shift`: predictions are made again.
   virtual void rebased(double shift) = 0;
+  // After intervene() changed velocities, before predictions are made again: for what an engine
+  // keeps that depends on the particles' speeds.
+  virtual void velocities_changed() {}
 
   // The image of particle j that particle i sees at time t (zero in a box with walls).
   Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;
@@ -107,6 +122,14 @@ class Engine {
   double largest_reach() const { return largest_; }
   // For a horizon too short for a double to advance the time at `t`: the run cannot progress.
   [[noreturn]] void throw_too_fast(double t) const;
+
+ private:
+  // intervene()'s steps: every particle stored at t (wrapped into a periodic box); the epoch at
+  // t, the last event's place, and every prediction made again.
+  void move_all_to(double t);
+  void restart_at(double t);
+
+ protected:
 
   System<D> system_;
   CollisionRule rule_;

@@ -2,6 +2,8 @@
 // fraction with Maxwell-Boltzmann velocities, reproducible bit for bit from a seed.
 #pragma once
 
+#include <pcg_random.hpp>
+
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -66,6 +68,12 @@ System<D> make_initial(const InitialOptions& options);
 // have (a packing fraction above close packing, a polydispersity above 0.5, ...), without
 // making one. A random placement that jams is found only by making it.
 void check_initial_options(std::size_t dimension, const InitialOptions& options);
+
+// Uniform in [0, 1) with 53 random bits; pcg32 gives 32 a call. (std:: distributions differ
+// between standard libraries; these do not.)
+double uniform_deviate(pcg32& rng);
+// A standard normal deviate (Box-Muller; one of the pair, so each deviate costs two draws).
+double normal_deviate(pcg32& rng);
 
 // Gives every particle of `system` a velocity as make_initial does (Maxwell-Boltzmann at
 // `temperature` over each mass, zero total momentum, kinetic temperature kT exactly), from pcg32

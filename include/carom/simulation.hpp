@@ -27,6 +27,7 @@
 #include "carom/engine.hpp"
 #include "carom/measurement.hpp"
 #include "carom/observables.hpp"
+#include "carom/thermostat.hpp"
 
 namespace carom {
 
@@ -35,10 +36,11 @@ namespace carom {
 struct Settings {
   CollisionRule rule;  // Rule::swap, restitution 1, TC time kDefaultTc
   EngineKind engine = EngineKind::fast;
+  Thermostat thermostat{};  // none
 };
 
 // Throws std::invalid_argument for settings no run can have: a restitution outside (0, 1], below
-// 1 under the swap rule, or a negative TC time.
+// 1 under the swap rule, a negative TC time, or a thermostat check_thermostat refuses.
 void check_settings(const Settings& settings);
 
 // When an observer looks at a run.
@@ -219,8 +221,12 @@ class Simulation {
   // Every event at the time of the last one, then the observers due then (those waiting for
   // a whole instant last).
   void complete_instant();
-  // The run has every event up to `t` processed: time observers and the window due then.
+  // The run has every event up to `t` processed: time observers, the window and the thermostat
+  // due then.
   void settle_at(double t);
+  // The thermostat's action at time_ (settings_.thermostat), and the next instant it acts at.
+  void apply_thermostat();
+  double next_thermostat_time() const;
 
   std::unique_ptr<Engine<D>> engine_;
   Settings settings_;
@@ -243,6 +249,10 @@ class Simulation {
   std::vector<Scheduled> observers_;
   bool watch_events_ = false;  // an observer needs looking at after events
   bool instant_awaited_ = false;  // an observer waits for the instant to be complete
+  // The thermostat's instants are `every` apart from t = 0; it has acted at this many of them
+  // (counted from the first, whether or not the run saw them: a run from t acts from then on).
+  std::uint64_t thermostat_instants_ = 0;
+  pcg32 thermostat_rng_;  // Andersen's draws
 };
 
 }  // namespace carom

@@ -33,7 +33,16 @@ struct StartSpec {
   EngineKind engine = EngineKind::fast;
   std::optional<double> temperature;  // new Maxwell-Boltzmann velocities at this kT
   std::uint64_t seed = 1;             // of those velocities
+  Thermostat thermostat;              // none (thermostat_request makes one)
 };
+
+// The thermostat `carom run --thermostat KIND --kT T --thermostat-every DT [--thermostat-rate NU]
+// [--seed S]` asks for (Python's the same by keyword). Throws RequestError, naming the options,
+// for a thermostat without its temperature or interval, a rate without Andersen's, an Andersen's
+// without a rate, or values check_thermostat refuses.
+Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
+                              std::optional<double> every, std::optional<double> rate,
+                              std::uint64_t seed);
 
 // A run made ready to go.
 struct Start {

@@ -372,7 +372,8 @@ class Simulation:
 
 
 def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["tc"],
-         engine=_D["engine"], kT=None, seed=_D["seed"]):
+         engine=_D["engine"], kT=None, seed=_D["seed"], thermostat="none", thermostat_every=None,
+         thermostat_rate=None):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
@@ -381,7 +382,9 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
     elastic in its own box); a plain classic file gets walls and the classic assignment's swap
     rule, or elastic with boundary="periodic" or restitution < 1. sim.rule and sim.boundary say
     which. kT: new Maxwell-Boltzmann velocities at that temperature, reproducible from seed, as
-    `carom run --kT T --seed S` (for a start without velocities, or to rethermalise one). A
+    `carom run --kT T --seed S` (for a start without velocities, or to rethermalise one).
+    thermostat: "rescale" or "andersen" holds the run at kT every thermostat_every (Andersen's
+    with thermostat_rate resets per particle per unit time), as `carom run --thermostat`. A
     broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
@@ -389,13 +392,14 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
         None if rule is None else _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
-        _whole("seed", seed, 0, 2**64 - 1)))
+        _whole("seed", seed, 0, 2**64 - 1), *_thermostat(thermostat, thermostat_every,
+                                                         thermostat_rate)))
 
 
 def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_D["rule"],
          box=None, aspect=_D["aspect"], radius=None, polydispersity=_D["polydispersity"],
          kT=_D["kT"], placement=_D["placement"], restitution=_D["restitution"], tc=_D["tc"],
-         engine=_D["engine"]):
+         engine=_D["engine"], thermostat="none", thermostat_every=None, thermostat_rate=None):
     """A Simulation of `carom init`'s start: the same particles, bit for bit.
 
     n particles at packing fraction phi with Maxwell-Boltzmann velocities at kT (zero momentum,
@@ -403,7 +407,8 @@ def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_
     a triangular lattice above, up to 0.9069); dim 3: spheres (random up to 0.25, FCC above, up
     to 0.7405 for n = 4 k^3 in a periodic cube). box: the sides (the radius follows); else a
     square or cube (aspect = Lx / Ly) of spheres of `radius` (default 0.5). placement: "auto",
-    "random" or "lattice". The run's options (rule, restitution, tc, engine) are `carom run`'s.
+    "random" or "lattice". The run's options (rule, restitution, tc, engine, and thermostat,
+    thermostat_every, thermostat_rate holding the run at kT) are `carom run`'s.
     """
     box = [] if box is None else [float(side) for side in _float_array("box", box, (None,))]
     return Simulation._wrap(_carom.Simulation.init(
@@ -413,7 +418,15 @@ def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_
         _whole("seed", seed, 0, 2**64 - 1), _choice("boundary", boundary, _BOUNDARIES),
         _choice("placement", placement, ("auto", "random", "lattice")), _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
-        _choice("engine", engine, _ENGINES)))
+        _choice("engine", engine, _ENGINES),
+        *_thermostat(thermostat, thermostat_every, thermostat_rate)))
+
+
+def _thermostat(kind, every, rate):
+    """The thermostat's arguments, checked as the other options are."""
+    return (_choice("thermostat", kind, ("none", "rescale", "andersen")),
+            None if every is None else _number("thermostat_every", every),
+            None if rate is None else _number("thermostat_rate", rate))
 
 
 def compress(sim, phi=None, jam=False, rate=_D["rate"], kT=_D["compress_kT"],

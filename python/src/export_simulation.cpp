@@ -90,7 +90,9 @@ void export_simulation(py::module_& m) {
           "read",
           [](const std::string& path, const std::optional<std::string>& boundary,
              const std::optional<std::string>& rule, double restitution, double tc,
-             const std::string& engine, std::optional<double> kT, std::uint64_t seed) {
+             const std::string& engine, std::optional<double> kT, std::uint64_t seed,
+             const std::string& thermostat, std::optional<double> thermostat_every,
+             std::optional<double> thermostat_rate) {
             StartSpec spec{path,
                            choice<Boundary>("boundary", boundary),
                            choice<Rule>("rule", rule),
@@ -98,16 +100,21 @@ void export_simulation(py::module_& m) {
                            tc,
                            choice<EngineKind>("engine", engine),
                            kT,
-                           seed};
+                           seed,
+                           thermostat_request(choice<ThermostatKind>("thermostat", thermostat),
+                                              kT, thermostat_every, thermostat_rate, seed)};
             return PythonSimulation(load_start(spec));
           },
-          "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a)
+          "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a,
+          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a)
       .def_static(
           "init",
           [](int dim, std::uint64_t n, double phi, const std::vector<double>& box, double aspect,
              std::optional<double> radius, double polydispersity, double kT, std::uint64_t seed,
              const std::string& boundary, const std::string& placement, const std::string& rule,
-             double restitution, double tc, const std::string& engine) {
+             double restitution, double tc, const std::string& engine,
+             const std::string& thermostat, std::optional<double> thermostat_every,
+             std::optional<double> thermostat_rate) {
             InitialOptions o;
             o.n = n;
             o.packing_fraction = phi;
@@ -120,14 +127,18 @@ void export_simulation(py::module_& m) {
             o.boundary = choice<Boundary>("boundary", boundary);
             o.placement = placement_from(placement);
             try {
-              return PythonSimulation(
-                  init_start(dim, o, settings_from(rule, restitution, tc, engine)));
+              Settings settings = settings_from(rule, restitution, tc, engine);
+              settings.thermostat =
+                  thermostat_request(choice<ThermostatKind>("thermostat", thermostat), kT,
+                                     thermostat_every, thermostat_rate, seed);
+              return PythonSimulation(init_start(dim, o, settings));
             } catch (const InitialError& e) {
               throw std::invalid_argument(e.what());
             }
           },
           "dim"_a, "n"_a, "phi"_a, "box"_a, "aspect"_a, "radius"_a, "polydispersity"_a, "kT"_a,
-          "seed"_a, "boundary"_a, "placement"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a)
+          "seed"_a, "boundary"_a, "placement"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a,
+          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a)
       .def_static(
           "resume", [](const std::string& path) { return PythonSimulation(resume_start(path)); },
           "path"_a)

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import carom
-from _support import (assert_bitwise_equal, assert_same_run, deterministic, init_cli_args,
-                      particles_of, run_cli_args)
+from _support import (assert_bitwise_equal, assert_same_run, assert_same_state, deterministic,
+                      init_cli_args, particles_of, run_cli_args)
 
 # carom.init's arguments: 2D and 3D, walls and periodic, mono- and polydisperse, random and
 # lattice placements, explicit boxes, aspect ratios, radii and temperatures.
@@ -245,3 +245,48 @@ def test_pending_measurement_survives_a_checkpoint(cli, tmp_path):
     assert deterministic(resumed.observables()) == expected
     assert deterministic(json.loads(summary.read_text())) == expected
     assert_same_run(sim, resumed, "resumed")
+
+
+@pytest.mark.parametrize("kind,rate", [("rescale", None), ("andersen", 0.8)])
+def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate):
+    # carom.read with a thermostat runs as `carom run --thermostat`, and a checkpoint saved on
+    # its way (Andersen's random stream included) continues it exactly, in either front end.
+    path = cli_init(cli, tmp_path / "gas.txt", n=150, phi=0.35, seed=2, boundary="periodic")
+    options = dict(kT=1.5, thermostat=kind, thermostat_every=0.25)
+    flags = ["--kT", "1.5", "--thermostat", kind, "--thermostat-every", "0.25"]
+    if rate is not None:
+        options["thermostat_rate"] = rate
+        flags += ["--thermostat-rate", str(rate)]
+    sim = carom.read(path, rule="elastic", **options)
+    sim.run(4.0)
+    summary = tmp_path / "summary.json"
+    cli("run", path, "4", "--rule", "elastic", *flags, "--summary", summary, "-o",
+        tmp_path / "final.txt")
+    expected = json.loads(summary.read_text())
+    assert expected["thermostat"]["kind"] == kind
+    assert deterministic(sim.observables()) == deterministic(expected)
+
+    half = carom.read(path, rule="elastic", **options)
+    half.run(1.6)
+    half.save(tmp_path / "half.ckpt")
+    cli("run", "--resume", tmp_path / "half.ckpt", "4", "--summary", summary, "-o",
+        tmp_path / "resumed.txt")
+    # The same but for "seed", --kT's: a resumed run draws no velocities.
+    resumed_summary = deterministic(json.loads(summary.read_text()))
+    assert resumed_summary.pop("seed") is None and expected.pop("seed") == 1
+    assert resumed_summary == deterministic(expected)
+    resumed = carom.resume(tmp_path / "half.ckpt")
+    resumed.run(4.0)
+    assert_same_state(resumed, sim)
+    assert resumed_summary == {k: v for k, v in deterministic(resumed.observables()).items()
+                               if k != "seed"}
+
+
+def test_bad_thermostats_are_refused_as_on_the_command_line(tmp_path, cli):
+    path = cli_init(cli, tmp_path / "gas.txt", n=50, phi=0.3, boundary="periodic")
+    with pytest.raises(ValueError, match="needs --kT"):
+        carom.read(path, thermostat="rescale", thermostat_every=1.0)
+    with pytest.raises(ValueError, match="thermostat-rate"):
+        carom.read(path, kT=1.0, thermostat="andersen", thermostat_every=1.0)
+    with pytest.raises(ValueError, match="thermostat"):
+        carom.read(path, kT=1.0, thermostat="nose-hoover", thermostat_every=1.0)

@@ -114,9 +114,13 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
   StartSpec& start = spec.start;
   RunSpec& run = spec.run;
   std::optional<std::string> cadence;
-  std::optional<double> log_every;
+  std::optional<double> log_every, thermostat_every, thermostat_rate;
+  ThermostatKind thermostat = ThermostatKind::none;
   for (const PlanSetting& s : settings) {
     const PlanValue& v = s.value;
+    if (s.key == "thermostat") thermostat = as_choice<ThermostatKind>(v);
+    if (s.key == "thermostat_every") thermostat_every = as_number(v);
+    if (s.key == "thermostat_rate") thermostat_rate = as_number(v);
     if (s.key == "end_time") run.end_time = as_number(v) + 0.0;  // -0 as 0, as carom run
     if (s.key == "equilibrate") run.measure_from = as_number(v);
     if (s.key == "rule") start.rule = as_choice<Rule>(v);
@@ -135,6 +139,8 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "check_every") run.check_every = as_integer(v);
     if (s.key == "transport") run.transport = as_flag(v);
   }
+  start.thermostat = thermostat_request(thermostat, start.temperature, thermostat_every,
+                                        thermostat_rate, start.seed);
   // Every task keeps a time series (the error bars of results.csv), its summary and its state.
   const double measured = run.end_time - run.measure_from.value_or(0.0);
   run.log = in_folder(folder, task_files::kLog);

@@ -1,0 +1,55 @@
+#include "carom/thermostat.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+#include "carom/initial.hpp"
+#include "carom/observables.hpp"
+
+namespace carom {
+
+void check_thermostat(const Thermostat& t) {
+  if (t.kind == ThermostatKind::none) return;
+  const auto positive = [](double x, const char* what) {
+    if (!(x > 0.0) || !std::isfinite(x)) {
+      throw std::invalid_argument(fmt::format("{} must be a number greater than 0, got {}", what, x));
+    }
+  };
+  positive(t.kT, "the thermostat's kT");
+  positive(t.every, "the thermostat's interval (--thermostat-every)");
+  if (t.kind == ThermostatKind::andersen) positive(t.rate, "Andersen's rate (--thermostat-rate)");
+}
+
+template <std::size_t D>
+void rescale_velocities(System<D>& system, double kT) {
+  const double now = kinetic_temperature(system);
+  if (!(now > 0.0)) return;
+  double mass = 0.0;
+  for (const ParticleRecord& r : system.records) mass += r.mass;
+  // Only a periodic box keeps its centre of mass's motion out of the temperature.
+  const Vec<D> drift =
+      system.box.periodic() ? (1.0 / mass) * momentum(system) : Vec<D>{};
+  const double scale = std::sqrt(kT / now);
+  for (Particle<D>& p : system.particles) p.velocity = drift + scale * (p.velocity - drift);
+}
+
+template <std::size_t D>
+std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg32& rng) {
+  const double probability = -std::expm1(-thermostat.rate * thermostat.every);
+  std::size_t resets = 0;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    if (uniform_deviate(rng) >= probability) continue;
+    const double scale = std::sqrt(thermostat.kT / system.records[i].mass);
+    for (std::size_t k = 0; k < D; ++k) system.particles[i].velocity[k] = scale * normal_deviate(rng);
+    ++resets;
+  }
+  return resets;
+}
+
+template void rescale_velocities(System<2>&, double);
+template void rescale_velocities(System<3>&, double);
+template std::size_t andersen_resets(System<2>&, const Thermostat&, pcg32&);
+template std::size_t andersen_resets(System<3>&, const Thermostat&, pcg32&);
+
+}  // namespace carom
