@@ -374,6 +374,22 @@ Msd mean_square_displacement(const std::vector<Frame>& frames) {
   return msd;
 }
 
+std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension) {
+  if (msd.t.size() < 5) return std::nullopt;
+  // The lag nearest to `t` (the lags are increasing).
+  const auto nearest = [&](double t) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < msd.t.size(); ++k) {
+      if (std::abs(msd.t[k] - t) < std::abs(msd.t[best] - t)) best = k;
+    }
+    return best;
+  };
+  const std::size_t upper = nearest(0.5 * msd.t.back()), lower = nearest(0.25 * msd.t.back());
+  if (upper <= lower) return std::nullopt;
+  return (msd.msd[upper] - msd.msd[lower]) /
+         (2.0 * static_cast<double>(dimension) * (msd.t[upper] - msd.t[lower]));
+}
+
 std::vector<std::complex<double>> local_psi6(const Frame& frame) {
   if (frame.dimension != 2) {
     throw std::invalid_argument("psi6, the hexatic order, is defined for disks (2D)");

@@ -135,7 +135,15 @@ nlohmann::json to_json(const Analysis& a) {
       {"r_max", a.rdf.r_max},
       {"contact", a.contact ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
                             : json(nullptr)}};
-  out["msd"] = a.msd ? json{{"t", a.msd->t}, {"msd", a.msd->msd}} : json(nullptr);
+  if (a.msd) {
+    const std::optional<double> d =
+        self_diffusion(*a.msd, static_cast<std::size_t>(a.snapshot.dimension));
+    out["msd"] = json{{"t", a.msd->t},
+                      {"msd", a.msd->msd},
+                      {"self_diffusion", d ? json(*d) : json(nullptr)}};
+  } else {
+    out["msd"] = nullptr;
+  }
   out["psi6"] = a.psi6 ? json{{"t", a.psi6->t},
                               {"global", a.psi6->global},
                               {"local_mean", a.psi6->local_mean},

@@ -58,7 +58,8 @@ Json fluxes_json(const Fluxes& f) {
           {"kinetic_heat", f.kinetic_heat},     {"collisional_heat", f.collisional_heat},
           {"stress_rate", f.stress_rate},       {"heat_rate", f.heat_rate},
           {"since", f.since},                   {"time", f.time},
-          {"stored", f.stored}};
+          {"stored", f.stored},
+          {"heat", f.heat}};
 }
 
 // The key "fluxes" only for a run that keeps them (and checkpoints before carom 1.6 have none).
@@ -277,6 +278,7 @@ class Fields {
     f.since = coordinate(at(object, "since", where), fmt::format("\"since\" in {}", where));
     f.time = coordinate(at(object, "time", where), fmt::format("\"time\" in {}", where));
     f.stored = coordinate(at(object, "stored", where), fmt::format("\"stored\" in {}", where));
+    f.heat = flag(at(object, "heat", where), fmt::format("\"heat\" in {}", where));
     if (f.since > f.time) {
       fail_(fmt::format("the fluxes in {} begin at {}, after their time {}", where, f.since, f.time));
     }

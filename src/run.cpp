@@ -337,6 +337,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   }
   std::shared_ptr<TransportMeter<D>> transport_meter;
   if (spec.transport && spec.end_time > window_start) {
+    simulation.keep_heat_flux();
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
         TransportMeter<D>::spacing(window_start, spec.end_time), start.records.transport));
   }

@@ -338,15 +338,23 @@ Measurement Simulation<D>::measurement() const {
 template <std::size_t D>
 void Simulation<D>::track_fluxes() {
   if (counts_.fluxes) return;
-  counts_.fluxes = fluxes_of(state(), time_, stored_time_);
+  counts_.fluxes = fluxes_of(state(), time_, stored_time_, false);
   if (!measurement_.flux_origin) measurement_.flux_origin = counts_.fluxes;
 }
 
 template <std::size_t D>
 void Simulation<D>::renew_flux_rates() {
-  const Fluxes exact = fluxes_of(state(), time_, stored_time_);
+  const Fluxes exact = fluxes_of(state(), time_, stored_time_, counts_.fluxes->heat);
   counts_.fluxes->stress_rate = exact.stress_rate;
   counts_.fluxes->heat_rate = exact.heat_rate;
+}
+
+template <std::size_t D>
+void Simulation<D>::keep_heat_flux() {
+  if (!counts_.fluxes || counts_.fluxes->heat) return;
+  *counts_.fluxes = counts_.fluxes->advanced(time_, stored_time_);
+  counts_.fluxes->heat = true;
+  renew_flux_rates();
 }
 
 template <std::size_t D>

@@ -50,6 +50,7 @@ TEST(Fluxes, AHeadOnCollisionTransfersMomentumAlongItsContact) {
   Fluxes f;
   f.stress_rate = {1.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   f.stored = 1.0;
+  f.heat = true;
   f.add_event<2>(event, 3.0, 1.0, Vec<2>{1.0, 0.5}, 1.0, Vec<2>{-1.0, 0.5});
   EXPECT_EQ(f.time, 1003.0);
   EXPECT_EQ(f.stored, 3.0);

@@ -70,6 +70,7 @@ template <std::size_t D>
 void expect_continued_measurement_equal(std::uint64_t n, double phi, double end) {
   const double spacing = TransportMeter<D>::spacing(0.0, end);
   Simulation<D> whole(fluid<D>(n, phi), {{Rule::elastic}});
+  whole.keep_heat_flux();  // as a run with --transport does
   auto whole_meter = std::make_shared<TransportMeter<D>>(spacing, std::nullopt);
   whole.add_observer(whole_meter);
   whole.run_until(end);
@@ -81,6 +82,7 @@ void expect_continued_measurement_equal(std::uint64_t n, double phi, double end)
   EXPECT_GT(estimate->thermal_conductivity, 0.0);
 
   Simulation<D> first(fluid<D>(n, phi), {{Rule::elastic}});
+  first.keep_heat_flux();
   auto first_meter = std::make_shared<TransportMeter<D>>(spacing, std::nullopt);
   first.add_observer(first_meter);
   first.run_until(0.43 * end);

@@ -64,6 +64,12 @@ struct Msd {
 };
 Msd mean_square_displacement(const std::vector<Frame>& frames);
 
+// The self-diffusion coefficient an MSD shows in `dimension` dimensions: its growth rate between
+// the lags T / 4 and T / 2 (T the longest lag: every lag up to T / 2 has at least half the frames
+// as origins), over 2 d (Einstein; the short-time curvature cancels). Nullopt with fewer than 5
+// lags.
+std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension);
+
 // The local hexatic order of each disk of a 2D frame: psi6_j = (1/6) sum over its six nearest
 // neighbours k (minimum image; ties by index) of exp(6 i theta_jk), theta_jk the angle of the bond
 // j -> k to the x axis. Throws std::invalid_argument for spheres or fewer than 7 disks.

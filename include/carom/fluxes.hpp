@@ -60,6 +60,9 @@ struct Fluxes {
   double since = 0.0;                        // absolute: when the integrals began
   double time = 0.0;                         // absolute: the integrals' end
   double stored = 0.0;                       // `time` as a stored time
+  // Whether the heat flux is kept (a run measuring its thermal conductivity asks for it: it costs
+  // more per event than the momentum flux); without it the heat fields stay 0.
+  bool heat = false;
 
   friend bool operator==(const Fluxes&, const Fluxes&) = default;
 
@@ -87,7 +90,9 @@ struct Fluxes {
                  const Vec<D>& first_after, double partner_mass, const Vec<D>& partner_after) {
     const double dt = event_stored - stored;
     for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
-    for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+    if (heat) {
+      for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+    }
     time = event.time;
     stored = event_stored;
 
@@ -104,16 +109,18 @@ struct Fluxes {
       }
     };
     const Vec<D> first_before = first_after - (1.0 / first_mass) * dp;
-    carried_heat(first_mass, first_before, first_after);
     if (event.is_wall()) {
       add_symmetric_outer<D>(stress_rate, dp, first_before + first_after);
+      if (heat) carried_heat(first_mass, first_before, first_after);
       return;
     }
     const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dp;
-    carried_heat(partner_mass, partner_before, partner_after);
     add_symmetric_outer<D>(stress_rate, dp,
                            (first_before + first_after) - (partner_before + partner_after));
     add_symmetric_outer<D>(collisional_stress, r, dp);
+    if (!heat) return;
+    carried_heat(first_mass, first_before, first_after);
+    carried_heat(partner_mass, partner_before, partner_after);
     const double energy = 0.5 * dot(dp, first_before + first_after);
     for (std::size_t k = 0; k < D; ++k) collisional_heat[k] += r[k] * energy;
   }
@@ -132,14 +139,16 @@ struct Fluxes {
 };
 
 // Fluxes starting at the absolute time t (`stored` as a stored time), with the rates of the
-// system's velocities.
+// system's velocities (the heat flux's with `heat`).
 template <std::size_t D>
-Fluxes fluxes_of(const System<D>& system, double t, double stored) {
+Fluxes fluxes_of(const System<D>& system, double t, double stored, bool heat) {
   Fluxes f;
+  f.heat = heat;
   for (std::size_t i = 0; i < system.size(); ++i) {
     const double mass = system.records[i].mass;
     const Vec<D>& v = system.particles[i].velocity;
     add_symmetric_outer<D>(f.stress_rate, mass * v, v);
+    if (!heat) continue;
     const double energy = 0.5 * mass * norm2(v);
     for (std::size_t k = 0; k < D; ++k) f.heat_rate[k] += energy * v[k];
   }

@@ -169,6 +169,8 @@ class Simulation {
   // measurement window: the pressure tensor of observables() and the transport moments. A run
   // continued from a checkpoint of carom before 1.6, which kept none, keeps them from then on.
   bool tracks_fluxes() const { return counts_.fluxes.has_value(); }
+  // Keeps the heat flux too from now on (Fluxes::heat), for the thermal conductivity.
+  void keep_heat_flux();
 
   // The measurement window and the observables measured over it.
   // The window's fluxes are brought to time().
