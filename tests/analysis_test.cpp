@@ -568,3 +568,25 @@ TEST(LogTable, ReadsACaromLogAndNamesTheLineOfAnError) {
 
 }  // namespace
 }  // namespace carom
+
+namespace carom {
+namespace {
+
+TEST(Analysis, SelfDiffusionIsTheMsdsLateSlopeOverTwoD) {
+  // Ballistic at first, then diffusive with D = 0.3 in 3D: msd = 6 D t + offset past t = 1.
+  Msd msd;
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.25 * k;
+    msd.t.push_back(t);
+    msd.msd.push_back(t < 1.0 ? 3.0 * t * t : 6.0 * 0.3 * t + 0.5);
+  }
+  ASSERT_TRUE(self_diffusion(msd, 3).has_value());
+  EXPECT_NEAR(*self_diffusion(msd, 3), 0.3, 1e-12);
+  EXPECT_NEAR(*self_diffusion(msd, 2), 0.45, 1e-12);
+  msd.t.resize(3);
+  msd.msd.resize(3);
+  EXPECT_FALSE(self_diffusion(msd, 3).has_value());
+}
+
+}  // namespace
+}  // namespace carom
