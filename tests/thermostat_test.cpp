@@ -78,6 +78,23 @@ TEST(Thermostat, RescalingHoldsAnInelasticGasAtItsTemperature) {
   EXPECT_LT(kinetic_temperature(simulation.state()), 1.5);
 }
 
+TEST(Thermostat, AndersenBringsAGasToItsTemperatureAndHoldsIt) {
+  // Started at kT = 1, held at 2: after a few 1 / rate the temperature fluctuates about 2.
+  Settings settings{{Rule::elastic}};
+  settings.thermostat = {ThermostatKind::andersen, 2.0, 0.05, 1.0, 5};
+  Simulation<2> simulation(gas<2>(500, 0.3), settings);
+  double sum = 0.0;
+  int samples = 0;
+  for (double t = 0.5; t <= 30.0; t += 0.5) {
+    simulation.run_until(t);
+    if (t < 6.0) continue;
+    sum += kinetic_temperature(simulation.state());
+    ++samples;
+  }
+  // kT over 500 disks fluctuates by about 2 / sqrt(500) = 4.5 %; the mean of 49 samples less.
+  EXPECT_NEAR(sum / samples, 2.0, 0.04);
+}
+
 // The same run in both engines, and in pieces through a checkpoint, bit for bit.
 template <std::size_t D>
 void expect_thermostatted_runs_agree(const Thermostat& thermostat, double phi,
