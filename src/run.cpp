@@ -339,7 +339,8 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   if (spec.transport && spec.end_time > window_start) {
     simulation.keep_heat_flux();
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
-        TransportMeter<D>::spacing(window_start, spec.end_time), start.records.transport));
+        TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
+        start.records.transport));
   }
   start.records = {};  // the first run() after a resume is the one it continues
   const auto window_records = [&z_drift, &transport_meter] {

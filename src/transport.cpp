@@ -1,6 +1,7 @@
 #include "carom/transport.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -69,6 +70,23 @@ template std::array<double, 2> block_viscosity_and_conductivity<2>(std::span<con
                                                                    double, double, double);
 template std::array<double, 2> block_viscosity_and_conductivity<3>(std::span<const MomentSample>,
                                                                    double, double, double);
+
+double enskog_collision_time(std::size_t dimension, double phi, double sigma, double mass,
+                             double kT) {
+  const double pi = std::numbers::pi;
+  const double speed = std::sqrt(kT / mass);
+  double omega = 0.0;
+  if (dimension == 2) {
+    const double n = 4.0 * phi / (pi * sigma * sigma);
+    const double chi = (1.0 - 7.0 * phi / 16.0) / ((1.0 - phi) * (1.0 - phi));
+    omega = 2.0 * std::sqrt(pi) * n * sigma * chi * speed;
+  } else {
+    const double n = 6.0 * phi / (pi * sigma * sigma * sigma);
+    const double chi = (1.0 - 0.5 * phi) / std::pow(1.0 - phi, 3);
+    omega = 4.0 * std::sqrt(pi) * n * sigma * sigma * chi * speed;
+  }
+  return omega > 0.0 ? 1.0 / omega : std::numeric_limits<double>::infinity();
+}
 
 std::array<double, 3> enskog_spheres(double phi, double sigma, double mass, double kT) {
   const double pi = std::numbers::pi;

@@ -20,21 +20,35 @@ namespace carom {
 template <std::size_t D>
 class TransportMeter final : public Observer<D> {
  public:
-  // Blocks a window is cut into, and sample intervals a block spans.
-  static constexpr std::size_t kBlocks = 10;
-  static constexpr std::size_t kBlockIntervals = 200;
+  // Sample intervals a block spans: four lags of the moments' estimator.
+  static constexpr std::size_t kBlockIntervals = 256;
+  // The lag: long against the fluxes' correlation times (a few collision times up to packing
+  // 0.45), short against a run, so that a longer run has more blocks and smaller errors.
+  static constexpr double kLagCollisionTimes = 50.0;
+  // The fewest blocks a window is cut into: a shorter window gets shorter blocks.
+  static constexpr std::size_t kLeastBlocks = 10;
 
-  // The spacing of samples for a window from `start` to `end`: kBlocks whole blocks fit.
-  static double spacing(double start, double end) {
-    return (end - start) / static_cast<double>(kBlocks * kBlockIntervals + 1);
+  // The spacing of samples for a window from `start` to `end` of the system as it is now: a lag
+  // of kLagCollisionTimes of Enskog's collision time, unless kLeastBlocks of those do not fit.
+  static double spacing(const System<D>& system, double start, double end) {
+    double diameters = 0.0, masses = 0.0;
+    for (std::size_t i = 0; i < system.size(); ++i) {
+      diameters += 2.0 * system.particles[i].radius;
+      masses += system.records[i].mass;
+    }
+    const auto n = static_cast<double>(system.size());
+    const double collision_time = enskog_collision_time(
+        D, packing_fraction(system), diameters / n, masses / n, kinetic_temperature(system));
+    const double lag = kLagCollisionTimes * collision_time;
+    const double fitting = (end - start) / static_cast<double>(kLeastBlocks * kBlockIntervals + 1);
+    return std::min(lag / static_cast<double>(kBlockIntervals / 4), fitting);
   }
 
-  // Continues `earlier` (a checkpoint's) when it has the same schedule.
+  // Continues `earlier` (a checkpoint's, whose schedule it keeps), else samples `spacing` apart.
   TransportMeter(double spacing, const std::optional<TransportRecord>& earlier)
-      : Observer<D>(Trigger::every_time(spacing)),
-        record_(earlier && earlier->spacing == spacing && earlier->block_samples == kBlockIntervals + 1
-                    ? *earlier
-                    : TransportRecord{spacing, kBlockIntervals + 1, {}, {}, 0.0, {}}) {}
+      : Observer<D>(Trigger::every_time(earlier ? earlier->spacing : spacing)),
+        record_(earlier ? *earlier
+                        : TransportRecord{spacing, kBlockIntervals + 1, {}, {}, 0.0, {}}) {}
 
   void observe(const Simulation<D>& simulation) override {
     if (simulation.pending_measurement() || !simulation.tracks_fluxes() ||
@@ -48,9 +62,9 @@ class TransportMeter final : public Observer<D> {
     const std::size_t taken = record_.samples.size();
     if (taken == 1) {
       record_.origin = unwrapped_positions(simulation);
-    } else if (taken == kBlockIntervals / 2 + 1) {
+    } else if (taken == (record_.block_samples - 1) / 2 + 1) {
       record_.half_msd = msd(simulation);
-    } else if (taken == kBlockIntervals + 1) {
+    } else if (taken == record_.block_samples) {
       finish_block(simulation);
     }
   }
@@ -129,7 +143,8 @@ class TransportMeter final : public Observer<D> {
 
   void finish_block(const Simulation<D>& simulation) {
     const System<D>& system = simulation.state();
-    const double half_time = static_cast<double>(kBlockIntervals / 2) * record_.spacing;
+    const double half_time =
+        static_cast<double>((record_.block_samples - 1) / 2) * record_.spacing;
     TransportBlock block;
     block.self_diffusion = (msd(simulation) - record_.half_msd) / (2.0 * D * half_time);
     double volume = 1.0;

@@ -68,13 +68,13 @@ System<D> fluid(std::uint64_t n, double phi) {
 // of one never stopped, bit for bit.
 template <std::size_t D>
 void expect_continued_measurement_equal(std::uint64_t n, double phi, double end) {
-  const double spacing = TransportMeter<D>::spacing(0.0, end);
+  const double spacing = TransportMeter<D>::spacing(fluid<D>(n, phi), 0.0, end);
   Simulation<D> whole(fluid<D>(n, phi), {{Rule::elastic}});
   whole.keep_heat_flux();  // as a run with --transport does
   auto whole_meter = std::make_shared<TransportMeter<D>>(spacing, std::nullopt);
   whole.add_observer(whole_meter);
   whole.run_until(end);
-  ASSERT_EQ(whole_meter->record().blocks.size(), TransportMeter<D>::kBlocks);
+  ASSERT_EQ(whole_meter->record().blocks.size(), TransportMeter<D>::kLeastBlocks);
   const auto estimate = whole_meter->estimate(whole.state());
   ASSERT_TRUE(estimate.has_value());
   EXPECT_GT(estimate->self_diffusion, 0.0);
@@ -97,6 +97,20 @@ void expect_continued_measurement_equal(std::uint64_t n, double phi, double end)
   resumed.add_observer(resumed_meter);
   resumed.run_until(end);
   EXPECT_EQ(resumed_meter->record(), whole_meter->record());
+}
+
+TEST(Transport, ALongWindowHasMoreBlocksOfTheSameLag) {
+  // Spheres at 0.3 collide about every 0.16: a lag of 50 collision times, 4 lags a block.
+  const System<3> spheres = fluid<3>(500, 0.3);
+  const double t_c = enskog_collision_time(3, 0.3, 1.0, 1.0, 1.0);
+  EXPECT_NEAR(t_c, 1.0 / (4.0 * std::sqrt(std::numbers::pi) * (1.8 / std::numbers::pi) *
+                          (0.85 / (0.7 * 0.7 * 0.7))),
+              1e-12);
+  const double spacing = TransportMeter<3>::spacing(spheres, 0.0, 10000.0);
+  EXPECT_NEAR(spacing * 64.0, 50.0 * t_c, 0.05 * t_c);  // kT of the start: 1 within rounding
+  // A short window: 10 blocks, shorter.
+  EXPECT_EQ(TransportMeter<3>::spacing(spheres, 0.0, 20.0), 20.0 / (10.0 * 256.0 + 1.0));
+  EXPECT_EQ(enskog_collision_time(2, 0.3, 1.0, 1.0, 0.0), std::numeric_limits<double>::infinity());
 }
 
 TEST(Transport, ADiskMeasurementContinuesBitForBit) {

@@ -78,6 +78,13 @@ struct TransportEstimate {
 // temperature kT: {D, eta, lambda}.
 std::array<double, 3> enskog_spheres(double phi, double sigma, double mass, double kT);
 
+// Enskog's mean time between a particle's collisions for disks (dimension 2) or spheres (3) of
+// diameter sigma and mass m at packing fraction phi and temperature kT: 1 / omega, omega =
+// 2 sqrt(pi) n sigma chi sqrt(kT / m) for disks (chi Henderson's contact value) and
+// 4 sqrt(pi) n sigma^2 chi sqrt(kT / m) for spheres (Carnahan-Starling's). Infinite at rest.
+double enskog_collision_time(std::size_t dimension, double phi, double sigma, double mass,
+                             double kT);
+
 // Yeh and Hummer's constant for a cubic periodic box.
 inline constexpr double kYehHummerXi = 2.837297;
 
