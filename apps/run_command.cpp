@@ -167,7 +167,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_flag("--transport", args.transport,
                 "Measure the self-diffusion coefficient, shear viscosity and thermal "
                 "conductivity over the measurement window (Einstein-Helfand at a lag of 50 "
-                "collision times, errors from blocks; 3D also Yeh-Hummer's finite-size correction and Enskog's values) into "
+                "collision times, errors from blocks; 3D also Yeh-Hummer's finite-size correction "
+                "and Enskog's values) into "
                 "the summary's \"transport\" (periodic box)");
   add_choice<Rule>(run, "--rule", args.rule,
                    "swap: touching disks exchange whole velocities (the classic assignment's "

@@ -138,9 +138,8 @@ nlohmann::json to_json(const Analysis& a) {
   if (a.msd) {
     const std::optional<double> d =
         self_diffusion(*a.msd, static_cast<std::size_t>(a.snapshot.dimension));
-    out["msd"] = json{{"t", a.msd->t},
-                      {"msd", a.msd->msd},
-                      {"self_diffusion", d ? json(*d) : json(nullptr)}};
+    out["msd"] = json{
+        {"t", a.msd->t}, {"msd", a.msd->msd}, {"self_diffusion", d ? json(*d) : json(nullptr)}};
   } else {
     out["msd"] = nullptr;
   }

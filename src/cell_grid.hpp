@@ -76,10 +76,8 @@ class CellGrid {
 
   // No cell of such a grid is narrower than this (the cap on their number may widen them).
   static double least_width(const Box<D>& box, double min_width, std::size_t particles) {
-    double volume = 1.0;
-    for (std::size_t k = 0; k < D; ++k) volume *= box.size[k];
-    return std::max(min_width * (1.0 + 1e-6),
-                    std::pow(volume / most_cells(particles), 1.0 / static_cast<double>(D)));
+    return std::max(min_width * (1.0 + 1e-6), std::pow(box_volume(box) / most_cells(particles),
+                                                       1.0 / static_cast<double>(D)));
   }
 
   std::size_t cell_count() const { return head_.size(); }

@@ -54,10 +54,14 @@ void add_head(Fnv1a& hash, const nlohmann::json& head) {
 
 // The fluxes' integrals and rates as stored: every field, so a resumed run goes on bit for bit.
 Json fluxes_json(const Fluxes& f) {
-  return {{"kinetic_stress", f.kinetic_stress}, {"collisional_stress", f.collisional_stress},
-          {"kinetic_heat", f.kinetic_heat},     {"collisional_heat", f.collisional_heat},
-          {"stress_rate", f.stress_rate},       {"heat_rate", f.heat_rate},
-          {"since", f.since},                   {"time", f.time},
+  return {{"kinetic_stress", f.kinetic_stress},
+          {"collisional_stress", f.collisional_stress},
+          {"kinetic_heat", f.kinetic_heat},
+          {"collisional_heat", f.collisional_heat},
+          {"stress_rate", f.stress_rate},
+          {"heat_rate", f.heat_rate},
+          {"since", f.since},
+          {"time", f.time},
           {"stored", f.stored},
           {"heat", f.heat}};
 }
@@ -90,8 +94,8 @@ Json transport_json(const TransportRecord& t) {
   for (const TransportBlock& b : t.blocks) {
     blocks.push_back({b.self_diffusion, b.shear_viscosity, b.thermal_conductivity});
   }
-  return {{"spacing", t.spacing},   {"block_samples", t.block_samples}, {"samples", t.samples},
-          {"origin", t.origin},     {"half_msd", t.half_msd},           {"blocks", blocks}};
+  return {{"spacing", t.spacing}, {"block_samples", t.block_samples}, {"samples", t.samples},
+          {"origin", t.origin},   {"half_msd", t.half_msd},           {"blocks", blocks}};
 }
 
 // A time that may be "never" (json null).
@@ -225,7 +229,8 @@ class Fields {
       if (!list.is_array()) fail_(fmt::format("{} in {} must be a list of numbers", what, where));
       std::vector<double> out;
       out.reserve(list.size());
-      for (const auto& value : list) out.push_back(number(value, fmt::format("{} in {}", what, where)));
+      for (const auto& value : list)
+        out.push_back(number(value, fmt::format("{} in {}", what, where)));
       return out;
     };
     TransportRecord t;
@@ -266,7 +271,8 @@ class Fields {
         fail_(fmt::format("\"{}\" in {} must be a list of {} numbers, found {}", key, where, K,
                           shown(list)));
       }
-      for (std::size_t k = 0; k < K; ++k) out[k] = number(list[k], fmt::format("\"{}\" in {}", key, where));
+      for (std::size_t k = 0; k < K; ++k)
+        out[k] = number(list[k], fmt::format("\"{}\" in {}", key, where));
     };
     Fluxes f;
     components("kinetic_stress", f.kinetic_stress);
@@ -280,7 +286,8 @@ class Fields {
     f.stored = coordinate(at(object, "stored", where), fmt::format("\"stored\" in {}", where));
     f.heat = flag(at(object, "heat", where), fmt::format("\"heat\" in {}", where));
     if (f.since > f.time) {
-      fail_(fmt::format("the fluxes in {} begin at {}, after their time {}", where, f.since, f.time));
+      fail_(
+          fmt::format("the fluxes in {} begin at {}, after their time {}", where, f.since, f.time));
     }
     return f;
   }
@@ -329,8 +336,7 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         f.coordinate(f.at(m, "start_time", "\"measurement\""), "the measurement's start_time"),
         f.number(f.at(m, "kinetic_energy_initial", "\"measurement\""),
                  "the measurement's kinetic_energy_initial"),
-        f.counts(f.at(m, "counts", "\"measurement\""), "\"measurement\""),
-        std::nullopt};
+        f.counts(f.at(m, "counts", "\"measurement\""), "\"measurement\""), std::nullopt};
     if (const auto found = m.find("flux_origin"); found != m.end()) {  // from carom 1.6
       c.measurement.flux_origin = f.fluxes(*found, "the measurement's \"flux_origin\"");
     }
@@ -353,8 +359,9 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         if (!tensors->is_array()) fail("the drift's \"pressure_tensors\" must be a list");
         for (const auto& tensor : *tensors) {
           if (!tensor.is_array() || tensor.size() != 6) {
-            fail(fmt::format("a drift interval's pressure tensor must be a list of 6 numbers, found {}",
-                             shown(tensor)));
+            fail(fmt::format(
+                "a drift interval's pressure tensor must be a list of 6 numbers, found {}",
+                shown(tensor)));
           }
           SymmetricTensor t;
           for (std::size_t c = 0; c < 6; ++c) {
@@ -447,9 +454,10 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   Json box = Json::array();
   for (std::size_t k = 0; k < D; ++k) box.push_back(c.system.box.size[k]);
   Json measurement = {{"start_time", c.measurement.start_time},
-                     {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
-                     {"counts", counts_json(c.measurement.counts)}};
-  if (c.measurement.flux_origin) measurement["flux_origin"] = fluxes_json(*c.measurement.flux_origin);
+                      {"kinetic_energy_initial", c.measurement.kinetic_energy_initial},
+                      {"counts", counts_json(c.measurement.counts)}};
+  if (c.measurement.flux_origin)
+    measurement["flux_origin"] = fluxes_json(*c.measurement.flux_origin);
   Json head = {
       {"carom_checkpoint", kCheckpointFormat},
       {"carom_version", kVersion},

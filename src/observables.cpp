@@ -30,10 +30,9 @@ template <std::size_t D>
 double packing_fraction(const System<D>& system) {
   // Area of a disk, volume of a sphere.
   const double unit_ball = D == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
-  double covered = 0.0, volume = 1.0;
+  double covered = 0.0;
   for (const Particle<D>& p : system.particles) covered += unit_ball * std::pow(p.radius, D);
-  for (std::size_t k = 0; k < D; ++k) volume *= system.box.size[k];
-  return covered / volume;
+  return covered / box_volume(system.box);
 }
 
 template <std::size_t D>
@@ -59,8 +58,8 @@ template <std::size_t D>
 Observables<D> measure(const System<D>& system, const Measurement& measurement, double now) {
   const Counts& counts = measurement.counts;
   const auto n = static_cast<double>(system.size());
-  double volume = 1.0, wall_measure = 0.0;
-  for (std::size_t k = 0; k < D; ++k) volume *= system.box.size[k];
+  const double volume = box_volume(system.box);
+  double wall_measure = 0.0;
   // The total area (length in 2D) of the walls: two faces normal to each axis.
   for (std::size_t k = 0; k < D; ++k) wall_measure += 2.0 * volume / system.box.size[k];
 

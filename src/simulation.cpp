@@ -52,7 +52,8 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
   track_fluxes();
   thermostat_rng_.seed(settings_.thermostat.seed);
   if (settings_.thermostat.kind != ThermostatKind::none) {
-    thermostat_instants_ = static_cast<std::uint64_t>(std::floor(time_ / settings_.thermostat.every));
+    thermostat_instants_ =
+        static_cast<std::uint64_t>(std::floor(time_ / settings_.thermostat.every));
   }
 }
 
@@ -369,8 +370,9 @@ void Simulation<D>::measure_from(double t) {
 
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
-  return {source,  state(),      settings_,     time_,       settled_,
-          counts_, measurement_, measure_from_, {},     thermostat_instants_, thermostat_rng_};
+  return {source,         state(),      settings_,     time_, settled_,
+          counts_,        measurement_, measure_from_, {},    thermostat_instants_,
+          thermostat_rng_};
 }
 
 template class Simulation<2>;

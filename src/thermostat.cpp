@@ -13,7 +13,8 @@ void check_thermostat(const Thermostat& t) {
   if (t.kind == ThermostatKind::none) return;
   const auto positive = [](double x, const char* what) {
     if (!(x > 0.0) || !std::isfinite(x)) {
-      throw std::invalid_argument(fmt::format("{} must be a number greater than 0, got {}", what, x));
+      throw std::invalid_argument(
+          fmt::format("{} must be a number greater than 0, got {}", what, x));
     }
   };
   positive(t.kT, "the thermostat's kT");
@@ -28,8 +29,7 @@ void rescale_velocities(System<D>& system, double kT) {
   double mass = 0.0;
   for (const ParticleRecord& r : system.records) mass += r.mass;
   // Only a periodic box keeps its centre of mass's motion out of the temperature.
-  const Vec<D> drift =
-      system.box.periodic() ? (1.0 / mass) * momentum(system) : Vec<D>{};
+  const Vec<D> drift = system.box.periodic() ? (1.0 / mass) * momentum(system) : Vec<D>{};
   const double scale = std::sqrt(kT / now);
   for (Particle<D>& p : system.particles) p.velocity = drift + scale * (p.velocity - drift);
 }
@@ -41,7 +41,8 @@ std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg
   for (std::size_t i = 0; i < system.size(); ++i) {
     if (uniform_deviate(rng) >= probability) continue;
     const double scale = std::sqrt(thermostat.kT / system.records[i].mass);
-    for (std::size_t k = 0; k < D; ++k) system.particles[i].velocity[k] = scale * normal_deviate(rng);
+    for (std::size_t k = 0; k < D; ++k)
+      system.particles[i].velocity[k] = scale * normal_deviate(rng);
     ++resets;
   }
   return resets;

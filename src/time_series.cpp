@@ -17,6 +17,14 @@
 
 namespace carom {
 
+std::pair<double, double> mean_and_variance_of_mean(std::span<const double> values) {
+  const auto n = static_cast<double>(values.size());
+  double mean = 0.0, squares = 0.0;
+  for (const double x : values) mean += x / n;
+  for (const double x : values) squares += (x - mean) * (x - mean);
+  return {mean, squares / (n - 1.0) / n};
+}
+
 void BlockAverage::add(double value) {
   for (std::size_t level = 0;; ++level) {
     if (level == levels_.size()) levels_.emplace_back();
@@ -68,7 +76,6 @@ Counts difference(const Counts& later, const Counts& earlier) {
               ? std::optional<Fluxes>(flux_difference(*later.fluxes, *earlier.fluxes))
               : std::nullopt};
 }
-
 
 // A value in full precision (it reads back as the same double), or an empty field.
 std::string field(double value, bool present = true) {
@@ -125,9 +132,8 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
     row.measured = true;
     rate = o.collision_rate;
     if (row.totals.fluxes && last_.totals.fluxes) {
-      double volume = 1.0;
-      for (std::size_t k = 0; k < D; ++k) volume *= system.box.size[k];
-      tensor = pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, volume);
+      tensor =
+          pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, box_volume(system.box));
     }
   }
   take(row, window(simulation));
@@ -139,7 +145,8 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
       field(pressure_.mean()), field(pressure_.error()), field(z_.mean()), field(z_.error()));
   const SymmetricTensor moment =
       c.fluxes ? c.fluxes->stress_moment() : SymmetricTensor{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
-  for (const std::size_t k : tensor_components<D>()) line += "," + field(tensor ? (*tensor)[k] : kNaN);
+  for (const std::size_t k : tensor_components<D>())
+    line += "," + field(tensor ? (*tensor)[k] : kNaN);
   for (const std::size_t k : tensor_components<D>()) line += "," + field(moment[k]);
   out_ << line << '\n';
   if (!out_.flush()) throw std::runtime_error("cannot write the time series");
@@ -206,7 +213,8 @@ void ZDrift<D>::observe(const Simulation<D>& simulation) {
   if (last_time && measuring && *last_time >= simulation.measurement().start_time &&
       now > *last_time) {
     const Measurement interval{*last_time, 0.0,
-                               difference(simulation.current_counts(), record_.last_totals), std::nullopt};
+                               difference(simulation.current_counts(), record_.last_totals),
+                               std::nullopt};
     const Observables<D> o = measure(simulation.state(), interval, now);
     if (std::isfinite(o.compressibility_factor)) record_.z.push_back(o.compressibility_factor);
     if (o.pressure_tensor) record_.pressure_tensors.push_back(*o.pressure_tensor);
@@ -220,17 +228,11 @@ std::optional<DriftVerdict> ZDrift<D>::verdict() const {
   const std::vector<double>& z_ = record_.z;
   const std::size_t half = z_.size() / 2;
   if (half < kLeastPerHalf) return std::nullopt;
-  // The halves' means and the squared standard errors of those means.
-  const auto summary = [](auto begin, auto end) {
-    const auto n = static_cast<double>(end - begin);
-    double mean = 0.0, squares = 0.0;
-    for (auto it = begin; it != end; ++it) mean += *it / n;
-    for (auto it = begin; it != end; ++it) squares += (*it - mean) * (*it - mean);
-    return std::pair{mean, squares / (n - 1.0) / n};
-  };
-  // The middle interval of an odd count is in neither half.
-  const auto [first, first_variance] = summary(z_.begin(), z_.begin() + half);
-  const auto [second, second_variance] = summary(z_.end() - half, z_.end());
+  // The halves' means and the squared standard errors of those means; the middle interval of an
+  // odd count is in neither half.
+  const std::span<const double> z(z_);
+  const auto [first, first_variance] = mean_and_variance_of_mean(z.first(half));
+  const auto [second, second_variance] = mean_and_variance_of_mean(z.last(half));
   const double error = std::sqrt(first_variance + second_variance);
   const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
   return DriftVerdict{first, second, sigmas, z_.size()};
@@ -240,13 +242,11 @@ template <std::size_t D>
 std::optional<SymmetricTensor> ZDrift<D>::pressure_tensor_error() const {
   const std::vector<SymmetricTensor>& tensors = record_.pressure_tensors;
   if (tensors.size() < 2 * kLeastPerHalf) return std::nullopt;
-  const auto n = static_cast<double>(tensors.size());
   SymmetricTensor error{};
+  std::vector<double> component(tensors.size());
   for (std::size_t c = 0; c < 6; ++c) {
-    double mean = 0.0, squares = 0.0;
-    for (const SymmetricTensor& t : tensors) mean += t[c] / n;
-    for (const SymmetricTensor& t : tensors) squares += (t[c] - mean) * (t[c] - mean);
-    error[c] = std::sqrt(squares / (n - 1.0) / n);
+    for (std::size_t i = 0; i < tensors.size(); ++i) component[i] = tensors[i][c];
+    error[c] = std::sqrt(mean_and_variance_of_mean(component).second);
   }
   return error;
 }

@@ -7,12 +7,13 @@
 
 #include <cmath>
 #include <numbers>
-#include <tuple>
 #include <optional>
+#include <tuple>
 #include <vector>
 
 #include "carom/observables.hpp"
 #include "carom/simulation.hpp"
+#include "carom/time_series.hpp"
 #include "carom/transport.hpp"
 
 namespace carom {
@@ -37,8 +38,8 @@ class TransportMeter final : public Observer<D> {
       masses += system.records[i].mass;
     }
     const auto n = static_cast<double>(system.size());
-    const double collision_time = enskog_collision_time(
-        D, packing_fraction(system), diameters / n, masses / n, kinetic_temperature(system));
+    const double collision_time = enskog_collision_time(D, packing_fraction(system), diameters / n,
+                                                        masses / n, kinetic_temperature(system));
     const double lag = kLagCollisionTimes * collision_time;
     const double fitting = (end - start) / static_cast<double>(kLeastBlocks * kBlockIntervals + 1);
     return std::min(lag / static_cast<double>(kBlockIntervals / 4), fitting);
@@ -75,12 +76,11 @@ class TransportMeter final : public Observer<D> {
   std::optional<TransportEstimate> estimate(const System<D>& system) const {
     const std::vector<TransportBlock>& blocks = record_.blocks;
     if (blocks.size() < 2) return std::nullopt;
-    const auto n = static_cast<double>(blocks.size());
     const auto mean_and_error = [&](double TransportBlock::*field) {
-      double mean = 0.0, squares = 0.0;
-      for (const TransportBlock& b : blocks) mean += b.*field / n;
-      for (const TransportBlock& b : blocks) squares += (b.*field - mean) * (b.*field - mean);
-      return std::pair{mean, std::sqrt(squares / (n - 1.0) / n)};
+      std::vector<double> values;
+      for (const TransportBlock& b : blocks) values.push_back(b.*field);
+      const auto [mean, variance] = mean_and_variance_of_mean(values);
+      return std::pair{mean, std::sqrt(variance)};
     };
     TransportEstimate e;
     e.blocks = blocks.size();
@@ -105,9 +105,8 @@ class TransportMeter final : public Observer<D> {
                 system.records[i].mass == system.records[0].mass;
       }
       if (alike) {
-        const auto [d, eta, lambda] = enskog_spheres(packing_fraction(system),
-                                                     2.0 * system.particles[0].radius,
-                                                     system.records[0].mass, kT);
+        const auto [d, eta, lambda] = enskog_spheres(
+            packing_fraction(system), 2.0 * system.particles[0].radius, system.records[0].mass, kT);
         e.enskog_self_diffusion = d;
         e.enskog_shear_viscosity = eta;
         e.enskog_thermal_conductivity = lambda;
@@ -143,14 +142,11 @@ class TransportMeter final : public Observer<D> {
 
   void finish_block(const Simulation<D>& simulation) {
     const System<D>& system = simulation.state();
-    const double half_time =
-        static_cast<double>((record_.block_samples - 1) / 2) * record_.spacing;
+    const double half_time = static_cast<double>((record_.block_samples - 1) / 2) * record_.spacing;
     TransportBlock block;
     block.self_diffusion = (msd(simulation) - record_.half_msd) / (2.0 * D * half_time);
-    double volume = 1.0;
-    for (std::size_t k = 0; k < D; ++k) volume *= system.box.size[k];
     const auto [eta, lambda] = block_viscosity_and_conductivity<D>(
-        record_.samples, record_.spacing, volume, kinetic_temperature(system));
+        record_.samples, record_.spacing, box_volume(system.box), kinetic_temperature(system));
     block.shear_viscosity = eta;
     block.thermal_conductivity = lambda;
     record_.blocks.push_back(block);

@@ -909,11 +909,11 @@ TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
                 .exit_code,
             0);
   // An inelastic gas rescaled to kT = 2 at t = 1, 2, 3: at t = 3 its temperature is 2.
-  ASSERT_EQ(carom({"run", start, "3", "--restitution", "0.7", "--kT", "2", "--thermostat",
-                   "rescale", "--thermostat-every", "1", "--summary", summary, "-o",
-                   dir_ / "out.txt"})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      carom({"run", start, "3", "--restitution", "0.7", "--kT", "2", "--thermostat", "rescale",
+             "--thermostat-every", "1", "--summary", summary, "-o", dir_ / "out.txt"})
+          .exit_code,
+      0);
   const auto j = nlohmann::json::parse(read_file(summary));
   EXPECT_NEAR(j["temperature"].get<double>(), 2.0, 1e-12);
   EXPECT_EQ(j["thermostat"]["kind"], "rescale");

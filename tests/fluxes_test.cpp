@@ -102,13 +102,13 @@ void expect_fluxes_add_up(std::uint64_t n, double phi, double end) {
   ASSERT_TRUE(o.pressure_tensor.has_value());
   const SymmetricTensor& p = *o.pressure_tensor;
   for (std::size_t k = 0; k < D; ++k) EXPECT_NEAR(p[k] / o.pressure, 1.0, 0.03) << k;
-  for (std::size_t c = 3; c < (D == 2 ? 4u : 6u); ++c) EXPECT_NEAR(p[c] / o.pressure, 0.0, 0.03) << c;
+  for (std::size_t c = 3; c < (D == 2 ? 4u : 6u); ++c)
+    EXPECT_NEAR(p[c] / o.pressure, 0.0, 0.03) << c;
   // The trace over D is the pressure, but for the kinetic part: sum m v v = 2 KE over D (N - 1)
   // degrees of freedom, against N kT in the pressure.
   double trace = 0.0;
   for (std::size_t k = 0; k < D; ++k) trace += p[k] / D;
-  double volume = 1.0;
-  for (std::size_t k = 0; k < D; ++k) volume *= simulation.state().box.size[k];
+  const double volume = box_volume(simulation.state().box);
   EXPECT_NEAR(trace, o.pressure - o.temperature / volume, 1e-9 * o.pressure);
 }
 
@@ -129,7 +129,8 @@ TEST(Fluxes, WallsGiveNoCollisionalStress) {
   simulation.run_until(20.0);
   ASSERT_GT(simulation.counts().wall_collisions, 0u);
   double collisional = 0.0;
-  for (std::size_t k = 0; k < 2; ++k) collisional += simulation.counts().fluxes->collisional_stress[k];
+  for (std::size_t k = 0; k < 2; ++k)
+    collisional += simulation.counts().fluxes->collisional_stress[k];
   EXPECT_NEAR(collisional / simulation.counts().virial, 1.0, 1e-12);
 }
 

@@ -249,12 +249,11 @@ TEST(SweepPlan, ThermostatsAreRunOptionsCheckedTaskByTask) {
   const SweepPlan plan = parse(text);
   EXPECT_EQ(plan.tasks().size(), 8u);
   const std::string command = task_commands(plan, 0, "out").back();
-  for (const char* option : {"--kT 1.5", "--thermostat andersen", "--thermostat-every 0.5",
-                             "--thermostat-rate 0.5"}) {
+  for (const char* option :
+       {"--kT 1.5", "--thermostat andersen", "--thermostat-every 0.5", "--thermostat-rate 0.5"}) {
     EXPECT_NE(command.find(option), std::string::npos) << command;
   }
-  EXPECT_NE(refusal("[start]\nn = 16\n[run]\nend_time = 1\nthermostat = \"hot\"\n")
-                .find("rescale"),
+  EXPECT_NE(refusal("[start]\nn = 16\n[run]\nend_time = 1\nthermostat = \"hot\"\n").find("rescale"),
             std::string::npos);
 }
 

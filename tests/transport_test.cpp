@@ -103,8 +103,9 @@ TEST(Transport, ALongWindowHasMoreBlocksOfTheSameLag) {
   // Spheres at 0.3 collide about every 0.16: a lag of 50 collision times, 4 lags a block.
   const System<3> spheres = fluid<3>(500, 0.3);
   const double t_c = enskog_collision_time(3, 0.3, 1.0, 1.0, 1.0);
-  EXPECT_NEAR(t_c, 1.0 / (4.0 * std::sqrt(std::numbers::pi) * (1.8 / std::numbers::pi) *
-                          (0.85 / (0.7 * 0.7 * 0.7))),
+  EXPECT_NEAR(t_c,
+              1.0 / (4.0 * std::sqrt(std::numbers::pi) * (1.8 / std::numbers::pi) *
+                     (0.85 / (0.7 * 0.7 * 0.7))),
               1e-12);
   const double spacing = TransportMeter<3>::spacing(spheres, 0.0, 10000.0);
   EXPECT_NEAR(spacing * 64.0, 50.0 * t_c, 0.05 * t_c);  // kT of the start: 1 within rounding

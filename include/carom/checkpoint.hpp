@@ -51,8 +51,7 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name);
 // a crash never leaves half a checkpoint. Throws std::runtime_error when it cannot.
 template <std::size_t D>
 void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
-                     const std::string& source,
-                     const WindowRecords& records = {});
+                     const std::string& source, const WindowRecords& records = {});
 
 // Saves a checkpoint whenever its trigger fires (every so many events or seconds), once the run
 // is whole at that instant (Trigger::whole_instant): a checkpoint never splits the events of one

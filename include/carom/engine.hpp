@@ -123,14 +123,6 @@ class Engine {
   // For a horizon too short for a double to advance the time at `t`: the run cannot progress.
   [[noreturn]] void throw_too_fast(double t) const;
 
- private:
-  // intervene()'s steps: every particle stored at t (wrapped into a periodic box); the epoch at
-  // t, the last event's place, and every prediction made again.
-  void move_all_to(double t);
-  void restart_at(double t);
-
- protected:
-
   System<D> system_;
   CollisionRule rule_;
   Growth growth_;
@@ -140,6 +132,12 @@ class Engine {
   double fastest_ = 0.0;
   double now_ = 0.0;                 // the stored time of the last processed event
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
+
+ private:
+  // intervene()'s steps: every particle stored at t (wrapped into a periodic box); the epoch at
+  // t, the last event's place, and every prediction made again.
+  void move_all_to(double t);
+  void restart_at(double t);
 };
 
 template <std::size_t D>

@@ -51,9 +51,9 @@ constexpr void add_symmetric_outer(SymmetricTensor& t, const Vec<D>& a, const Ve
 // integrals step on stored times (System::epoch), which resolve a run alike at any absolute
 // time, so that a run gives the same integrals whenever it starts.
 struct Fluxes {
-  SymmetricTensor kinetic_stress{};      // integral of sum m v v dt
-  SymmetricTensor collisional_stress{};  // sum of r dp (symmetrised)
-  std::array<double, 3> kinetic_heat{};  // integral of sum (m v^2 / 2) v dt
+  SymmetricTensor kinetic_stress{};          // integral of sum m v v dt
+  SymmetricTensor collisional_stress{};      // sum of r dp (symmetrised)
+  std::array<double, 3> kinetic_heat{};      // integral of sum (m v^2 / 2) v dt
   std::array<double, 3> collisional_heat{};  // sum of r dE
   SymmetricTensor stress_rate{};             // sum m v v now
   std::array<double, 3> heat_rate{};         // sum (m v^2 / 2) v now
@@ -180,7 +180,8 @@ inline SymmetricTensor pressure_tensor_between(const Fluxes& later, const Fluxes
                                                double volume) {
   const SymmetricTensor now = later.stress_moment(), then = earlier.stress_moment();
   SymmetricTensor p{};
-  for (std::size_t c = 0; c < 6; ++c) p[c] = (now[c] - then[c]) / ((later.time - earlier.time) * volume);
+  for (std::size_t c = 0; c < 6; ++c)
+    p[c] = (now[c] - then[c]) / ((later.time - earlier.time) * volume);
   return p;
 }
 

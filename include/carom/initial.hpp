@@ -2,11 +2,10 @@
 // fraction with Maxwell-Boltzmann velocities, reproducible bit for bit from a seed.
 #pragma once
 
-#include <pcg_random.hpp>
-
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <pcg_random.hpp>
 #include <stdexcept>
 #include <vector>
 

@@ -82,6 +82,14 @@ double shortest_side(const Box<D>& box) {
   return side;
 }
 
+// The box's area (disks) or volume (spheres).
+template <std::size_t D>
+double box_volume(const Box<D>& box) {
+  double volume = 1.0;
+  for (std::size_t k = 0; k < D; ++k) volume *= box.size[k];
+  return volume;
+}
+
 // The state of a run: the box, every particle's hot data and, index for index, its record.
 template <std::size_t D>
 struct System {

@@ -9,12 +9,18 @@
 #include <istream>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "carom/simulation.hpp"
 
 namespace carom {
+
+// The mean of `values` and the squared standard error of that mean (their variance over n - 1,
+// over n), taken as independent: for block or interval means that are.
+std::pair<double, double> mean_and_variance_of_mean(std::span<const double> values);
 
 // The mean of a series of correlated values and its standard error by block averaging (Flyvbjerg
 // and Petersen 1989): values are averaged in pairs, pairs of pairs, ..., and the standard error
@@ -112,7 +118,8 @@ class ZDrift final : public Observer<D> {
   // Continues `earlier` (a checkpoint's) when it has the same interval length.
   explicit ZDrift(double every, const std::optional<DriftRecord>& earlier = std::nullopt)
       : Observer<D>(Trigger::every_time(every)),
-        record_(earlier && earlier->every == every ? *earlier : DriftRecord{every, {}, {}, {}, {}}) {}
+        record_(earlier && earlier->every == every ? *earlier
+                                                   : DriftRecord{every, {}, {}, {}, {}}) {}
   void observe(const Simulation<D>& simulation) override;
   std::optional<DriftVerdict> verdict() const;
   // The standard error of the pressure tensor's mean over the intervals (taken as independent:

@@ -50,11 +50,11 @@ std::array<double, 2> block_viscosity_and_conductivity(std::span<const MomentSam
 
 // Where a run's transport measurement stands: what a checkpoint keeps to continue it exactly.
 struct TransportRecord {
-  double spacing = 0.0;           // between samples
-  std::size_t block_samples = 0;  // samples a block spans (its last is the next one's first)
-  std::vector<MomentSample> samples;  // the block under way
-  std::vector<double> origin;         // the unwrapped positions at its start, N x D
-  double half_msd = 0.0;              // its mean-square displacement at its middle
+  double spacing = 0.0;                // between samples
+  std::size_t block_samples = 0;       // samples a block spans (its last is the next one's first)
+  std::vector<MomentSample> samples;   // the block under way
+  std::vector<double> origin;          // the unwrapped positions at its start, N x D
+  double half_msd = 0.0;               // its mean-square displacement at its middle
   std::vector<TransportBlock> blocks;  // those done
   friend bool operator==(const TransportRecord&, const TransportRecord&) = default;
 };
@@ -70,8 +70,7 @@ struct TransportEstimate {
   double thermal_conductivity = 0.0, thermal_conductivity_error = 0.0;
   // D + 2.837297 kT / (6 pi eta L): D of an infinite system.
   std::optional<double> self_diffusion_corrected;
-  std::optional<double> enskog_self_diffusion, enskog_shear_viscosity,
-      enskog_thermal_conductivity;
+  std::optional<double> enskog_self_diffusion, enskog_shear_viscosity, enskog_thermal_conductivity;
 };
 
 // The Enskog values for hard spheres of diameter sigma and mass m at packing fraction phi and

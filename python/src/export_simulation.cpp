@@ -101,8 +101,8 @@ void export_simulation(py::module_& m) {
                            choice<EngineKind>("engine", engine),
                            kT,
                            seed,
-                           thermostat_request(choice<ThermostatKind>("thermostat", thermostat),
-                                              kT, thermostat_every, thermostat_rate, seed)};
+                           thermostat_request(choice<ThermostatKind>("thermostat", thermostat), kT,
+                                              thermostat_every, thermostat_rate, seed)};
             return PythonSimulation(load_start(spec));
           },
           "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a,

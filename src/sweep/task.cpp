@@ -65,9 +65,8 @@ double last_logged(const fs::path& log, const std::string& column) {
 
 // The keys of a summary's "transport" that results.csv shows, under the same names.
 constexpr std::array<const char*, 7> kTransportMeasures = {
-    "self_diffusion",       "self_diffusion_error",       "self_diffusion_yeh_hummer",
-    "shear_viscosity",      "shear_viscosity_error",      "thermal_conductivity",
-    "thermal_conductivity_error"};
+    "self_diffusion",        "self_diffusion_error", "self_diffusion_yeh_hummer", "shear_viscosity",
+    "shear_viscosity_error", "thermal_conductivity", "thermal_conductivity_error"};
 
 double number(const nlohmann::json& summary, const char* key) {
   const auto found = summary.find(key);
@@ -186,9 +185,9 @@ void remove_leftovers(const fs::path& folder) {
 
 std::vector<std::string> measure_names(const SweepPlan& plan) {
   if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
-  std::vector<std::string> names = {"Z",           "Z_error",        "pressure",
-                                    "pressure_error", "temperature", "collision_rate",
-                                    "packing_fraction"};
+  std::vector<std::string> names = {
+      "Z",           "Z_error",        "pressure",        "pressure_error",
+      "temperature", "collision_rate", "packing_fraction"};
   const auto transport = [](const SweepTask& task) {
     return std::any_of(task.action.begin(), task.action.end(), [](const PlanSetting& s) {
       return s.key == "transport" && std::get<bool>(s.value);
