@@ -193,6 +193,46 @@ class CellGrid {
     visit_cells(cells, layer(cell, axis, upward, cells), look_ahead, visit);
   }
 
+  // In a sheared box (Box::sheared) the images across the y edge slide along x, so a particle in
+  // an edge row of cells may touch the image of one anywhere in the far edge row: this visits
+  // every particle there that for_each_near(cell) does not (the whole row, less the columns
+  // around `cell`'s, within one cell in z). Nothing for a cell of an inner row.
+  template <class Visit>
+  void for_each_across_shear(std::uint32_t cell, Visit&& visit) const {
+    const std::array<std::uint32_t, D> at = coordinates(cell);
+    const std::uint32_t rows = count_[1], columns = count_[0];
+    if (at[1] != 0 && at[1] + 1 != rows) return;
+    if (columns < 3) return;  // every column is around it already
+    const std::uint32_t far = at[1] == 0 ? rows - 1 : 0;
+    std::array<std::uint32_t, 3> planes{0, 0, 0};
+    std::uint32_t plane_count = 1;
+    if constexpr (D == 3) {
+      const std::uint32_t n = count_[2];
+      if (n < 3) {
+        plane_count = n;
+        for (std::uint32_t z = 0; z < n; ++z) planes[z] = z;
+      } else {
+        planes = {at[2] == 0 ? n - 1 : at[2] - 1, at[2], at[2] + 1 == n ? 0 : at[2] + 1};
+        plane_count = 3;
+      }
+    }
+    const std::uint32_t left = at[0] == 0 ? columns - 1 : at[0] - 1;
+    const std::uint32_t right = at[0] + 1 == columns ? 0 : at[0] + 1;
+    for (std::uint32_t z = 0; z < plane_count; ++z) {
+      const std::uint32_t row = far * stride_[1] + (D == 3 ? planes[z] * stride_[D - 1] : 0);
+      for (std::uint32_t x = 0; x < columns; ++x) {
+        if (x == left || x == at[0] || x == right) continue;
+        for (std::uint32_t j = head_[row + x]; j != kNone; j = next_[j]) visit(j);
+      }
+    }
+  }
+
+  // Whether a particle of `cell` leaving it along y (up or down) leaves the box.
+  bool leaves_along_y(std::uint32_t cell, bool upward) const {
+    const std::uint32_t row = coordinate(cell, 1);
+    return upward ? row + 1 == count_[1] : row == 0;
+  }
+
   // Starts fetching what for_each_near(cell) will read first, for an event a few steps away.
   void prefetch_near(std::uint32_t cell) const {
     std::array<std::uint32_t, kBlock> cells;

@@ -26,6 +26,14 @@ Engine<D>::Engine(System<D> system, const CollisionRule& rule, const Growth& gro
       fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));
     }
   }
+  if (system_.box.sheared()) {
+    if (!system_.box.periodic()) throw std::invalid_argument("only a periodic box can be sheared");
+    if (rule_.rule != Rule::elastic) {
+      throw std::invalid_argument("a sheared box needs the elastic rule");
+    }
+    if (growing()) throw std::invalid_argument("a sheared box cannot grow its particles");
+    fastest_ = fastest_in_box(now_);
+  }
   if (system_.box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
       if (!(system_.box.size[k] > 4.0 * largest_)) {
@@ -71,6 +79,13 @@ Event Engine<D>::apply(Event event) {
                                                       t - rb.last_collision < rule_.elastic_within);
     advance(a, t);
     advance(b, t);
+    if (system_.box.sheared()) [[unlikely]] {
+      // b becomes the image a touches (the same particle, see sheared_cells), so that the rule
+      // sees the relative velocity of the two; the wrap below brings it back into the box.
+      const Vec<D> cells = sheared_cells(a.position - b.position, system_.box, t);
+      b.position += sheared_offset(cells, system_.box, t);
+      b.velocity[0] += cells[1] * system_.box.image_speed();
+    }
     const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
     const Vec<D> r = separation(a, b, system_.box), before = a.velocity;
     if (growing()) [[unlikely]] {
@@ -85,8 +100,12 @@ Event Engine<D>::apply(Event event) {
       event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
       event.contact[k] = r[k];
     }
-    wrap(a.position, system_.box, ra.image);
-    wrap(b.position, system_.box, rb.image);
+    wrap(a, system_.box, ra.image);
+    wrap(b, system_.box, rb.image);
+    if (system_.box.sheared()) {
+      const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
+      fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
+    }
     ++ra.pair_collisions;
     ++rb.pair_collisions;
     rb.last_collision = t;
@@ -105,6 +124,7 @@ void Engine<D>::rebase() {
   // The new epoch is the absolute time step() reported for the last event, exactly.
   system_.shift_epoch(shift);
   now_ = 0.0;
+  if (system_.box.sheared()) fastest_ = fastest_in_box(now_);
   rebased(shift);
 }
 
@@ -116,7 +136,7 @@ void Engine<D>::move_all_to(double t) {
     Particle<D>& p = system_.particles[i];
     p.position = position_at(p, t);
     p.time = t;
-    wrap(p.position, system_.box, system_.records[i].image);
+    wrap(p, system_.box, system_.records[i].image);
   }
 }
 
@@ -125,7 +145,21 @@ void Engine<D>::restart_at(double t) {
   system_.shift_epoch(t);
   now_ = 0.0;
   events_at_now_ = 0;
+  if (system_.box.sheared()) fastest_ = fastest_in_box(now_);
   rebased(t);
+}
+
+template <std::size_t D>
+double Engine<D>::fastest_in_box(double t) const {
+  double fastest = 0.0;
+  for (const Particle<D>& p : system_.particles) {
+    Particle<D> inside = p;
+    advance(inside, std::max(t, p.time));
+    std::array<std::int32_t, 3> image{};
+    wrap(inside, system_.box, image);
+    fastest = std::max(fastest, std::sqrt(norm2(inside.velocity)));
+  }
+  return fastest * (1.0 + 1e-9);
 }
 
 template <std::size_t D>
@@ -138,9 +172,17 @@ Vec<D> Engine<D>::image(std::uint32_t i, std::uint32_t j, double t) const {
 template <std::size_t D>
 double Engine<D>::image_horizon() const {
   if (!system_.box.periodic()) return kNever;
-  const double speed = growing() ? fastest_ : speed_bound(system_);
+  if (system_.box.sheared()) return image_horizon(fastest_);
+  return image_horizon(growing() ? fastest_ : speed_bound(system_));
+}
+
+template <std::size_t D>
+double Engine<D>::image_horizon(double speed) const {
+  // Two particles close in on each other at up to twice the speed, and the images across the
+  // sheared boundary slide by at the images' speed besides.
+  const double closing = 2.0 * speed + std::abs(system_.box.image_speed());
   const double room = shortest_side(system_.box) / 2.0 - 2.0 * largest_;
-  return speed > 0.0 ? room / (2.0 * speed) : kNever;
+  return closing > 0.0 ? room / closing : kNever;
 }
 
 template <std::size_t D>

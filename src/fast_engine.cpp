@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 namespace carom {
 
@@ -9,22 +10,70 @@ template <std::size_t D>
 FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Growth& growth)
     : Engine<D>(std::move(system), rule, growth),
       wide_(cpu_has_avx2()),
+      sheared_(this->system_.box.sheared()),
       grid_(this->system_.box, 2.0 * this->largest_reach(), this->system_.particles.size()),
       queue_(static_cast<std::uint32_t>(this->system_.particles.size() + 1)),
       pending_(this->system_.particles.size()),
       clock_(this->now_),
       horizon_slot_(static_cast<std::uint32_t>(this->system_.particles.size())) {
-  const auto& particles = this->system_.particles;
-  const auto n = static_cast<std::uint32_t>(particles.size());
   if (this->system_.box.periodic()) {
     for (std::size_t k = 0; k < D; ++k) {
       if (grid_.cells_along(k) < 5) horizon_ = this->image_horizon();
     }
   }
-  for (std::uint32_t i = 0; i < n; ++i) {
-    grid_.insert(i, grid_.locate(position_at(particles[i], clock_)));
+  // Across a sheared boundary the nearest image changes as the images slide: renewed always.
+  if (sheared_) {
+    horizon_ = this->image_horizon();
+    layer_.assign(this->system_.size(), 0);
   }
+  locate_all();
   predict_all();
+}
+
+template <std::size_t D>
+std::pair<Vec<D>, Vec<D>> FastEngine<D>::grid_motion(std::uint32_t i, double t) const {
+  const Particle<D>& p = this->system_.particles[i];
+  std::pair<Vec<D>, Vec<D>> motion{position_at(p, t), p.velocity};
+  if (sheared_ && layer_[i] != 0) {
+    const Box<D>& box = this->system_.box;
+    const double layers = layer_[i];
+    motion.first[0] -= layers * box.sheared_shift(t);
+    motion.first[1] -= layers * box.size[1];
+    motion.second[0] -= layers * box.image_speed();
+  }
+  return motion;
+}
+
+template <std::size_t D>
+void FastEngine<D>::locate_all() {
+  const auto& particles = this->system_.particles;
+  const auto n = static_cast<std::uint32_t>(particles.size());
+  const Box<D>& box = this->system_.box;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (sheared_) {
+      layer_[i] = static_cast<std::int32_t>(
+          std::floor(position_at(particles[i], clock_)[1] / box.size[1]));
+    }
+    const std::uint32_t cell = grid_.locate(grid_motion(i, clock_).first);
+    if (grid_.cell_of(i) == CellGrid<D>::kNone) {
+      grid_.insert(i, cell);
+    } else if (cell != grid_.cell_of(i)) {
+      grid_.move(i, cell);
+    }
+  }
+}
+
+template <std::size_t D>
+void FastEngine<D>::cross_shear(std::uint32_t i, bool upward) {
+  layer_[i] += upward ? 1 : -1;
+  auto [position, velocity] = grid_motion(i, clock_);
+  // Into the far edge row, whatever a hair of round-off says of y.
+  const Box<D>& box = this->system_.box;
+  position[1] = upward ? 0.0 : std::nextafter(box.size[1], 0.0);
+  grid_.move(i, grid_.locate(position));
+  this->fastest_ = std::max(this->fastest_, std::sqrt(norm2(velocity)) * (1.0 + 1e-9));
+  shorten_horizon();
+  predict(i);
 }
 
 template <std::size_t D>
@@ -32,13 +81,10 @@ void FastEngine<D>::rebased(double) {
   // Back to the last event (crossings since then are found again), every particle in the cell it
   // is in then, every prediction made afresh from the shifted states, as the reference engine
   // makes them.
-  const auto& particles = this->system_.particles;
-  const auto n = static_cast<std::uint32_t>(particles.size());
+  const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   clock_ = this->now_;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const std::uint32_t cell = grid_.locate(position_at(particles[i], clock_));
-    if (cell != grid_.cell_of(i)) grid_.move(i, cell);
-  }
+  locate_all();
+  if (sheared_) horizon_ = this->image_horizon();  // with the speeds made afresh
   queue_ = EventCalendar(n + 1);
   predict_all();
 }
@@ -61,6 +107,18 @@ void FastEngine<D>::schedule_horizon() {
 template <std::size_t D>
 void FastEngine<D>::shorten_horizon() {
   if (horizon_ == kNever) return;
+  if (sheared_) {
+    // What is left of the room the predictions had is used up faster by as much as the particles
+    // sped up.
+    const double before = horizon_;
+    horizon_ = this->image_horizon();
+    if (horizon_ < before) {
+      renewal_ = clock_ + (renewal_ - clock_) * (horizon_ / before);
+      if (renewal_ == clock_ && horizon_ + clock_ == clock_) this->throw_too_fast(clock_);
+      queue_.update(horizon_slot_, {renewal_, kNoEvent.order});
+    }
+    return;
+  }
   horizon_ = this->image_horizon();
   if (clock_ + horizon_ == clock_) this->throw_too_fast(clock_);
   if (clock_ + horizon_ < renewal_) {
@@ -73,6 +131,8 @@ template <std::size_t D>
 void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_upward) {
   if (this->growing()) [[unlikely]] {
     predict_growing(i, layer_axis, layer_upward);
+  } else if (sheared_) [[unlikely]] {
+    predict_sheared(i);
   } else if (wide_) {
     predict_wide(i, layer_axis, layer_upward);
   } else {
@@ -104,6 +164,12 @@ template <std::size_t D>
 [[gnu::flatten]] void FastEngine<D>::predict_growing(std::uint32_t i, std::size_t layer_axis,
                                                      bool layer_upward) {
   predict_with(i, layer_axis, layer_upward, GrowingContacts{this->growth_.rate});
+}
+
+// A sheared box predicts afresh against every candidate (edge rows gain a whole row of cells).
+template <std::size_t D>
+void FastEngine<D>::predict_sheared(std::uint32_t i) {
+  predict_with(i, D, false, ShearedContacts{});
 }
 
 template <std::size_t D>
@@ -139,12 +205,15 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
     grid_.for_each_in_layer(grid_.cell_of(i), layer_axis, layer_upward, prefetch, gather);
   } else {
     grid_.for_each_near(grid_.cell_of(i), prefetch, gather);
+    if (sheared_) grid_.for_each_across_shear(grid_.cell_of(i), gather);
   }
   if (size > 0) flush();
   earliest.read_partner_version(this->system_.records);
   Pending best = earliest.pending;
   EventKey best_key = earliest.key;
-  const auto crossing = grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
+  const auto [grid_here, grid_velocity] =
+      sheared_ ? grid_motion(i, clock_) : std::pair<Vec<D>, Vec<D>>{here, p.velocity};
+  const auto crossing = grid_.next_crossing(grid_.cell_of(i), grid_here, grid_velocity);
   if (crossing.delay != kNever) {
     best.crossing_axis = crossing.axis;
     best.crossing_upward = crossing.upward;
@@ -198,8 +267,18 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         clock_ = t;
         const Pending pending = pending_[i].pending;
         const std::size_t axis = pending.crossing_axis;
-        grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, pending.crossing_upward));
-        predict(i, axis, pending.crossing_upward);
+        const bool upward = pending.crossing_upward;
+        if (sheared_) [[unlikely]] {
+          if (axis == 1 && grid_.leaves_along_y(grid_.cell_of(i), upward)) {
+            cross_shear(i, upward);
+          } else {
+            grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, upward));
+            predict(i);
+          }
+          continue;
+        }
+        grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, upward));
+        predict(i, axis, upward);
         continue;
       }
       case EntryKind::wall: {
@@ -218,6 +297,10 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         }
         clock_ = t;
         const Event event = this->apply(pair_event(t, i, j));
+        if (sheared_) [[unlikely]] {
+          layer_[i] = layer_[j] = 0;  // both stored inside the box again (Engine::apply)
+          shorten_horizon();
+        }
         predict(i);
         predict(j);
         if (this->growing()) shorten_horizon();

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "carom/engine.hpp"
@@ -46,6 +47,7 @@ class FastEngine final : public Engine<D> {
   void predict_narrow(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
   void predict_wide(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
   void predict_growing(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  void predict_sheared(std::uint32_t i);
   template <class Contacts>
   void predict_with(std::uint32_t i, std::size_t layer_axis, bool layer_upward,
                     const Contacts& contacts);
@@ -60,12 +62,25 @@ class FastEngine final : public Engine<D> {
   }
   // Predicts every particle afresh (at the start and at every renewal horizon).
   void predict_all();
+  // Every particle in the cell it is in at clock_ (in a sheared box, with the layers between its
+  // stored state and the box made afresh).
+  void locate_all();
+  // Particle i's position and velocity at time t as the grid sees it: inside the box along y (in a
+  // sheared box its stored state may be an image, layer_[i] boxes up).
+  std::pair<Vec<D>, Vec<D>> grid_motion(std::uint32_t i, double t) const;
+  // Particle i leaves its edge row of cells across the sheared boundary at clock_ (up or down):
+  // into the cell of the far edge row its image enters, predicted afresh.
+  void cross_shear(std::uint32_t i, bool upward);
   // Queues the next time every particle is predicted again, or none.
   void schedule_horizon();
-  // With growth, after an event: brings that renewal forward if the particles sped up.
+  // With growth or shear, after an event: brings that renewal forward if the particles sped up.
   void shorten_horizon();
 
   bool wide_;  // the CPU has AVX2: predictions use the four-wide contact kernel
+  bool sheared_;  // the box is sheared (Box::sheared)
+  // In a sheared box: how many boxes up along y particle i's stored state lies from where the
+  // grid has it (its stored state is that image of it until it collides). Empty otherwise.
+  std::vector<std::int32_t> layer_;
   CellGrid<D> grid_;
   EventCalendar queue_;
   // Each particle's earliest collision and the time of it (the calendar's key is the crossing's

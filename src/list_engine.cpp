@@ -58,7 +58,9 @@ std::uint32_t name_of(std::uint32_t index) {
 
 template <std::size_t D>
 bool ListEngine<D>::suits(const System<D>& system, const Growth& growth) {
-  if (growth.rate != 0.0 || system.size() == 0) return false;
+  // Nor sheared boxes: a list's neighbours across the sheared boundary slide away (the cells
+  // follow them).
+  if (growth.rate != 0.0 || system.size() == 0 || system.box.sheared()) return false;
   // Lists name particles by offsets of 32 bits (see slots_).
   if (system.size() > std::numeric_limits<std::uint32_t>::max() / kStride<D>) return false;
   double smallest = kNever;

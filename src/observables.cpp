@@ -42,14 +42,32 @@ double degrees_of_freedom(const System<D>& system) {
 }
 
 template <std::size_t D>
+Vec<D> peculiar_momentum(const System<D>& system) {
+  if (!system.box.sheared()) return momentum(system);
+  Vec<D> total;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    total += system.records[i].mass * peculiar_velocity(system.particles[i], system.box);
+  }
+  return total;
+}
+
+template <std::size_t D>
 double kinetic_temperature(const System<D>& system) {
   const double dof = degrees_of_freedom(system);
   if (!(dof > 0.0)) return 0.0;
-  double energy = kinetic_energy(system);
+  double energy = 0.0;
+  if (system.box.sheared()) {
+    for (std::size_t i = 0; i < system.size(); ++i) {
+      const Vec<D> c = peculiar_velocity(system.particles[i], system.box);
+      energy += 0.5 * system.records[i].mass * norm2(c);
+    }
+  } else {
+    energy = kinetic_energy(system);
+  }
   if (system.box.periodic()) {
     double mass = 0.0;
     for (const ParticleRecord& r : system.records) mass += r.mass;
-    energy -= 0.5 * norm2(momentum(system)) / mass;  // the centre of mass's share
+    energy -= 0.5 * norm2(peculiar_momentum(system)) / mass;  // the centre of mass's share
   }
   return 2.0 * energy / dof;
 }
@@ -101,6 +119,8 @@ template double packing_fraction(const System<2>&);
 template double packing_fraction(const System<3>&);
 template double degrees_of_freedom(const System<2>&);
 template double degrees_of_freedom(const System<3>&);
+template Vec<2> peculiar_momentum(const System<2>&);
+template Vec<3> peculiar_momentum(const System<3>&);
 template double kinetic_temperature(const System<2>&);
 template double kinetic_temperature(const System<3>&);
 template Observables<2> measure(const System<2>&, const Measurement&, double);

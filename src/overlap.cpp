@@ -18,20 +18,28 @@ std::optional<std::pair<std::size_t, std::size_t>> find_pair_overlap(const Syste
   const auto n = static_cast<std::uint32_t>(particles.size());
   CellGrid<D> grid(system.box, 2.0 * largest_radius(system), n);
   std::vector<Vec<D>> at(n);
+  const Box<D>& box = system.box;
   for (std::uint32_t i = 0; i < n; ++i) {
-    at[i] = position_at(particles[i], time);
+    Particle<D> p = particles[i];
+    advance(p, time);
+    std::array<std::int32_t, 3> image{};
+    if (box.sheared()) wrap(p, box, image);  // inside along y: the grid's row is its own
+    at[i] = p.position;
     grid.insert(i, grid.locate(at[i]));
   }
   const double keep = (1.0 - kOverlapTolerance) * (1.0 - kOverlapTolerance);
   for (std::uint32_t i = 0; i < n; ++i) {
     std::uint32_t partner = n;
-    grid.for_each_near(grid.cell_of(i), [&](std::uint32_t j) {
+    const auto check = [&](std::uint32_t j) {
       if (j <= i || j >= partner) return;
       const double sigma = particles[i].radius + particles[j].radius;
       Vec<D> r = at[i] - at[j];
-      r -= image_offset(r, system.box);
+      r -= box.sheared() ? sheared_offset(sheared_cells(r, box, time), box, time)
+                         : image_offset(r, box);
       if (norm2(r) < sigma * sigma * keep) partner = j;
-    });
+    };
+    grid.for_each_near(grid.cell_of(i), check);
+    if (box.sheared()) grid.for_each_across_shear(grid.cell_of(i), check);
     if (partner != n) return std::pair<std::size_t, std::size_t>{i, partner};
   }
   return std::nullopt;
@@ -51,10 +59,7 @@ std::optional<std::string> find_violation(const System<D>& system, double time) 
   for (std::size_t i = 0; i < system.particles.size(); ++i) {
     Particle<D> p = system.particles[i];
     advance(p, time);
-    if (box.periodic()) {
-      wrap(p.position, box);
-      continue;
-    }
+    if (box.periodic()) continue;
     for (std::size_t k = 0; k < D; ++k) {
       for (const bool upper : {false, true}) {
         const int wall = wall_label(k, upper);
@@ -69,6 +74,9 @@ std::optional<std::string> find_violation(const System<D>& system, double time) 
     Particle<D> a = system.particles[pair->first], b = system.particles[pair->second];
     advance(a, time);
     advance(b, time);
+    std::array<std::int32_t, 3> image{};
+    wrap(a, box, image);
+    wrap(b, box, image);
     const double distance = std::sqrt(norm2(separation(a, b, box)));
     return fmt::format("particles {} and {} overlap: centres {} apart, contact at {}", pair->first,
                        pair->second, distance, a.radius + b.radius);

@@ -165,6 +165,34 @@ struct GrowingContacts {
   }
 };
 
+// Particles in a sheared box (Box::sheared): each candidate through the image nearest at the
+// time of the prediction, one at a time. No walls.
+struct ShearedContacts {
+  static constexpr std::size_t kLanes = 4;
+  template <std::size_t D>
+  static WallHit wall_hit(const Particle<D>&, const Box<D>&) {
+    return {};
+  }
+  template <std::size_t D, class Names>
+  std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
+                           const Box<D>& box, const Particle<D>* particles,
+                           const std::uint32_t* candidates, std::size_t count, double limit,
+                           double* times, Names) const {
+    std::uint64_t soon = 0;
+    for (std::size_t n = 0; n < count; ++n) {
+      const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
+      if (&b == &a) {
+        times[n] = kNever;
+        continue;
+      }
+      const Vec<D> cells = sheared_cells(here - position_at(b, clock), box, clock);
+      times[n] = sheared_contact_time(a, b, cells, box, limit);
+      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
+    }
+    return soon;
+  }
+};
+
 // The earliest event of particle i so far (its key and what it is) while batches of candidates
 // are tried against it.
 template <std::size_t D>

@@ -142,8 +142,9 @@ void Simulation<D>::record(const Event& event) {
     const System<D>& system = state();
     const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
     counts_.fluxes->add_event(event, engine_->stored_time(), system.records[event.first].mass,
-                              system.particles[event.first].velocity, system.records[partner].mass,
-                              system.particles[partner].velocity);
+                              flux_velocity(system.particles[event.first], system.box),
+                              system.records[partner].mass,
+                              flux_velocity(system.particles[partner], system.box));
   }
   last_event_ = event;
   time_ = event.time;

@@ -29,9 +29,19 @@ void rescale_velocities(System<D>& system, double kT) {
   double mass = 0.0;
   for (const ParticleRecord& r : system.records) mass += r.mass;
   // Only a periodic box keeps its centre of mass's motion out of the temperature.
-  const Vec<D> drift = system.box.periodic() ? (1.0 / mass) * momentum(system) : Vec<D>{};
+  const Vec<D> drift =
+      system.box.periodic() ? (1.0 / mass) * peculiar_momentum(system) : Vec<D>{};
   const double scale = std::sqrt(kT / now);
-  for (Particle<D>& p : system.particles) p.velocity = drift + scale * (p.velocity - drift);
+  const Box<D>& box = system.box;
+  for (Particle<D>& p : system.particles) {
+    if (box.sheared()) {  // the motion relative to the streaming profile is rescaled
+      const Vec<D> c = peculiar_velocity(p, box);
+      p.velocity = drift + scale * (c - drift);
+      p.velocity[0] += box.stream_velocity(p.position[1]);
+    } else {
+      p.velocity = drift + scale * (p.velocity - drift);
+    }
+  }
 }
 
 template <std::size_t D>
@@ -41,8 +51,10 @@ std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg
   for (std::size_t i = 0; i < system.size(); ++i) {
     if (uniform_deviate(rng) >= probability) continue;
     const double scale = std::sqrt(thermostat.kT / system.records[i].mass);
-    for (std::size_t k = 0; k < D; ++k)
-      system.particles[i].velocity[k] = scale * normal_deviate(rng);
+    Particle<D>& p = system.particles[i];
+    for (std::size_t k = 0; k < D; ++k) p.velocity[k] = scale * normal_deviate(rng);
+    // In a sheared box, drawn relative to the streaming profile where the particle is.
+    if (system.box.sheared()) p.velocity[0] += system.box.stream_velocity(p.position[1]);
     ++resets;
   }
   return resets;

@@ -369,5 +369,61 @@ TEST(CrossCheck, CellsEqualReferenceForDenseSpheres) {
                    0.0, Checked::cells);
 }
 
+// Lees-Edwards: random gases in sheared periodic boxes, at random rates and starting offsets
+// (elastic and inelastic), against the reference engine.
+template <std::size_t D>
+void check_sheared_against_reference(std::uint64_t seed, int trials, std::size_t most,
+                                     int events) {
+  pcg32 rng(seed);
+  for (int trial = 0; trial < trials; ++trial) {
+    const std::size_t n = 2 + rng() % most;
+    const double r_max = uniform(rng, 0.1, 0.8);
+    Vec<D> size;
+    for (std::size_t k = 0; k < D; ++k) size[k] = uniform(rng, 4.05 * r_max, D == 2 ? 30 : 10);
+    System<D> system;
+    if constexpr (D == 2) {
+      system = random_gas(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max, size[0], size[1]);
+    } else {
+      system = carom::testing::random_spheres(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max,
+                                              size);
+    }
+    system.box.boundary = Boundary::periodic;
+    system.box.shear_rate = (trial % 2 ? 1.0 : -1.0) * uniform(rng, 0.01, 2.0);
+    system.box.shear_offset = trial % 4 < 2 ? 0.0 : uniform(rng, 0.0, size[0]);
+    const CollisionRule rule =
+        trial % 5 == 4 ? CollisionRule{Rule::elastic, 0.8, 0.05} : CollisionRule{Rule::elastic};
+    expect_same_runs(system, rule, uniform(rng, 1, 40), events,
+                     std::string(D == 2 ? "sheared" : "sheared 3D") + " trial " +
+                         std::to_string(trial) + " (rate " +
+                         std::to_string(system.box.shear_rate) + ")");
+  }
+}
+
+TEST(CrossCheck, FastEqualsReferenceInShearedBoxes) {
+  check_sheared_against_reference<2>(20261125, 200, 40, 400);
+  check_sheared_against_reference<3>(20261126, 120, 40, 400);
+}
+
+TEST(CrossCheck, FastEqualsReferenceForDenseShearedSystems) {
+  // Many cells along x, so that an edge row's partners across the boundary lie far from its own
+  // columns, and a fast shear that carries images across many of them.
+  for (const double rate : {0.05, 3.0}) {
+    InitialOptions options;
+    options.n = 300;
+    options.packing_fraction = 0.5;
+    options.boundary = Boundary::periodic;
+    System<2> disks = make_initial<2>(options);
+    disks.box.shear_rate = rate;
+    expect_same_runs(disks, {Rule::elastic}, 1e9, 3000, "sheared disks at rate " +
+                                                            std::to_string(rate));
+    options.n = 250;
+    options.packing_fraction = 0.4;
+    System<3> spheres = make_initial<3>(options);
+    spheres.box.shear_rate = -rate;
+    expect_same_runs(spheres, {Rule::elastic}, 1e9, 3000, "sheared spheres at rate " +
+                                                              std::to_string(rate));
+  }
+}
+
 }  // namespace
 }  // namespace carom

@@ -117,6 +117,11 @@ class Engine {
   // time no pair can travel far enough to touch through another image. Infinite for walls. With
   // growth, collisions speed particles up, and it shrinks as they do (see fastest_).
   double image_horizon() const;
+  // The same for particles (inside the box) never faster than `speed`.
+  double image_horizon(double speed) const;
+  // The fastest particle's speed at stored time t (not before the last event), its state brought
+  // inside the box (in a sheared box a state outside has the velocity of an image).
+  double fastest_in_box(double t) const;
   bool growing() const { return growth_.rate != 0.0; }
   // The largest radius the run can reach (grown to growth.until).
   double largest_reach() const { return largest_; }
@@ -127,8 +132,10 @@ class Engine {
   CollisionRule rule_;
   Growth growth_;
   double largest_ = 0.0;  // see largest_reach()
-  // With growth: a bound on every particle's speed so far (collisions between growing particles
-  // add energy, so speed_bound() does not hold); raised after each collision.
+  // With growth or shear: a bound on every particle's speed so far (collisions between growing
+  // particles, or through the sheared boundary, add energy, so speed_bound() does not hold);
+  // raised after each collision (and, in a sheared box, when an engine sees a particle cross the
+  // sheared boundary), made afresh when every state is renewed (rebase, intervene).
   double fastest_ = 0.0;
   double now_ = 0.0;                 // the stored time of the last processed event
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
@@ -148,7 +155,8 @@ std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const 
 template <std::size_t D>
 Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
   advance(p, t);
-  wrap(p.position, box);
+  std::array<std::int32_t, 3> image{};
+  wrap(p, box, image);
   return p;
 }
 
@@ -157,7 +165,7 @@ template <std::size_t D>
 Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t,
                          std::array<std::int32_t, 3>& image) {
   advance(p, t);
-  wrap(p.position, box, image);
+  wrap(p, box, image);
   return p;
 }
 

@@ -47,6 +47,15 @@ constexpr void add_symmetric_outer(SymmetricTensor& t, const Vec<D>& a, const Ve
   }
 }
 
+// The velocity the kinetic rates are kept with (see above): w in a sheared box, else v.
+template <std::size_t D>
+Vec<D> flux_velocity(const Particle<D>& p, const Box<D>& box) {
+  if (!box.sheared()) return p.velocity;
+  Vec<D> w = p.velocity;
+  w[0] -= box.stream_velocity(p.position[1] - p.velocity[1] * p.time);
+  return w;
+}
+
 // The fluxes since some time: each integral up to `time`, and the kinetic rates then. The
 // integrals step on stored times (System::epoch), which resolve a run alike at any absolute
 // time, so that a run gives the same integrals whenever it starts.
@@ -55,7 +64,7 @@ struct Fluxes {
   SymmetricTensor collisional_stress{};      // sum of r dp (symmetrised)
   std::array<double, 3> kinetic_heat{};      // integral of sum (m v^2 / 2) v dt
   std::array<double, 3> collisional_heat{};  // sum of r dE
-  SymmetricTensor stress_rate{};             // sum m v v now
+  SymmetricTensor stress_rate{};             // sum m v v now (sum m w w when sheared)
   std::array<double, 3> heat_rate{};         // sum (m v^2 / 2) v now
   double since = 0.0;                        // absolute: when the integrals began
   double time = 0.0;                         // absolute: the integrals' end
@@ -63,6 +72,9 @@ struct Fluxes {
   // Whether the heat flux is kept (a run measuring its thermal conductivity asks for it: it costs
   // more per event than the momentum flux); without it the heat fields stay 0.
   bool heat = false;
+  // The box's shear rate (Box::shear_rate): the kinetic stress is then the one relative to the
+  // streaming profile.
+  double shear_rate = 0.0;
 
   friend bool operator==(const Fluxes&, const Fluxes&) = default;
 
@@ -70,12 +82,27 @@ struct Fluxes {
   // (not before `stored`).
   Fluxes advanced(double now, double now_stored) const {
     Fluxes f = *this;
-    const double dt = now_stored - stored;
-    for (std::size_t c = 0; c < 6; ++c) f.kinetic_stress[c] += stress_rate[c] * dt;
-    for (std::size_t k = 0; k < 3; ++k) f.kinetic_heat[k] += heat_rate[k] * dt;
+    f.integrate_to(now_stored);
     f.time = now;
-    f.stored = now_stored;
     return f;
+  }
+
+  // Adds the kinetic integrals from `stored` to the stored time `to`, and moves `stored` there.
+  void integrate_to(double to) {
+    const double dt = to - stored;
+    for (std::size_t c = 0; c < 6; ++c) kinetic_stress[c] += stress_rate[c] * dt;
+    if (shear_rate != 0.0) {
+      // The drift of c_x (see above): the integrals of t and t^2 over the step.
+      const double g = shear_rate, t1 = stored, t2 = to;
+      const double linear = dt * (t1 + t2) / 2.0, square = dt * (t1 * t1 + t1 * t2 + t2 * t2) / 3.0;
+      kinetic_stress[0] += -2.0 * g * stress_rate[3] * linear + g * g * stress_rate[1] * square;
+      kinetic_stress[3] += -g * stress_rate[1] * linear;
+      kinetic_stress[4] += -g * stress_rate[5] * linear;
+    }
+    if (heat) {
+      for (std::size_t k = 0; k < 3; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+    }
+    stored = to;
   }
 
   // Brings the integrals to the time of a processed event, `event_stored` as a stored time (as
@@ -85,22 +112,31 @@ struct Fluxes {
   // v' = v + dp / m changes sum m v v by sym(dp (v + v')) and its energy by dp . (v + v') / 2, so
   // a pair changes the kinetic rate by sym(dp (a + a' - b - b')), one outer product, and
   // transfers sym(r dp) and r dE across its contact r.
+  //
+  // In a sheared box the velocities are w's (flux_velocity), which a momentum dp changes by
+  // (dp_x + shear_rate t dp_y, dp_y, dp_z) / m at stored time t (y0 moves as vy changes).
   template <std::size_t D>
   void add_event(const Event& event, double event_stored, double first_mass,
                  const Vec<D>& first_after, double partner_mass, const Vec<D>& partner_after) {
-    const double dt = event_stored - stored;
-    for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
-    if (heat) {
-      for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+    if (shear_rate != 0.0) [[unlikely]] {
+      integrate_to(event_stored);
+    } else {
+      const double dt = event_stored - stored;
+      for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
+      if (heat) {
+        for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+      }
+      stored = event_stored;
     }
     time = event.time;
-    stored = event_stored;
 
     Vec<D> dp, r;
     for (std::size_t k = 0; k < D; ++k) {
       dp[k] = event.momentum[k];
       r[k] = event.contact[k];
     }
+    Vec<D> dw = dp;
+    if (shear_rate != 0.0) [[unlikely]] dw[0] += shear_rate * event_stored * dp[1];
     const auto carried_heat = [this](double mass, const Vec<D>& before, const Vec<D>& after) {
       const double energy_after = 0.5 * mass * norm2(after);
       const double energy_before = 0.5 * mass * norm2(before);
@@ -108,14 +144,14 @@ struct Fluxes {
         heat_rate[k] += energy_after * after[k] - energy_before * before[k];
       }
     };
-    const Vec<D> first_before = first_after - (1.0 / first_mass) * dp;
+    const Vec<D> first_before = first_after - (1.0 / first_mass) * dw;
     if (event.is_wall()) {
-      add_symmetric_outer<D>(stress_rate, dp, first_before + first_after);
+      add_symmetric_outer<D>(stress_rate, dw, first_before + first_after);
       if (heat) carried_heat(first_mass, first_before, first_after);
       return;
     }
-    const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dp;
-    add_symmetric_outer<D>(stress_rate, dp,
+    const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dw;
+    add_symmetric_outer<D>(stress_rate, dw,
                            (first_before + first_after) - (partner_before + partner_after));
     add_symmetric_outer<D>(collisional_stress, r, dp);
     if (!heat) return;
@@ -144,9 +180,10 @@ template <std::size_t D>
 Fluxes fluxes_of(const System<D>& system, double t, double stored, bool heat) {
   Fluxes f;
   f.heat = heat;
+  f.shear_rate = system.box.shear_rate;
   for (std::size_t i = 0; i < system.size(); ++i) {
     const double mass = system.records[i].mass;
-    const Vec<D>& v = system.particles[i].velocity;
+    const Vec<D> v = flux_velocity(system.particles[i], system.box);
     add_symmetric_outer<D>(f.stress_rate, mass * v, v);
     if (!heat) continue;
     const double energy = 0.5 * mass * norm2(v);

@@ -27,8 +27,14 @@ double packing_fraction(const System<D>& system);
 template <std::size_t D>
 double degrees_of_freedom(const System<D>& system);
 
+// The total momentum relative to the streaming profile of a sheared box (else momentum()):
+// what a sheared run without a thermostat conserves, as long as no momentum flows along y.
+template <std::size_t D>
+Vec<D> peculiar_momentum(const System<D>& system);
+
 // kT from the kinetic energy in the centre-of-mass frame over the degrees of freedom (0 for a
-// single particle in a periodic box, which has none).
+// single particle in a periodic box, which has none); in a sheared box, from the velocities
+// relative to the streaming profile.
 template <std::size_t D>
 double kinetic_temperature(const System<D>& system);
 

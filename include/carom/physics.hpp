@@ -77,11 +77,7 @@ constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
 }
 
 // The separation a - b of two stored positions, through the nearest image in a periodic box.
-template <std::size_t D>
-constexpr Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
-  const Vec<D> r = a.position - b.position;
-  return r - image_offset(r, box);
-}
+
 
 // Brings one coordinate into [0, side) and returns by how many sides it moved it: floor(x / side).
 // Strictly inside, floor() is 0 and the subtraction changes nothing (at -0 it would make +0,
@@ -117,6 +113,40 @@ void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& imag
   }
 }
 
+// The earliest time after t0 at which a pair at separation r, moving apart at v, is sigma apart
+// (see contact_time), or kNever.
+template <std::size_t D>
+constexpr double earliest_contact(double t0, const Vec<D>& r, const Vec<D>& v, double sigma,
+                                  double limit) {
+  const double rv = dot(r, v);
+  if (!(rv < 0.0)) return kNever;
+  const double c = norm2(r) - sigma * sigma;
+  if (c <= 0.0) return t0;
+  if (t0 + c / (-2.0 * rv) * (1.0 - 1e-9) > limit) return kNever;
+  const double discriminant = rv * rv - norm2(v) * c;
+  if (discriminant < 0.0) return kNever;
+  return t0 + c / (-rv + std::sqrt(discriminant));
+}
+
+// Wraps a particle's stored state into a periodic box, adding the sides it moved by to `image`;
+// in a sheared box a move across y also moves it along x by the images' shift and changes its
+// x velocity by their speed (it becomes the image of itself inside the box).
+template <std::size_t D>
+void wrap(Particle<D>& p, const Box<D>& box, std::array<std::int32_t, 3>& image) {
+  if (box.sheared()) {
+    const double layers = std::floor(p.position[1] / box.size[1]);
+    if (layers != 0.0) {
+      p.position[1] -= layers * box.size[1];
+      p.position[0] -= layers * box.sheared_shift(p.time);
+      p.velocity[0] -= layers * box.image_speed();
+      image[1] = static_cast<std::int32_t>(image[1] + layers);
+      // The round-off of the subtraction may leave y a hair outside [0, Ly): a hair's move in.
+      p.position[1] = std::clamp(p.position[1], 0.0, std::nextafter(box.size[1], 0.0));
+    }
+  }
+  wrap(p.position, box, image);
+}
+
 // When two particles first touch, from their stored states, or kNever; `offset` selects the image
 // of b (see image_offset). Both are brought to the later of their two stored times; only an
 // approaching pair can collide, so a pair that has just collided (and so separates) never
@@ -139,21 +169,75 @@ constexpr double contact_time(const Particle<D>& a, const Particle<D>& b, const 
   const Vec<D> r =
       (a.time < b.time ? position_at(a, t0) - b.position : a.position - position_at(b, t0)) -
       offset;
-  const Vec<D> v = a.velocity - b.velocity;
-  const double rv = dot(r, v);
-  if (!(rv < 0.0)) return kNever;
-  const double sigma = a.radius + b.radius;
-  const double c = norm2(r) - sigma * sigma;
-  if (c <= 0.0) return t0;
-  if (t0 + c / (-2.0 * rv) * (1.0 - 1e-9) > limit) return kNever;
-  const double discriminant = rv * rv - norm2(v) * c;
-  if (discriminant < 0.0) return kNever;
-  return t0 + c / (-rv + std::sqrt(discriminant));
+  return earliest_contact(t0, r, a.velocity - b.velocity, a.radius + b.radius, limit);
 }
 
 template <std::size_t D>
 constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
   return contact_time(a, b, Vec<D>{});
+}
+
+// Lees-Edwards images (Box::sheared). An image of particle b is named by its cells n, whole
+// numbers held as doubles: at stored time t it sits at b's position plus
+// (n_x Lx + n_y shift(t), n_y Ly, n_z Lz), shift(t) = Box::sheared_shift(t), and moves with b's
+// velocity plus (n_y image_speed, 0, 0). Whatever box a stored state lies in, these are the same
+// lattice of images, so engines may leave states outside the box between collisions.
+
+// The cells of the image of b that a sees nearest, from their separation a - b at stored time t:
+// each component of the image's separation within half a side. Negating the separation negates
+// the cells, bit for bit.
+template <std::size_t D>
+Vec<D> sheared_cells(const Vec<D>& separation, const Box<D>& box, double t) {
+  Vec<D> cells;
+  cells[1] = std::nearbyint(separation[1] / box.size[1]);
+  cells[0] = std::nearbyint((separation[0] - cells[1] * box.sheared_shift(t)) / box.size[0]);
+  if constexpr (D == 3) cells[2] = std::nearbyint(separation[2] / box.size[2]);
+  return cells;
+}
+
+// Where the image in `cells` is, relative to the particle, at stored time t.
+template <std::size_t D>
+Vec<D> sheared_offset(const Vec<D>& cells, const Box<D>& box, double t) {
+  Vec<D> offset;
+  offset[0] = cells[0] * box.size[0] + cells[1] * box.sheared_shift(t);
+  offset[1] = cells[1] * box.size[1];
+  if constexpr (D == 3) offset[2] = cells[2] * box.size[2];
+  return offset;
+}
+
+// The separation a - b of two stored positions, through the nearest image in a periodic box (in
+// a sheared one, that of the lattice at a's stored time).
+template <std::size_t D>
+Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
+  const Vec<D> r = a.position - b.position;
+  if (box.sheared()) [[unlikely]] {
+    return r - sheared_offset(sheared_cells(r, box, a.time), box, a.time);
+  }
+  return r - image_offset(r, box);
+}
+
+// contact_time through the image of b in `cells` of a sheared box: the image moves in a straight
+// line, so the contact is the root of the same quadratic. Symmetric in a and b bit for bit, as
+// contact_time is.
+template <std::size_t D>
+double sheared_contact_time(const Particle<D>& a, const Particle<D>& b, const Vec<D>& cells,
+                            const Box<D>& box, double limit = kNever) {
+  const double t0 = std::max(a.time, b.time);
+  const Vec<D> r =
+      (a.time < b.time ? position_at(a, t0) - b.position : a.position - position_at(b, t0)) -
+      sheared_offset(cells, box, t0);
+  Vec<D> v = a.velocity - b.velocity;
+  v[0] -= cells[1] * box.image_speed();
+  return earliest_contact(t0, r, v, a.radius + b.radius, limit);
+}
+
+// A particle's velocity relative to the streaming profile of a sheared box, from its stored
+// state: the same for every image of it (its velocity otherwise).
+template <std::size_t D>
+Vec<D> peculiar_velocity(const Particle<D>& p, const Box<D>& box) {
+  Vec<D> c = p.velocity;
+  if (box.sheared()) c[0] -= box.stream_velocity(p.position[1]);
+  return c;
 }
 
 // Growing particles (Lubachevsky-Stillinger compression, carom compress): every radius grows

@@ -42,11 +42,20 @@ struct ParticleRecord {
   // wrapping, per axis (z unused for disks): the unwrapped position is position + image x side,
   // as in HOOMD's and LAMMPS' image flags. Int32, as theirs.
   std::array<std::int32_t, 3> image{};
+  // In a sheared box, how often the engine has moved the stored state across the sheared
+  // boundary (cross_sheared_boundary): the particle's motion is the same, but predictions made
+  // from the other representation are stale. Bookkeeping of one run, not kept by checkpoints
+  // (a resumed run predicts everything afresh) and not compared.
+  std::uint32_t representations = 0;
 
-  // Changes whenever the particle's trajectory changes; events predicted against an older
+  // Changes whenever the particle's stored trajectory changes; events predicted against an older
   // value are stale. Derived from the counters, which grow on every velocity change.
-  std::uint64_t version() const { return wall_collisions + pair_collisions; }
-  friend bool operator==(const ParticleRecord&, const ParticleRecord&) = default;
+  std::uint64_t version() const { return wall_collisions + pair_collisions + representations; }
+  friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
+    return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
+           a.pair_collisions == b.pair_collisions && a.last_collision == b.last_collision &&
+           a.image == b.image;
+  }
 };
 
 enum class Boundary {
@@ -67,12 +76,29 @@ template <std::size_t D>
 inline constexpr std::string_view kParticleName = D == 2 ? "disk" : "sphere";
 
 // A rectangular box [0, size[0]] x ... x [0, size[D-1]].
+//
+// A periodic box may be sheared (Lees-Edwards): the images above it in y slide along x with
+// velocity shear_rate x Ly, those below with the opposite, so that the fluid streams with the
+// profile u_x = shear_rate (y - Ly / 2). At stored time t (System::epoch) the images one box up
+// sit shear_offset + shear_rate Ly t further along x (sheared_shift): a linear function of the
+// stored time, so that a particle's image moves in a straight line and contact times stay the
+// roots of a quadratic.
 template <std::size_t D>
 struct Box {
   Vec<D> size;
   Boundary boundary = Boundary::walls;
+  double shear_rate = 0.0;    // du_x / dy; 0: not sheared
+  double shear_offset = 0.0;  // the x shift of the images one box up, at stored time 0
 
   bool periodic() const { return boundary == Boundary::periodic; }
+  bool sheared() const { return shear_rate != 0.0; }
+  // The x shift of the images one box up at stored time t (unreduced: any multiple of Lx is the
+  // same lattice).
+  double sheared_shift(double t) const { return shear_offset + shear_rate * size[1] * t; }
+  // The x velocity of the images one box up relative to the box.
+  double image_speed() const { return shear_rate * size[1]; }
+  // The streaming velocity at height y.
+  double stream_velocity(double y) const { return shear_rate * (y - 0.5 * size[1]); }
 };
 
 template <std::size_t D>
@@ -110,6 +136,10 @@ struct System {
   // move; -infinity stays). The new epoch is exactly absolute(shift).
   void shift_epoch(double shift) {
     epoch = absolute(shift);
+    if (box.sheared()) {  // the images' shift at the new epoch, reduced to [0, Lx)
+      box.shear_offset = std::fmod(box.sheared_shift(shift), box.size[0]);
+      if (box.shear_offset < 0.0) box.shear_offset += box.size[0];
+    }
     for (Particle<D>& p : particles) p.time -= shift;
     for (ParticleRecord& r : records) r.last_collision -= shift;
   }
