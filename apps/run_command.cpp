@@ -72,7 +72,8 @@ StartSpec start_spec(const RunArguments& args) {
           args.temperature,
           args.seed,
           thermostat_request(args.thermostat, args.temperature, args.thermostat_every,
-                             args.thermostat_rate, args.seed)};
+                             args.thermostat_rate, args.seed),
+          shear_request(args.shear, args.velocity_profile)};
 }
 
 RunSpec run_spec(const RunArguments& args, double end_time) {
@@ -224,6 +225,15 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--thermostat-rate", args.thermostat_rate,
                   "Andersen's collision rate: resets per particle per unit time")
       ->check(finite_number());
+  run->add_option("--shear", args.shear,
+                  "Shear the periodic box at this rate (Lees-Edwards): the images above and "
+                  "below slide along x at +-RATE Ly, the fluid streams with u_x = RATE (y - Ly/2); "
+                  "the summary gives the shear stress and viscosity, the temperature relative "
+                  "to the profile")
+      ->check(finite_number());
+  run->add_flag("--velocity-profile", args.velocity_profile,
+                "Add the streaming profile of --shear to the start's velocities, so that the "
+                "run begins in its steady flow rather than with a shock");
   add_choice<EngineKind>(run, "--engine", args.engine,
                          "fast: neighbour lists (dense systems) or a cell grid, and an event "
                          "calendar, O(1) per event; reference: the classic assignment's "
@@ -240,7 +250,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->get_option("--seed")->needs(run->get_option("--kT"));
   for (const char* fixed_by_checkpoint :
        {"--rule", "--restitution", "--tc", "--boundary", "--engine", "--kT", "--thermostat",
-        "--thermostat-every", "--thermostat-rate"}) {
+        "--thermostat-every", "--thermostat-rate", "--shear", "--velocity-profile"}) {
     run->get_option(fixed_by_checkpoint)->excludes(resume);
   }
   return run;

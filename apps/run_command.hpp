@@ -40,6 +40,8 @@ struct RunArguments {
   std::uint64_t seed = 1;             // --seed: for them
   ThermostatKind thermostat = ThermostatKind::none;
   std::optional<double> thermostat_every, thermostat_rate;
+  std::optional<double> shear;
+  bool velocity_profile = false;
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

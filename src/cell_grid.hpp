@@ -227,6 +227,12 @@ class CellGrid {
     }
   }
 
+  // Whether `cell` is in the first or the last row along y (a sheared box's edge rows).
+  bool in_edge_row(std::uint32_t cell) const {
+    const std::uint32_t row = coordinate(cell, 1);
+    return row == 0 || row + 1 == count_[1];
+  }
+
   // Whether a particle of `cell` leaving it along y (up or down) leaves the box.
   bool leaves_along_y(std::uint32_t cell, bool upward) const {
     const std::uint32_t row = coordinate(cell, 1);

@@ -313,6 +313,18 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
   }
   for (std::size_t k = 0; k < D; ++k) c.system.box.size[k] = f.size(box[k], "a box side");
   c.system.box.boundary = f.template choice<Boundary>(j, "boundary");
+  if (const auto found = j.find("shear"); found != j.end() && !found->is_null()) {  // carom 1.7
+    Box<D>& b = c.system.box;
+    b.shear_rate = f.number(f.at(*found, "rate", "\"shear\""), "the shear rate");
+    b.shear_offset = f.number(f.at(*found, "offset", "\"shear\""), "the shear offset");
+    if (!b.periodic() || b.shear_rate == 0.0) {
+      fail("\"shear\" needs a periodic box and a rate other than 0");
+    }
+    if (!(b.shear_offset >= 0.0 && b.shear_offset <= b.size[0])) {
+      fail(fmt::format("the shear offset {} is not within the box's side {}", b.shear_offset,
+                       b.size[0]));
+    }
+  }
   c.settings.rule.rule = f.template choice<Rule>(j, "rule");
   c.settings.rule.restitution = f.number(f.at(j, "restitution"), "the restitution");
   c.settings.rule.elastic_within = f.number(f.at(j, "tc"), "tc");
@@ -444,6 +456,11 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     fail(fmt::format("\"origin\" in \"transport\" has {} numbers, not the particles' {}",
                      t->origin.size(), c.system.size() * D));
   }
+  // The kinetic stress is the one relative to the streaming profile of the box's shear.
+  for (std::optional<Fluxes>* fluxes :
+       {&c.counts.fluxes, &c.measurement.counts.fluxes, &c.measurement.flux_origin}) {
+    if (*fluxes) (*fluxes)->shear_rate = c.system.box.shear_rate;
+  }
   return c;
 }
 
@@ -478,6 +495,9 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"z_drift", drift_json(c.records.drift)},
   };
   if (c.records.transport) head["transport"] = transport_json(*c.records.transport);
+  if (c.system.box.sheared()) {
+    head["shear"] = {{"rate", c.system.box.shear_rate}, {"offset", c.system.box.shear_offset}};
+  }
   if (const Thermostat& t = c.settings.thermostat; t.kind != ThermostatKind::none) {
     std::ostringstream rng;
     rng << c.thermostat_rng;

@@ -132,7 +132,7 @@ void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_
   if (this->growing()) [[unlikely]] {
     predict_growing(i, layer_axis, layer_upward);
   } else if (sheared_) [[unlikely]] {
-    predict_sheared(i);
+    predict_sheared(i, layer_axis, layer_upward);
   } else if (wide_) {
     predict_wide(i, layer_axis, layer_upward);
   } else {
@@ -166,10 +166,10 @@ template <std::size_t D>
   predict_with(i, layer_axis, layer_upward, GrowingContacts{this->growth_.rate});
 }
 
-// A sheared box predicts afresh against every candidate (edge rows gain a whole row of cells).
 template <std::size_t D>
-void FastEngine<D>::predict_sheared(std::uint32_t i) {
-  predict_with(i, D, false, ShearedContacts{});
+[[gnu::flatten]] void FastEngine<D>::predict_sheared(std::uint32_t i, std::size_t layer_axis,
+                                                     bool layer_upward) {
+  predict_with(i, layer_axis, layer_upward, ShearedContacts{});
 }
 
 template <std::size_t D>
@@ -273,7 +273,13 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
             cross_shear(i, upward);
           } else {
             grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, upward));
-            predict(i);
+            // Into an edge row, the far row's cells around it are new too (all of them, as the
+            // images slide): predicted afresh.
+            if (grid_.in_edge_row(grid_.cell_of(i))) {
+              predict(i);
+            } else {
+              predict(i, axis, upward);
+            }
           }
           continue;
         }

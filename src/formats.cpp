@@ -164,6 +164,24 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
                  {"enskog_shear_viscosity", optional(t->enskog_shear_viscosity)},
                  {"enskog_thermal_conductivity", optional(t->enskog_thermal_conductivity)}};
   }
+  nlohmann::ordered_json shear = nullptr;
+  if (const double rate = system.box.shear_rate; rate != 0.0) {
+    const auto& p = o.pressure_tensor;
+    const auto& error = report.pressure_tensor_error;
+    const auto value = [](const std::optional<SymmetricTensor>& t, double scale) {
+      return t ? nlohmann::ordered_json(-(*t)[3] * scale) : nlohmann::ordered_json(nullptr);
+    };
+    const auto spread = [](const std::optional<SymmetricTensor>& t, double scale) {
+      return t ? nlohmann::ordered_json((*t)[3] * std::abs(scale))
+               : nlohmann::ordered_json(nullptr);
+    };
+    shear = {{"rate", rate},
+             {"offset", system.box.shear_offset},
+             {"shear_stress", value(p, 1.0)},
+             {"shear_stress_error", spread(error, 1.0)},
+             {"shear_viscosity", value(p, 1.0 / rate)},
+             {"shear_viscosity_error", spread(error, 1.0 / rate)}};
+  }
   const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
       {"input", report.input},
@@ -211,6 +229,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       // standard error of each component over the drift verdict's intervals.
       {"pressure_tensor", tensor(o.pressure_tensor)},
       {"pressure_tensor_error", tensor(report.pressure_tensor_error)},
+      // In a sheared box: -pxy and -pxy / rate, with the pressure tensor's errors.
+      {"shear", shear},
       // With --transport: the coefficients over the window's blocks (transport.hpp).
       {"transport", transport},
       {"wall_seconds", report.wall_seconds},

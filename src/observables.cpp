@@ -85,7 +85,7 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
   o.elapsed = now - measurement.start_time;
   o.kinetic_energy_initial = measurement.kinetic_energy_initial;
   o.kinetic_energy_final = kinetic_energy(system);
-  o.momentum_final = momentum(system);
+  o.momentum_final = peculiar_momentum(system);
   o.degrees_of_freedom = degrees_of_freedom(system);
   o.temperature = kinetic_temperature(system);
   o.packing_fraction = packing_fraction(system);

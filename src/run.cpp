@@ -282,6 +282,11 @@ void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
         "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
         "the coefficients come from");
   }
+  if (spec.transport && simulation.state().box.sheared()) {
+    throw RequestError(
+        "--transport measures the coefficients of a fluid at rest (Einstein-Helfand); a sheared "
+        "run gives its viscosity directly, in the summary's \"shear_viscosity\"");
+  }
   if (spec.measure_from) {
     const double from = *spec.measure_from;
     if (from < now && start.resumed) {

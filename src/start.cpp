@@ -131,6 +131,44 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
   return thermostat;
 }
 
+ShearRequest shear_request(std::optional<double> rate, bool profile) {
+  if (!rate) {
+    if (profile) throw RequestError("--velocity-profile needs --shear RATE: the profile's slope");
+    return {};
+  }
+  if (!std::isfinite(*rate)) {
+    throw RequestError(fmt::format("--shear must be a finite number, got {}", *rate));
+  }
+  if (*rate == 0.0 && profile) {
+    throw RequestError("--velocity-profile needs a shear rate other than 0");
+  }
+  return {*rate, profile};
+}
+
+namespace {
+
+// Shears the start's box as asked (nothing for rate 0). RequestError for a box with walls or a
+// rule that is not elastic; the profile goes on top of the velocities drawn or read.
+template <std::size_t D>
+void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
+  if (shear.rate == 0.0) return;
+  if (!system.box.periodic()) {
+    throw RequestError(
+        "--shear needs a periodic box (--boundary periodic): walls cannot slide past each other");
+  }
+  if (rule != Rule::elastic) {
+    throw RequestError("--shear needs --rule elastic: the swap rule carries no stress");
+  }
+  system.box.shear_rate = shear.rate;
+  system.box.shear_offset = 0.0;
+  if (!shear.profile) return;
+  for (Particle<D>& p : system.particles) {
+    p.velocity[0] += system.box.stream_velocity(position_at(p, 0.0)[1]);
+  }
+}
+
+}  // namespace
+
 Start load_start(const StartSpec& spec) {
   return std::visit(
       [&](auto&& input) {
@@ -147,11 +185,12 @@ Start load_start(const StartSpec& spec) {
             throw RequestError(fmt::format("--kT: {}", e.what()));
           }
           seed = spec.seed;
-        } else if (kinetic_energy(input.system) == 0.0) {
+        } else if (kinetic_energy(input.system) == 0.0 && !spec.shear.profile) {
           note += std::string(note.empty() ? "" : "; ") +
                   "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
                   "Maxwell-Boltzmann velocities";
         }
+        apply_shear(input.system, spec.shear, rule);
         // Only for the reader's messages: not held while the engine is made (a move frees it;
         // `= {}` would keep its capacity).
         input.line_of = std::vector<std::size_t>();
@@ -176,11 +215,13 @@ Start resume_start(const std::string& path) {
       read_checkpoint(file, path));
 }
 
-Start init_start(int dimension, const InitialOptions& options, const Settings& settings) {
+Start init_start(int dimension, const InitialOptions& options, const Settings& settings,
+                 const ShearRequest& shear) {
   require_dimension(dimension);
   check_settings(settings);
   AnySystem system =
       dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
+  std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
   return Start{AnySimulation(std::move(system), settings),
                "",
                "(carom.init)",
@@ -190,10 +231,12 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
                WindowRecords{}};
 }
 
-Start arrays_start(const ParticleArrays& arrays, const Settings& settings) {
+Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
+                   const ShearRequest& shear) {
   require_dimension(arrays.dimension);
   AnySystem system =
       arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
+  std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
   return Start{AnySimulation(std::move(system), settings),
                "",
                "(arrays)",

@@ -99,9 +99,7 @@ struct Fluxes {
       kinetic_stress[3] += -g * stress_rate[1] * linear;
       kinetic_stress[4] += -g * stress_rate[5] * linear;
     }
-    if (heat) {
-      for (std::size_t k = 0; k < 3; ++k) kinetic_heat[k] += heat_rate[k] * dt;
-    }
+    for (std::size_t k = 0; k < 3; ++k) kinetic_heat[k] += heat_rate[k] * dt;
     stored = to;
   }
 

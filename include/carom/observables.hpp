@@ -43,7 +43,7 @@ struct Observables {
   double elapsed = 0.0;  // the time over which rates and pressures are measured
   double kinetic_energy_initial = 0.0;
   double kinetic_energy_final = 0.0;
-  Vec<D> momentum_final;
+  Vec<D> momentum_final;  // relative to the streaming profile in a sheared box
   double degrees_of_freedom = 0.0;
   double temperature = 0.0;  // kinetic_temperature() at the end
   // From the collision virial: P V = N kT + (sum over collisions of r_ij . dp_i) / (D elapsed).

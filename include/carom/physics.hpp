@@ -188,10 +188,15 @@ constexpr double contact_time(const Particle<D>& a, const Particle<D>& b) {
 // the cells, bit for bit.
 template <std::size_t D>
 Vec<D> sheared_cells(const Vec<D>& separation, const Box<D>& box, double t) {
+  // Within half a side (nearly always) the cell is 0: no division, as nearbyint would give.
+  const auto nearest = [](double x, double side) {
+    return std::abs(x) <= 0.5 * side ? 0.0 : std::nearbyint(x / side);
+  };
   Vec<D> cells;
-  cells[1] = std::nearbyint(separation[1] / box.size[1]);
-  cells[0] = std::nearbyint((separation[0] - cells[1] * box.sheared_shift(t)) / box.size[0]);
-  if constexpr (D == 3) cells[2] = std::nearbyint(separation[2] / box.size[2]);
+  cells[1] = nearest(separation[1], box.size[1]);
+  const double x = cells[1] == 0.0 ? separation[0] : separation[0] - cells[1] * box.sheared_shift(t);
+  cells[0] = nearest(x, box.size[0]);
+  if constexpr (D == 3) cells[2] = nearest(separation[2], box.size[2]);
   return cells;
 }
 

@@ -23,6 +23,18 @@ AnyClassicInput read_any_start_file(const std::string& spec,
 AnySystem read_start_system(const std::string& spec,
                             std::optional<Boundary> boundary = std::nullopt);
 
+// Lees-Edwards shear asked of a start (`carom run --shear RATE [--velocity-profile]`): the box's
+// shear rate (Box::shear_rate), and whether the particles start streaming with the profile
+// u_x = RATE (y - Ly / 2) added to their velocities, so that the run begins without a shock.
+struct ShearRequest {
+  double rate = 0.0;  // 0: none
+  bool profile = false;
+};
+
+// Checks a shear request: RequestError, naming the option, for a rate that is not a finite number
+// or a profile without a rate.
+ShearRequest shear_request(std::optional<double> rate, bool profile);
+
 // How to read a start file: carom run's FILE and options (carom.read's arguments).
 struct StartSpec {
   std::string path;                  // see read_any_start_file; "-" reads standard input
@@ -34,6 +46,7 @@ struct StartSpec {
   std::optional<double> temperature;  // new Maxwell-Boltzmann velocities at this kT
   std::uint64_t seed = 1;             // of those velocities
   Thermostat thermostat;              // none (thermostat_request makes one)
+  ShearRequest shear;                 // none
 };
 
 // The thermostat `carom run --thermostat KIND --kT T --thermostat-every DT [--thermostat-rate NU]
@@ -63,7 +76,8 @@ Start load_start(const StartSpec& spec);
 Start resume_start(const std::string& path);
 // carom init's start of `dimension` (2 or 3), run with `settings`. Throws InitialError when the
 // options cannot be met, RequestError for another dimension.
-Start init_start(int dimension, const InitialOptions& options, const Settings& settings);
+Start init_start(int dimension, const InitialOptions& options, const Settings& settings,
+                 const ShearRequest& shear = {});
 
 // Particles held as arrays by a caller (numpy's, say): row-major (N, D) positions and
 // velocities, the D box sides, N radii and N masses.
@@ -78,6 +92,7 @@ struct ParticleArrays {
   Boundary boundary = Boundary::walls;
 };
 // A start from arrays, checked as a start file is (check_start: InputError naming the particle).
-Start arrays_start(const ParticleArrays& arrays, const Settings& settings);
+Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
+                   const ShearRequest& shear = {});
 
 }  // namespace carom
