@@ -934,6 +934,54 @@ TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
   }
 }
 
+TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
+  const fs::path start = dir_ / "gas.txt", summary = dir_ / "summary.json";
+  ASSERT_EQ(carom({"run", "--help"}).out.find("--velocity-profile") != std::string::npos, true);
+  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "200", "--phi", "0.3", "--boundary", "periodic",
+                   "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "10", "--rule", "elastic", "--shear", "0.5", "--velocity-profile",
+                   "--thermostat", "rescale", "--kT", "1", "--thermostat-every", "0.5",
+                   "--summary", summary, "-o", dir_ / "out.txt"})
+                .exit_code,
+            0);
+  const auto j = nlohmann::json::parse(read_file(summary));
+  EXPECT_NEAR(j["temperature"].get<double>(), 1.0, 1e-12);  // relative to the profile
+  const auto& shear = j["shear"];
+  EXPECT_EQ(shear["rate"], 0.5);
+  EXPECT_GT(shear["shear_stress"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(shear["shear_stress"].get<double>(), -j["pressure_tensor"]["xy"].get<double>());
+  EXPECT_DOUBLE_EQ(shear["shear_viscosity"].get<double>(),
+                   shear["shear_stress"].get<double>() / 0.5);
+  EXPECT_GT(shear["shear_viscosity_error"].get<double>(), 0.0);
+  ASSERT_EQ(carom({"run", start, "1", "--rule", "elastic", "--summary", summary, "-o",
+                   dir_ / "out.txt"})
+                .exit_code,
+            0);
+  EXPECT_TRUE(nlohmann::json::parse(read_file(summary))["shear"].is_null());
+  const fs::path walled = dir_ / "walled.txt";
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  const Result walls = carom({"run", walled, "1", "--rule", "elastic", "--shear", "1", "-o",
+                              dir_ / "out.txt"});
+  EXPECT_EQ(walls.exit_code, 2);
+  EXPECT_NE(walls.err.find("--shear needs a periodic box"), std::string::npos) << walls.err;
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--shear", "1", "--rule", "swap"}, "--shear needs --rule elastic"},
+      {{"--velocity-profile", "--rule", "elastic"}, "--velocity-profile needs --shear"},
+      {{"--shear", "0", "--velocity-profile", "--rule", "elastic"}, "other than 0"},
+      {{"--shear", "nan", "--rule", "elastic"}, "--shear"},
+      {{"--shear", "1", "--rule", "elastic", "--transport"}, "a sheared run gives its viscosity"},
+  };
+  for (const auto& [options, message] : refused) {
+    std::vector<std::string> args = {"run", start, "1", "-o", dir_ / "out.txt"};
+    args.insert(args.end(), options.begin(), options.end());
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << options.front();
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+  }
+}
+
 TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
   const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
   ASSERT_EQ(carom({"init", "--n", "400", "--phi", "0.5", "--boundary", "periodic", "-o", start})

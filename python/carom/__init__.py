@@ -373,7 +373,7 @@ class Simulation:
 
 def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["tc"],
          engine=_D["engine"], kT=None, seed=_D["seed"], thermostat="none", thermostat_every=None,
-         thermostat_rate=None):
+         thermostat_rate=None, shear=None, velocity_profile=False):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
@@ -384,7 +384,9 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
     which. kT: new Maxwell-Boltzmann velocities at that temperature, reproducible from seed, as
     `carom run --kT T --seed S` (for a start without velocities, or to rethermalise one).
     thermostat: "rescale" or "andersen" holds the run at kT every thermostat_every (Andersen's
-    with thermostat_rate resets per particle per unit time), as `carom run --thermostat`. A
+    with thermostat_rate resets per particle per unit time), as `carom run --thermostat`.
+    shear: a Lees-Edwards shear rate for a periodic box, with velocity_profile=True adding its
+    streaming profile to the velocities, as `carom run --shear RATE --velocity-profile`. A
     broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
@@ -393,13 +395,15 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
         _whole("seed", seed, 0, 2**64 - 1), *_thermostat(thermostat, thermostat_every,
-                                                         thermostat_rate)))
+                                                         thermostat_rate),
+        *_shear(shear, velocity_profile)))
 
 
 def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_D["rule"],
          box=None, aspect=_D["aspect"], radius=None, polydispersity=_D["polydispersity"],
          kT=_D["kT"], placement=_D["placement"], restitution=_D["restitution"], tc=_D["tc"],
-         engine=_D["engine"], thermostat="none", thermostat_every=None, thermostat_rate=None):
+         engine=_D["engine"], thermostat="none", thermostat_every=None, thermostat_rate=None,
+         shear=None, velocity_profile=False):
     """A Simulation of `carom init`'s start: the same particles, bit for bit.
 
     n particles at packing fraction phi with Maxwell-Boltzmann velocities at kT (zero momentum,
@@ -407,8 +411,9 @@ def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_
     a triangular lattice above, up to 0.9069); dim 3: spheres (random up to 0.25, FCC above, up
     to 0.7405 for n = 4 k^3 in a periodic cube). box: the sides (the radius follows); else a
     square or cube (aspect = Lx / Ly) of spheres of `radius` (default 0.5). placement: "auto",
-    "random" or "lattice". The run's options (rule, restitution, tc, engine, and thermostat,
-    thermostat_every, thermostat_rate holding the run at kT) are `carom run`'s.
+    "random" or "lattice". The run's options (rule, restitution, tc, engine, thermostat,
+    thermostat_every, thermostat_rate holding the run at kT, and shear, velocity_profile) are
+    `carom run`'s.
     """
     box = [] if box is None else [float(side) for side in _float_array("box", box, (None,))]
     return Simulation._wrap(_carom.Simulation.init(
@@ -419,7 +424,14 @@ def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_
         _choice("placement", placement, ("auto", "random", "lattice")), _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES),
-        *_thermostat(thermostat, thermostat_every, thermostat_rate)))
+        *_thermostat(thermostat, thermostat_every, thermostat_rate),
+        *_shear(shear, velocity_profile)))
+
+
+def _shear(rate, profile):
+    """The shear's arguments, checked as the other options are."""
+    return (None if rate is None else _number("shear", rate),
+            _flag("velocity_profile", profile))
 
 
 def _thermostat(kind, every, rate):

@@ -92,7 +92,8 @@ void export_simulation(py::module_& m) {
              const std::optional<std::string>& rule, double restitution, double tc,
              const std::string& engine, std::optional<double> kT, std::uint64_t seed,
              const std::string& thermostat, std::optional<double> thermostat_every,
-             std::optional<double> thermostat_rate) {
+             std::optional<double> thermostat_rate, std::optional<double> shear,
+             bool velocity_profile) {
             StartSpec spec{path,
                            choice<Boundary>("boundary", boundary),
                            choice<Rule>("rule", rule),
@@ -102,11 +103,13 @@ void export_simulation(py::module_& m) {
                            kT,
                            seed,
                            thermostat_request(choice<ThermostatKind>("thermostat", thermostat), kT,
-                                              thermostat_every, thermostat_rate, seed)};
+                                              thermostat_every, thermostat_rate, seed),
+                           shear_request(shear, velocity_profile)};
             return PythonSimulation(load_start(spec));
           },
           "path"_a, "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "kT"_a, "seed"_a,
-          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a)
+          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a, "shear"_a,
+          "velocity_profile"_a)
       .def_static(
           "init",
           [](int dim, std::uint64_t n, double phi, const std::vector<double>& box, double aspect,
@@ -114,7 +117,8 @@ void export_simulation(py::module_& m) {
              const std::string& boundary, const std::string& placement, const std::string& rule,
              double restitution, double tc, const std::string& engine,
              const std::string& thermostat, std::optional<double> thermostat_every,
-             std::optional<double> thermostat_rate) {
+             std::optional<double> thermostat_rate, std::optional<double> shear,
+             bool velocity_profile) {
             InitialOptions o;
             o.n = n;
             o.packing_fraction = phi;
@@ -131,14 +135,16 @@ void export_simulation(py::module_& m) {
               settings.thermostat =
                   thermostat_request(choice<ThermostatKind>("thermostat", thermostat), kT,
                                      thermostat_every, thermostat_rate, seed);
-              return PythonSimulation(init_start(dim, o, settings));
+              return PythonSimulation(
+                  init_start(dim, o, settings, shear_request(shear, velocity_profile)));
             } catch (const InitialError& e) {
               throw std::invalid_argument(e.what());
             }
           },
           "dim"_a, "n"_a, "phi"_a, "box"_a, "aspect"_a, "radius"_a, "polydispersity"_a, "kT"_a,
           "seed"_a, "boundary"_a, "placement"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a,
-          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a)
+          "thermostat"_a, "thermostat_every"_a, "thermostat_rate"_a, "shear"_a,
+          "velocity_profile"_a)
       .def_static(
           "resume", [](const std::string& path) { return PythonSimulation(resume_start(path)); },
           "path"_a)

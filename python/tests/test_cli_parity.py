@@ -290,3 +290,41 @@ def test_bad_thermostats_are_refused_as_on_the_command_line(tmp_path, cli):
         carom.read(path, kT=1.0, thermostat="andersen", thermostat_every=1.0)
     with pytest.raises(ValueError, match="thermostat"):
         carom.read(path, kT=1.0, thermostat="nose-hoover", thermostat_every=1.0)
+
+
+def test_shear_equals_cli_and_resumes_exactly(cli, tmp_path):
+    # carom.read with shear runs as `carom run --shear`, and a checkpoint (which carries the
+    # images' offset) continues it exactly, in either front end.
+    path = cli_init(cli, tmp_path / "gas.txt", n=150, phi=0.35, seed=3, boundary="periodic",
+                    dim=3)
+    options = dict(shear=0.4, velocity_profile=True, kT=1.0, thermostat="rescale",
+                   thermostat_every=0.3)
+    flags = ["--shear", "0.4", "--velocity-profile", "--kT", "1", "--thermostat", "rescale",
+             "--thermostat-every", "0.3"]
+    sim = carom.read(path, rule="elastic", **options)
+    sim.run(4.0)
+    summary = tmp_path / "summary.json"
+    cli("run", path, "4", "--rule", "elastic", *flags, "--summary", summary, "-o",
+        tmp_path / "final.txt")
+    expected = json.loads(summary.read_text())
+    assert expected["shear"]["rate"] == 0.4 and expected["shear"]["shear_viscosity"] > 0
+    assert deterministic(sim.observables()) == deterministic(expected)
+    half = carom.read(path, rule="elastic", **options)
+    half.run(1.7)
+    half.save(tmp_path / "half.ckpt")
+    resumed = carom.resume(tmp_path / "half.ckpt")
+    resumed.run(4.0)
+    assert_same_state(resumed, sim)
+
+
+def test_bad_shears_are_refused_as_on_the_command_line(tmp_path, cli):
+    walls = cli_init(cli, tmp_path / "walls.txt", n=50, phi=0.3)
+    with pytest.raises(ValueError, match="periodic box"):
+        carom.read(walls, rule="elastic", shear=1.0)
+    path = cli_init(cli, tmp_path / "gas.txt", n=50, phi=0.3, boundary="periodic")
+    with pytest.raises(ValueError, match="needs --shear"):
+        carom.read(path, velocity_profile=True)
+    with pytest.raises(ValueError, match="rule elastic"):
+        carom.read(path, rule="swap", shear=1.0)
+    with pytest.raises(ValueError, match="shear"):
+        carom.init(50, 0.3, boundary="periodic", rule="elastic", shear=float("inf"))
