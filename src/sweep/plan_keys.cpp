@@ -44,6 +44,8 @@ constexpr std::array kKeys = {
     KeyInfo{"thermostat", run, choice},
     KeyInfo{"thermostat_every", run, number},
     KeyInfo{"thermostat_rate", run, number},
+    KeyInfo{"shear", run, number},
+    KeyInfo{"velocity_profile", run, flag},
     KeyInfo{"phi", compress, number},
     KeyInfo{"jam", compress, flag},
     KeyInfo{"rate", compress, number},

@@ -63,10 +63,13 @@ double last_logged(const fs::path& log, const std::string& column) {
   return kNotMeasured;
 }
 
-// The keys of a summary's "transport" that results.csv shows, under the same names.
+// The keys of a summary's "transport" and "shear" that results.csv shows, under the same names
+// (a task has one or the other: a sheared run measures its viscosity directly).
 constexpr std::array<const char*, 7> kTransportMeasures = {
     "self_diffusion",        "self_diffusion_error", "self_diffusion_yeh_hummer", "shear_viscosity",
     "shear_viscosity_error", "thermal_conductivity", "thermal_conductivity_error"};
+constexpr std::array<const char*, 5> kShearMeasures = {
+    "shear_rate", "shear_stress", "shear_stress_error", "shear_viscosity", "shear_viscosity_error"};
 
 double number(const nlohmann::json& summary, const char* key) {
   const auto found = summary.find(key);
@@ -82,10 +85,14 @@ TaskResult done_result(const std::vector<std::string>& names, const fs::path& fo
   result.wall_seconds = number(summary, "wall_seconds");
   for (const std::string& name : names) {
     double value = kNotMeasured;
-    if (std::find(kTransportMeasures.begin(), kTransportMeasures.end(), name) !=
-            kTransportMeasures.end() &&
-        summary.contains("transport")) {
-      value = number(summary["transport"], name.c_str());
+    for (const char* section : {"transport", "shear"}) {
+      const auto found = summary.find(section);
+      if (found != summary.end() && found->is_object() && found->contains(name)) {
+        value = number(*found, name.c_str());
+      }
+    }
+    if (name == "shear_rate" && summary.contains("shear") && summary["shear"].is_object()) {
+      value = number(summary["shear"], "rate");
     }
     if (name == "Z") value = number(summary, "compressibility_factor");
     if (name == "Z_error") value = last_logged(folder / task_files::kLog, "Z_error");
@@ -188,14 +195,22 @@ std::vector<std::string> measure_names(const SweepPlan& plan) {
   std::vector<std::string> names = {
       "Z",           "Z_error",        "pressure",        "pressure_error",
       "temperature", "collision_rate", "packing_fraction"};
-  const auto transport = [](const SweepTask& task) {
-    return std::any_of(task.action.begin(), task.action.end(), [](const PlanSetting& s) {
-      return s.key == "transport" && std::get<bool>(s.value);
+  const auto any_task = [&plan](auto&& asks) {
+    return std::any_of(plan.tasks().begin(), plan.tasks().end(), [&](const SweepTask& task) {
+      return std::any_of(task.action.begin(), task.action.end(), asks);
     });
   };
-  if (std::any_of(plan.tasks().begin(), plan.tasks().end(), transport)) {
-    names.insert(names.end(), kTransportMeasures.begin(), kTransportMeasures.end());
+  const auto add = [&names](const auto& more) {
+    for (const char* name : more) {
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.emplace_back(name);
+    }
+  };
+  if (any_task([](const PlanSetting& s) {
+        return s.key == "transport" && std::get<bool>(s.value);
+      })) {
+    add(kTransportMeasures);
   }
+  if (any_task([](const PlanSetting& s) { return s.key == "shear"; })) add(kShearMeasures);
   return names;
 }
 

@@ -114,7 +114,8 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
   StartSpec& start = spec.start;
   RunSpec& run = spec.run;
   std::optional<std::string> cadence;
-  std::optional<double> log_every, thermostat_every, thermostat_rate;
+  std::optional<double> log_every, thermostat_every, thermostat_rate, shear;
+  bool velocity_profile = false;
   ThermostatKind thermostat = ThermostatKind::none;
   for (const PlanSetting& s : settings) {
     const PlanValue& v = s.value;
@@ -138,7 +139,10 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "check") run.check = as_flag(v);
     if (s.key == "check_every") run.check_every = as_integer(v);
     if (s.key == "transport") run.transport = as_flag(v);
+    if (s.key == "shear") shear = as_number(v);
+    if (s.key == "velocity_profile") velocity_profile = as_flag(v);
   }
+  start.shear = shear_request(shear, velocity_profile);
   start.thermostat = thermostat_request(thermostat, start.temperature, thermostat_every,
                                         thermostat_rate, start.seed);
   // Every task keeps a time series (the error bars of results.csv), its summary and its state.
