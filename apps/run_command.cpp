@@ -216,9 +216,11 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       ->default_str("1");
   add_choice<ThermostatKind>(
       run, "--thermostat", args.thermostat,
-      "Hold the run at --kT every --thermostat-every: rescale (every velocity relative to the "
-      "centre of mass scaled to kT exactly) or andersen (each particle, with probability 1 - "
-      "exp(-NU DT), a new Maxwell-Boltzmann velocity; --thermostat-rate NU)");
+      "Hold the run at --kT: rescale (every --thermostat-every, every velocity relative to the "
+      "centre of mass scaled to kT exactly) or andersen (--thermostat-rate NU: each particle a "
+      "new Maxwell-Boltzmann velocity at the events of a Poisson process of rate NU; with "
+      "--thermostat-every DT, all at once at DT, 2 DT, ..., each with probability "
+      "1 - exp(-NU DT))");
   run->add_option("--thermostat-every", args.thermostat_every,
                   "Time between the thermostat's actions (at DT, 2 DT, ...)")
       ->check(finite_number());

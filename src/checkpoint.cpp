@@ -395,6 +395,13 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
       c.thermostat_instants = f.count(f.at(*found, "instants", where), "the thermostat's instants");
       std::istringstream rng(f.text(f.at(*found, "rng", where), "the thermostat's rng"));
       if (!(rng >> c.thermostat_rng)) fail("the thermostat's \"rng\" is not a pcg32 state");
+      if (resets_as_events(t)) {
+        c.thermostat_next = f.coordinate(f.at(*found, "next", where), "the thermostat's next reset");
+        if (!(c.thermostat_next >= c.time)) {
+          fail(fmt::format("the thermostat's next reset {} is before the checkpoint's time {}",
+                           c.thermostat_next, c.time));
+        }
+      }
       try {
         check_thermostat(t);
       } catch (const std::invalid_argument& e) {
@@ -505,6 +512,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
                           {"every", t.every},        {"rate", t.rate},
                           {"seed", t.seed},          {"instants", c.thermostat_instants},
                           {"rng", rng.str()}};
+    if (resets_as_events(t)) head["thermostat"]["next"] = c.thermostat_next;
   }
   std::string text = head.dump(1);
   Fnv1a hash;

@@ -141,6 +141,23 @@ void Engine<D>::move_all_to(double t) {
 }
 
 template <std::size_t D>
+void Engine<D>::reset_velocity(std::uint32_t i, double t, const Vec<D>& velocity) {
+  if (growing()) throw std::logic_error("a growing engine cannot be intervened in");
+  if (!(t >= now_)) throw std::logic_error("a velocity reset before the last event");
+  Particle<D>& p = system_.particles[i];
+  ParticleRecord& record = system_.records[i];
+  advance(p, t);
+  p.velocity = velocity;
+  wrap(p, system_.box, record.image);
+  ++record.resets;
+  now_ = t;
+  if (system_.box.sheared()) {
+    fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));
+  }
+  velocity_reset(i);
+}
+
+template <std::size_t D>
 void Engine<D>::restart_at(double t) {
   system_.shift_epoch(t);
   now_ = 0.0;

@@ -105,9 +105,17 @@ void FastEngine<D>::schedule_horizon() {
 }
 
 template <std::size_t D>
+void FastEngine<D>::velocity_reset(std::uint32_t i) {
+  clock_ = this->now_;
+  if (sheared_) layer_[i] = 0;  // stored inside the box again (Engine::reset_velocity)
+  shorten_horizon();
+  predict(i);
+}
+
+template <std::size_t D>
 void FastEngine<D>::shorten_horizon() {
   if (horizon_ == kNever) return;
-  if (sheared_) {
+  if (!this->growing()) {
     // What is left of the room the predictions had is used up faster by as much as the particles
     // sped up.
     const double before = horizon_;

@@ -37,6 +37,7 @@ class FastEngine final : public Engine<D> {
   void velocities_changed() override {
     if (horizon_ != kNever) horizon_ = this->image_horizon();
   }
+  void velocity_reset(std::uint32_t i) override;
   // Finds the earliest event of particle i from the current time and queues it: against every
   // particle in the cells around it, or after a crossing only against those in the layer of cells
   // the crossing brought within reach, the earlier prediction standing for the rest.

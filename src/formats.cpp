@@ -113,7 +113,11 @@ namespace {
 // A run's thermostat as its summary shows it: null without one.
 nlohmann::ordered_json thermostat_json(const Thermostat& t) {
   if (t.kind == ThermostatKind::none) return nullptr;
-  nlohmann::ordered_json j = {{"kind", name_of(t.kind)}, {"kT", t.kT}, {"every", t.every}};
+  // Andersen's resets as events have no interval: null.
+  nlohmann::ordered_json j = {
+      {"kind", name_of(t.kind)},
+      {"kT", t.kT},
+      {"every", resets_as_events(t) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.every)}};
   if (t.kind == ThermostatKind::andersen) {
     j["rate"] = t.rate;
     j["seed"] = t.seed;

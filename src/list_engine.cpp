@@ -356,6 +356,13 @@ std::optional<Event> ListEngine<D>::step_with(double end_time, const Contacts& c
   }
 }
 
+// Every kernel predicts the same times bit for bit: the scalar one serves this rare event.
+template <std::size_t D>
+void ListEngine<D>::velocity_reset(std::uint32_t i) {
+  clock_ = this->now_;
+  predict_with(i, NarrowContacts{});
+}
+
 template class ListEngine<2>;
 template class ListEngine<3>;
 

@@ -78,6 +78,7 @@ class ListEngine final : public Engine<D> {
 
  private:
   void rebased(double shift) override;
+  void velocity_reset(std::uint32_t i) override;
   // Every list made afresh around the positions at the clock, every prediction made again.
   void make_all_lists();
   // The event loop with each contact kernel (step() picks one), and with any.

@@ -45,6 +45,11 @@ class ReferenceEngine final : public Engine<D> {
   void rebased(double) override { window_start_ = this->now_; }
   // The window follows the fastest speed the energy allows, which a thermostat changes.
   void velocities_changed() override { horizon_ = this->image_horizon(); }
+  // The window restarts where the velocity changed, bounded by the speeds now.
+  void velocity_reset(std::uint32_t) override {
+    window_start_ = this->now_;
+    velocities_changed();
+  }
 
   Event earliest() const {
     const auto& particles = this->system_.particles;

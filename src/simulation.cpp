@@ -51,7 +51,10 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
   measurement_ = {time_, kinetic_energy(state()), {}, std::nullopt};
   track_fluxes();
   thermostat_rng_.seed(settings_.thermostat.seed);
-  if (settings_.thermostat.kind != ThermostatKind::none) {
+  if (resets_as_events(settings_.thermostat)) {
+    thermostat_next_ =
+        time_ + next_reset_delay(settings_.thermostat, state().size(), thermostat_rng_);
+  } else if (settings_.thermostat.kind != ThermostatKind::none) {
     thermostat_instants_ =
         static_cast<std::uint64_t>(std::floor(time_ / settings_.thermostat.every));
   }
@@ -77,6 +80,7 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
   track_fluxes();  // a checkpoint of carom before 1.6 kept none
   thermostat_instants_ = checkpoint.thermostat_instants;
   thermostat_rng_ = checkpoint.thermostat_rng;
+  thermostat_next_ = checkpoint.thermostat_next;
 }
 
 template <std::size_t D>
@@ -227,12 +231,42 @@ template <std::size_t D>
 double Simulation<D>::next_thermostat_time() const {
   const Thermostat& thermostat = settings_.thermostat;
   if (thermostat.kind == ThermostatKind::none) return kNever;
+  if (resets_as_events(thermostat)) return thermostat_next_;
   return thermostat.every * static_cast<double>(thermostat_instants_ + 1);
+}
+
+template <std::size_t D>
+void Simulation<D>::reset_one_velocity() {
+  const Thermostat& thermostat = settings_.thermostat;
+  const System<D>& system = state();
+  const auto i = static_cast<std::uint32_t>(thermostat_rng_(static_cast<std::uint32_t>(system.size())));
+  Particle<D> reset = system.particles[i];
+  advance(reset, stored_time_);
+  reset.velocity = maxwell_velocity<D>(thermostat.kT, system.records[i].mass, thermostat_rng_);
+  // Drawn relative to the streaming profile where the particle is, in a sheared box.
+  if (system.box.sheared()) {
+    std::array<std::int32_t, 3> image{};
+    Particle<D> inside = reset;
+    wrap(inside, system.box, image);
+    reset.velocity[0] += system.box.stream_velocity(inside.position[1]);
+  }
+  const Vec<D> before = flux_velocity(system.particles[i], system.box);
+  engine_->reset_velocity(i, stored_time_, reset.velocity);
+  if (counts_.fluxes) {
+    counts_.fluxes->change_velocity<D>(time_, stored_time_, system.records[i].mass, before,
+                                       flux_velocity(state().particles[i], system.box));
+  }
+  ++thermostat_instants_;
+  thermostat_next_ += next_reset_delay(thermostat, system.size(), thermostat_rng_);
 }
 
 template <std::size_t D>
 void Simulation<D>::apply_thermostat() {
   const Thermostat& thermostat = settings_.thermostat;
+  if (resets_as_events(thermostat)) {
+    reset_one_velocity();
+    return;
+  }
   if (counts_.fluxes) *counts_.fluxes = counts_.fluxes->advanced(time_, stored_time_);
   engine_->intervene(stored_time_, [&](System<D>& system) {
     if (thermostat.kind == ThermostatKind::rescale) {
@@ -373,7 +407,7 @@ template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
   return {source,         state(),      settings_,     time_, settled_,
           counts_,        measurement_, measure_from_, {},    thermostat_instants_,
-          thermostat_rng_};
+          thermostat_rng_, thermostat_next_};
 }
 
 template class Simulation<2>;

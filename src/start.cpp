@@ -114,15 +114,18 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
     return {};
   }
   if (!kT) throw RequestError("--thermostat needs --kT T: the temperature to hold");
-  if (!every) throw RequestError("--thermostat needs --thermostat-every DT: how often it acts");
   if (kind == ThermostatKind::andersen && !rate) {
     throw RequestError(
         "--thermostat andersen needs --thermostat-rate NU: resets per particle per unit time");
   }
+  // Andersen's without an interval resets one particle at a time, as events.
+  if (!every && kind != ThermostatKind::andersen) {
+    throw RequestError("--thermostat needs --thermostat-every DT: how often it acts");
+  }
   if (kind != ThermostatKind::andersen && rate) {
     throw RequestError("--thermostat-rate is Andersen's: --thermostat andersen");
   }
-  const Thermostat thermostat{kind, *kT, *every, rate.value_or(0.0), seed};
+  const Thermostat thermostat{kind, *kT, every.value_or(0.0), rate.value_or(0.0), seed};
   try {
     check_thermostat(thermostat);
   } catch (const std::invalid_argument& e) {

@@ -18,7 +18,7 @@ void check_thermostat(const Thermostat& t) {
     }
   };
   positive(t.kT, "the thermostat's kT");
-  positive(t.every, "the thermostat's interval (--thermostat-every)");
+  if (!resets_as_events(t)) positive(t.every, "the thermostat's interval (--thermostat-every)");
   if (t.kind == ThermostatKind::andersen) positive(t.rate, "Andersen's rate (--thermostat-rate)");
 }
 
@@ -50,9 +50,8 @@ std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg
   std::size_t resets = 0;
   for (std::size_t i = 0; i < system.size(); ++i) {
     if (uniform_deviate(rng) >= probability) continue;
-    const double scale = std::sqrt(thermostat.kT / system.records[i].mass);
     Particle<D>& p = system.particles[i];
-    for (std::size_t k = 0; k < D; ++k) p.velocity[k] = scale * normal_deviate(rng);
+    p.velocity = maxwell_velocity<D>(thermostat.kT, system.records[i].mass, rng);
     // In a sheared box, drawn relative to the streaming profile where the particle is.
     if (system.box.sheared()) p.velocity[0] += system.box.stream_velocity(p.position[1]);
     ++resets;
@@ -60,6 +59,20 @@ std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg
   return resets;
 }
 
+double next_reset_delay(const Thermostat& thermostat, std::size_t n, pcg32& rng) {
+  return -std::log1p(-uniform_deviate(rng)) / (static_cast<double>(n) * thermostat.rate);
+}
+
+template <std::size_t D>
+Vec<D> maxwell_velocity(double kT, double mass, pcg32& rng) {
+  const double scale = std::sqrt(kT / mass);
+  Vec<D> v;
+  for (std::size_t k = 0; k < D; ++k) v[k] = scale * normal_deviate(rng);
+  return v;
+}
+
+template Vec<2> maxwell_velocity<2>(double, double, pcg32&);
+template Vec<3> maxwell_velocity<3>(double, double, pcg32&);
 template void rescale_velocities(System<2>&, double);
 template void rescale_velocities(System<3>&, double);
 template std::size_t andersen_resets(System<2>&, const Thermostat&, pcg32&);

@@ -917,6 +917,15 @@ TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
   const auto j = nlohmann::json::parse(read_file(summary));
   EXPECT_NEAR(j["temperature"].get<double>(), 2.0, 1e-12);
   EXPECT_EQ(j["thermostat"]["kind"], "rescale");
+  // Andersen's without an interval: resets as events, no "every".
+  ASSERT_EQ(carom({"run", start, "3", "--kT", "2", "--thermostat", "andersen",
+                   "--thermostat-rate", "1", "--summary", summary, "-o", dir_ / "out.txt"})
+                .exit_code,
+            0);
+  const auto events = nlohmann::json::parse(read_file(summary));
+  EXPECT_EQ(events["thermostat"]["kind"], "andersen");
+  EXPECT_TRUE(events["thermostat"]["every"].is_null());
+  EXPECT_EQ(events["thermostat"]["rate"], 1.0);
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
       {{"--thermostat", "rescale", "--thermostat-every", "1"}, "needs --kT"},
       {{"--thermostat", "rescale", "--kT", "1"}, "needs --thermostat-every"},

@@ -185,10 +185,11 @@ TEST(Shear, TheViscousHeatingIsTheWorkOfTheShearStress) {
 // The same sheared run in both engines, and in pieces through a checkpoint (which carries the
 // images' offset), bit for bit; a thermostat holds the temperature relative to the profile.
 template <std::size_t D>
-void expect_sheared_runs_agree(double rate, bool thermostat) {
+void expect_sheared_runs_agree(double rate, bool thermostat, bool andersen = false) {
   const auto make = [&](EngineKind engine) {
     Settings settings{{Rule::elastic}, engine};
     if (thermostat) settings.thermostat = {ThermostatKind::rescale, 1.0, 0.25, 0.0, 1};
+    if (andersen) settings.thermostat = {ThermostatKind::andersen, 1.0, 0.0, 0.5, 2};
     return Simulation<D>(sheared_gas<D>(D == 2 ? 150 : 100, 0.35, rate), settings);
   };
   Simulation<D> fast = make(EngineKind::fast), reference = make(EngineKind::reference);
@@ -223,6 +224,7 @@ TEST(Shear, ShearedDisksAgreeInBothEnginesAndAcrossCheckpoints) {
 TEST(Shear, ShearedSpheresAgreeInBothEnginesAndAcrossCheckpoints) {
   expect_sheared_runs_agree<3>(0.5, true);
   expect_sheared_runs_agree<3>(1.5, false);
+  expect_sheared_runs_agree<3>(0.7, false, true);  // Andersen's resets as events
 }
 
 }  // namespace

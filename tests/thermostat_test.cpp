@@ -12,6 +12,7 @@
 #include "carom/initial.hpp"
 #include "carom/invariant_check.hpp"
 #include "carom/observables.hpp"
+#include "carom/fluxes.hpp"
 #include "carom/simulation.hpp"
 
 namespace carom {
@@ -133,6 +134,39 @@ TEST(Thermostat, AndersenSpheresAgreeInBothEnginesAndAcrossCheckpoints) {
 TEST(Thermostat, AndersenDisksWithWallsAgreeInBothEnginesAndAcrossCheckpoints) {
   expect_thermostatted_runs_agree<2>({ThermostatKind::andersen, 1.0, 0.2, 2.0, 3}, 0.3,
                                      Boundary::walls);
+}
+
+TEST(Thermostat, AndersenResetsAsEventsAgreeInBothEnginesAndAcrossCheckpoints) {
+  // Without an interval: one particle at a time, at the events of a Poisson process.
+  expect_thermostatted_runs_agree<2>({ThermostatKind::andersen, 2.0, 0.0, 1.0, 4}, 0.5);
+  expect_thermostatted_runs_agree<3>({ThermostatKind::andersen, 0.5, 0.0, 2.0, 9}, 0.35);
+  expect_thermostatted_runs_agree<2>({ThermostatKind::andersen, 1.0, 0.0, 0.5, 3}, 0.2);
+  expect_thermostatted_runs_agree<2>({ThermostatKind::andersen, 1.5, 0.0, 1.0, 6}, 0.3,
+                                     Boundary::walls);
+}
+
+TEST(Thermostat, AndersenResetsAsEventsComeAtTheirRateAndHoldTheTemperature) {
+  Settings settings{{Rule::elastic}};
+  settings.thermostat = {ThermostatKind::andersen, 2.0, 0.0, 1.0, 5};
+  Simulation<2> simulation(gas<2>(500, 0.3), settings);
+  double sum = 0.0;
+  int samples = 0;
+  for (double t = 0.5; t <= 30.0; t += 0.5) {
+    simulation.run_until(t);
+    if (t < 6.0) continue;
+    sum += kinetic_temperature(simulation.state());
+    ++samples;
+  }
+  EXPECT_NEAR(sum / samples, 2.0, 0.04);
+  // 500 particles at rate 1 for 30: 15000 resets, give or take sqrt(15000) = 122.
+  const double resets = static_cast<double>(simulation.checkpoint("test").thermostat_instants);
+  EXPECT_NEAR(resets, 15000.0, 4.0 * 122.0);
+  // The fluxes' kinetic rates followed every reset.
+  const Fluxes kept = *simulation.current_counts().fluxes;
+  const Fluxes exact = fluxes_of(simulation.state(), simulation.time(), 0.0, false);
+  for (const std::size_t c : tensor_components<2>()) {
+    EXPECT_NEAR(kept.stress_rate[c], exact.stress_rate[c], 1e-9 * 500) << c;
+  }
 }
 
 TEST(Thermostat, HeatingATinyBoxKeepsItsImagesRight) {

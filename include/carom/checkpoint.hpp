@@ -36,6 +36,7 @@ struct Checkpoint {
   WindowRecords records;               // of the run that saved it
   std::uint64_t thermostat_instants = 0;  // the thermostat's instants done
   pcg32 thermostat_rng;                   // Andersen's draws to come
+  double thermostat_next = kNever;        // Andersen's resets as events: the next one's time
 };
 
 using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;

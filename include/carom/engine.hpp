@@ -82,6 +82,12 @@ class Engine {
     restart_at(t);
   }
 
+  // Gives particle i, brought to the stored time t (not before the last event), a new velocity:
+  // what Andersen's thermostat does to one particle between collisions, in every engine alike.
+  // Its events are predicted again; predictions others made against it are stale (its version
+  // changes). Not for a growing engine.
+  void reset_velocity(std::uint32_t i, double t, const Vec<D>& velocity);
+
   const System<D>& system() const { return system_; }
   const CollisionRule& rule() const { return rule_; }
   // A stretch of simulated time in which the particles make at most about 10^5 cell crossings in
@@ -109,6 +115,8 @@ class Engine {
   // After intervene() changed velocities, before predictions are made again: for what an engine
   // keeps that depends on the particles' speeds.
   virtual void velocities_changed() {}
+  // After reset_velocity() gave particle i a new velocity at now_: its events predicted again.
+  virtual void velocity_reset(std::uint32_t i) = 0;
 
   // The image of particle j that particle i sees at time t (zero in a box with walls).
   Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;

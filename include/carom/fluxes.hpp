@@ -159,6 +159,23 @@ struct Fluxes {
     for (std::size_t k = 0; k < D; ++k) collisional_heat[k] += r[k] * energy;
   }
 
+  // Brings the integrals to the stored time `at` (the absolute `now`), where a particle of mass
+  // m had its velocity (flux_velocity) changed from `before` to `after` other than by a
+  // collision (a thermostat's reset): the kinetic rates follow.
+  template <std::size_t D>
+  void change_velocity(double now, double at, double mass, const Vec<D>& before,
+                       const Vec<D>& after) {
+    integrate_to(at);
+    time = now;
+    add_symmetric_outer<D>(stress_rate, mass * (after - before), after + before);
+    if (!heat) return;
+    const double energy_after = 0.5 * mass * norm2(after);
+    const double energy_before = 0.5 * mass * norm2(before);
+    for (std::size_t k = 0; k < D; ++k) {
+      heat_rate[k] += energy_after * after[k] - energy_before * before[k];
+    }
+  }
+
   // The Einstein-Helfand moments: the integral of V P_ab, and of V J_a.
   SymmetricTensor stress_moment() const {
     SymmetricTensor g{};

@@ -229,6 +229,8 @@ class Simulation {
   // The thermostat's action at time_ (settings_.thermostat), and the next instant it acts at.
   void apply_thermostat();
   double next_thermostat_time() const;
+  // Andersen's resets as events: one particle drawn at random, at time_, reset.
+  void reset_one_velocity();
 
   std::unique_ptr<Engine<D>> engine_;
   Settings settings_;
@@ -255,6 +257,9 @@ class Simulation {
   // (counted from the first, whether or not the run saw them: a run from t acts from then on).
   std::uint64_t thermostat_instants_ = 0;
   pcg32 thermostat_rng_;  // Andersen's draws
+  // Andersen's resets as events: the absolute time of the next (the run has made
+  // thermostat_instants_ of them).
+  double thermostat_next_ = kNever;
 };
 
 }  // namespace carom

@@ -49,10 +49,11 @@ struct StartSpec {
   ShearRequest shear;                 // none
 };
 
-// The thermostat `carom run --thermostat KIND --kT T --thermostat-every DT [--thermostat-rate NU]
-// [--seed S]` asks for (Python's the same by keyword). Throws RequestError, naming the options,
-// for a thermostat without its temperature or interval, a rate without Andersen's, an Andersen's
-// without a rate, or values check_thermostat refuses.
+// The thermostat `carom run --thermostat KIND --kT T [--thermostat-every DT] [--thermostat-rate
+// NU] [--seed S]` asks for (Python's the same by keyword); Andersen's without an interval resets
+// particles one at a time, as events. Throws RequestError, naming the options, for a thermostat
+// without its temperature, rescaling without its interval, a rate without Andersen's, an
+// Andersen's without a rate, or values check_thermostat refuses.
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
                               std::uint64_t seed);

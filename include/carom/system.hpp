@@ -42,15 +42,14 @@ struct ParticleRecord {
   // wrapping, per axis (z unused for disks): the unwrapped position is position + image x side,
   // as in HOOMD's and LAMMPS' image flags. Int32, as theirs.
   std::array<std::int32_t, 3> image{};
-  // In a sheared box, how often the engine has moved the stored state across the sheared
-  // boundary (cross_sheared_boundary): the particle's motion is the same, but predictions made
-  // from the other representation are stale. Bookkeeping of one run, not kept by checkpoints
-  // (a resumed run predicts everything afresh) and not compared.
-  std::uint32_t representations = 0;
+  // How often its velocity was changed other than by a collision (Engine::reset_velocity, for
+  // Andersen's thermostat): predictions made against the old one are stale. Bookkeeping of one
+  // run, not kept by checkpoints (a resumed run predicts everything afresh) and not compared.
+  std::uint32_t resets = 0;
 
   // Changes whenever the particle's stored trajectory changes; events predicted against an older
   // value are stale. Derived from the counters, which grow on every velocity change.
-  std::uint64_t version() const { return wall_collisions + pair_collisions + representations; }
+  std::uint64_t version() const { return wall_collisions + pair_collisions + resets; }
   friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
     return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
            a.pair_collisions == b.pair_collisions && a.last_collision == b.last_collision &&

@@ -4,8 +4,12 @@
 // exactly (Berendsen's with a coupling time of one step); Andersen's (in its "massive" form:
 // Andersen, J. Chem. Phys. 72, 2384 (1980); Tanaka, Yokota and Mochizuki) gives each particle,
 // with probability 1 - exp(-rate x every), a new velocity drawn from the Maxwell-Boltzmann
-// distribution at kT, from a pcg32 stream of its own seed that a checkpoint carries on. Both also
-// drive an inelastic gas to a steady state.
+// distribution at kT, from a pcg32 stream of its own seed that a checkpoint carries on. Without
+// an interval (every = 0), Andersen's resets are events of their own, as in his paper: each
+// particle is reset at the times of a Poisson process of its rate, one particle at a time (the
+// whole system's resets come at rate N x rate, each to a particle drawn at random), so that
+// collisions and resets interleave as they would in continuous time. Both also drive an
+// inelastic gas to a steady state.
 #pragma once
 
 #include <array>
@@ -33,15 +37,27 @@ struct EnumNames<ThermostatKind> {
 struct Thermostat {
   ThermostatKind kind = ThermostatKind::none;
   double kT = 1.0;
-  double every = 0.0;  // between the instants it acts at
+  double every = 0.0;  // between the instants it acts at (Andersen's: 0 for resets as events)
   double rate = 0.0;   // Andersen: resets per particle per unit time
   std::uint64_t seed = 1;
   friend bool operator==(const Thermostat&, const Thermostat&) = default;
 };
 
 // Throws std::invalid_argument for a thermostat no run can have: kT or `every` not positive and
-// finite, Andersen without a positive rate.
+// finite (Andersen's `every` may be 0), Andersen without a positive rate.
 void check_thermostat(const Thermostat& thermostat);
+
+// Whether Andersen's resets come as events of their own (every = 0), not at instants.
+inline bool resets_as_events(const Thermostat& t) {
+  return t.kind == ThermostatKind::andersen && t.every == 0.0;
+}
+
+// The time to the system's next reset (resets as events): exponential, of mean 1 / (n rate).
+double next_reset_delay(const Thermostat& thermostat, std::size_t n, pcg32& rng);
+
+// A Maxwell-Boltzmann velocity at kT for a particle of mass m, drawn from `rng`.
+template <std::size_t D>
+Vec<D> maxwell_velocity(double kT, double mass, pcg32& rng);
 
 // Sets the kinetic temperature (kinetic_temperature: relative to the centre of mass in a periodic
 // box) of particles stored at one time to kT, keeping the centre of mass's velocity. Particles at

@@ -247,13 +247,18 @@ def test_pending_measurement_survives_a_checkpoint(cli, tmp_path):
     assert_same_run(sim, resumed, "resumed")
 
 
-@pytest.mark.parametrize("kind,rate", [("rescale", None), ("andersen", 0.8)])
-def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate):
+@pytest.mark.parametrize("kind,rate,every", [("rescale", None, 0.25), ("andersen", 0.8, 0.25),
+                                              ("andersen", 0.8, None)])
+def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate, every):
     # carom.read with a thermostat runs as `carom run --thermostat`, and a checkpoint saved on
-    # its way (Andersen's random stream included) continues it exactly, in either front end.
+    # its way (Andersen's random stream included, and with resets as events the next one's time)
+    # continues it exactly, in either front end.
     path = cli_init(cli, tmp_path / "gas.txt", n=150, phi=0.35, seed=2, boundary="periodic")
-    options = dict(kT=1.5, thermostat=kind, thermostat_every=0.25)
-    flags = ["--kT", "1.5", "--thermostat", kind, "--thermostat-every", "0.25"]
+    options = dict(kT=1.5, thermostat=kind)
+    flags = ["--kT", "1.5", "--thermostat", kind]
+    if every is not None:
+        options["thermostat_every"] = every
+        flags += ["--thermostat-every", str(every)]
     if rate is not None:
         options["thermostat_rate"] = rate
         flags += ["--thermostat-rate", str(rate)]
