@@ -70,6 +70,7 @@ Event Engine<D>::apply(Event event) {
     }
     for (std::size_t k = 0; k < D; ++k) event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
     ++ra.wall_collisions;
+    ++ra.changes;
   } else {
     const auto j = static_cast<std::size_t>(event.partner);
     Particle<D>& b = system_.particles[j];
@@ -79,15 +80,11 @@ Event Engine<D>::apply(Event event) {
                                                       t - rb.last_collision < rule_.elastic_within);
     advance(a, t);
     advance(b, t);
-    if (system_.box.sheared()) [[unlikely]] {
-      // b becomes the image a touches (the same particle, see sheared_cells), so that the rule
-      // sees the relative velocity of the two; the wrap below brings it back into the box.
-      const Vec<D> cells = sheared_cells(a.position - b.position, system_.box, t);
-      b.position += sheared_offset(cells, system_.box, t);
-      b.velocity[0] += cells[1] * system_.box.image_speed();
-    }
+    // In a sheared box b becomes the image a touches, so that the rule sees their relative
+    // velocity (the wraps below bring it back); the separation is then the one seen directly.
+    if (system_.box.sheared()) [[unlikely]] to_touching_image(a, b, t);
     const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
-    const Vec<D> r = separation(a, b, system_.box), before = a.velocity;
+    const Vec<D> r = image_separation(a, b, system_.box), before = a.velocity;
     if (growing()) [[unlikely]] {
       event.impulse = collide(a, b, r, rule_.rule, restitution, ra.mass, rb.mass,
                               (a.radius + b.radius) * growth_.rate);
@@ -100,19 +97,35 @@ Event Engine<D>::apply(Event event) {
       event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
       event.contact[k] = r[k];
     }
-    wrap(a, system_.box, ra.image);
-    wrap(b, system_.box, rb.image);
-    if (system_.box.sheared()) {
-      const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
-      fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
-    }
+    if (system_.box.sheared()) [[unlikely]] back_into_sheared_box(a, b);
+    wrap(a.position, system_.box, ra.image);
+    wrap(b.position, system_.box, rb.image);
     ++ra.pair_collisions;
     ++rb.pair_collisions;
+    ++ra.changes;
+    ++rb.changes;
     rb.last_collision = t;
   }
   ra.last_collision = t;
   event.time = system_.absolute(t);
   return event;
+}
+
+template <std::size_t D>
+void Engine<D>::to_touching_image(const Particle<D>& a, Particle<D>& b, double t) const {
+  const Vec<D> cells = sheared_cells(a.position - b.position, system_.box, t);
+  b.position += sheared_offset(cells, system_.box, t);
+  b.velocity[0] += cells[1] * system_.box.image_speed();
+}
+
+template <std::size_t D>
+void Engine<D>::back_into_sheared_box(Particle<D>& a, Particle<D>& b) {
+  const auto first = static_cast<std::size_t>(&a - system_.particles.data());
+  const auto partner = static_cast<std::size_t>(&b - system_.particles.data());
+  wrap_across_shear(a, system_.box, system_.records[first].image);
+  wrap_across_shear(b, system_.box, system_.records[partner].image);
+  const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
+  fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
 }
 
 template <std::size_t D>
@@ -149,7 +162,7 @@ void Engine<D>::reset_velocity(std::uint32_t i, double t, const Vec<D>& velocity
   advance(p, t);
   p.velocity = velocity;
   wrap(p, system_.box, record.image);
-  ++record.resets;
+  ++record.changes;
   now_ = t;
   if (system_.box.sheared()) {
     fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));

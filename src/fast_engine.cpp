@@ -45,6 +45,12 @@ std::pair<Vec<D>, Vec<D>> FastEngine<D>::grid_motion(std::uint32_t i, double t) 
 }
 
 template <std::size_t D>
+typename CellGrid<D>::Crossing FastEngine<D>::sheared_crossing(std::uint32_t i) const {
+  const auto [position, velocity] = grid_motion(i, clock_);
+  return grid_.next_crossing(grid_.cell_of(i), position, velocity);
+}
+
+template <std::size_t D>
 void FastEngine<D>::locate_all() {
   const auto& particles = this->system_.particles;
   const auto n = static_cast<std::uint32_t>(particles.size());
@@ -219,9 +225,8 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
   earliest.read_partner_version(this->system_.records);
   Pending best = earliest.pending;
   EventKey best_key = earliest.key;
-  const auto [grid_here, grid_velocity] =
-      sheared_ ? grid_motion(i, clock_) : std::pair<Vec<D>, Vec<D>>{here, p.velocity};
-  const auto crossing = grid_.next_crossing(grid_.cell_of(i), grid_here, grid_velocity);
+  const auto crossing = sheared_ ? sheared_crossing(i)
+                                 : grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     best.crossing_axis = crossing.axis;
     best.crossing_upward = crossing.upward;

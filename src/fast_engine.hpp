@@ -69,6 +69,8 @@ class FastEngine final : public Engine<D> {
   // Particle i's position and velocity at time t as the grid sees it: inside the box along y (in a
   // sheared box its stored state may be an image, layer_[i] boxes up).
   std::pair<Vec<D>, Vec<D>> grid_motion(std::uint32_t i, double t) const;
+  // Particle i's next cell crossing at clock_ in a sheared box (from its grid_motion).
+  typename CellGrid<D>::Crossing sheared_crossing(std::uint32_t i) const;
   // Particle i leaves its edge row of cells across the sheared boundary at clock_ (up or down):
   // into the cell of the far edge row its image enters, predicted afresh.
   void cross_shear(std::uint32_t i, bool upward);

@@ -145,10 +145,18 @@ void Simulation<D>::record(const Event& event) {
   if (counts_.fluxes) {
     const System<D>& system = state();
     const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
-    counts_.fluxes->add_event(event, engine_->stored_time(), system.records[event.first].mass,
-                              flux_velocity(system.particles[event.first], system.box),
-                              system.records[partner].mass,
-                              flux_velocity(system.particles[partner], system.box));
+    Fluxes& fluxes = *counts_.fluxes;
+    if (fluxes.shear_rate != 0.0) [[unlikely]] {
+      fluxes.add_event_as<D, true>(event, engine_->stored_time(), system.records[event.first].mass,
+                                   flux_velocity(system.particles[event.first], system.box),
+                                   system.records[partner].mass,
+                                   flux_velocity(system.particles[partner], system.box));
+    } else {
+      fluxes.add_event_as<D, false>(event, engine_->stored_time(),
+                                    system.records[event.first].mass,
+                                    system.particles[event.first].velocity,
+                                    system.records[partner].mass, system.particles[partner].velocity);
+    }
   }
   last_event_ = event;
   time_ = event.time;

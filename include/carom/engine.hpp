@@ -149,6 +149,10 @@ class Engine {
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 
  private:
+  // A pair collision in a sheared box: b moved into the image a touches at t, and after the
+  // collision both brought back along y (wrap_across_shear) and the speed bound raised.
+  [[gnu::noinline]] void to_touching_image(const Particle<D>& a, Particle<D>& b, double t) const;
+  [[gnu::noinline]] void back_into_sheared_box(Particle<D>& a, Particle<D>& b);
   // intervene()'s steps: every particle stored at t (wrapped into a periodic box); the epoch at
   // t, the last event's place, and every prediction made again.
   void move_all_to(double t);

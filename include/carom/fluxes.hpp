@@ -117,46 +117,12 @@ struct Fluxes {
   void add_event(const Event& event, double event_stored, double first_mass,
                  const Vec<D>& first_after, double partner_mass, const Vec<D>& partner_after) {
     if (shear_rate != 0.0) [[unlikely]] {
-      integrate_to(event_stored);
+      add_event_as<D, true>(event, event_stored, first_mass, first_after, partner_mass,
+                            partner_after);
     } else {
-      const double dt = event_stored - stored;
-      for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
-      if (heat) {
-        for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
-      }
-      stored = event_stored;
+      add_event_as<D, false>(event, event_stored, first_mass, first_after, partner_mass,
+                             partner_after);
     }
-    time = event.time;
-
-    Vec<D> dp, r;
-    for (std::size_t k = 0; k < D; ++k) {
-      dp[k] = event.momentum[k];
-      r[k] = event.contact[k];
-    }
-    Vec<D> dw = dp;
-    if (shear_rate != 0.0) [[unlikely]] dw[0] += shear_rate * event_stored * dp[1];
-    const auto carried_heat = [this](double mass, const Vec<D>& before, const Vec<D>& after) {
-      const double energy_after = 0.5 * mass * norm2(after);
-      const double energy_before = 0.5 * mass * norm2(before);
-      for (std::size_t k = 0; k < D; ++k) {
-        heat_rate[k] += energy_after * after[k] - energy_before * before[k];
-      }
-    };
-    const Vec<D> first_before = first_after - (1.0 / first_mass) * dw;
-    if (event.is_wall()) {
-      add_symmetric_outer<D>(stress_rate, dw, first_before + first_after);
-      if (heat) carried_heat(first_mass, first_before, first_after);
-      return;
-    }
-    const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dw;
-    add_symmetric_outer<D>(stress_rate, dw,
-                           (first_before + first_after) - (partner_before + partner_after));
-    add_symmetric_outer<D>(collisional_stress, r, dp);
-    if (!heat) return;
-    carried_heat(first_mass, first_before, first_after);
-    carried_heat(partner_mass, partner_before, partner_after);
-    const double energy = 0.5 * dot(dp, first_before + first_after);
-    for (std::size_t k = 0; k < D; ++k) collisional_heat[k] += r[k] * energy;
   }
 
   // Brings the integrals to the stored time `at` (the absolute `now`), where a particle of mass
@@ -186,6 +152,54 @@ struct Fluxes {
     std::array<double, 3> h{};
     for (std::size_t k = 0; k < 3; ++k) h[k] = kinetic_heat[k] + collisional_heat[k];
     return h;
+  }
+
+  // add_event, its few shear terms compiled in or out (a run not sheared pays nothing for them),
+  // for a caller that knows which (Sheared: shear_rate is not 0).
+  template <std::size_t D, bool Sheared>
+  void add_event_as(const Event& event, double event_stored, double first_mass,
+                    const Vec<D>& first_after, double partner_mass, const Vec<D>& partner_after) {
+    if constexpr (Sheared) {
+      integrate_to(event_stored);
+    } else {
+      const double dt = event_stored - stored;
+      for (const std::size_t c : tensor_components<D>()) kinetic_stress[c] += stress_rate[c] * dt;
+      if (heat) {
+        for (std::size_t k = 0; k < D; ++k) kinetic_heat[k] += heat_rate[k] * dt;
+      }
+      stored = event_stored;
+    }
+    time = event.time;
+
+    Vec<D> dp, r;
+    for (std::size_t k = 0; k < D; ++k) {
+      dp[k] = event.momentum[k];
+      r[k] = event.contact[k];
+    }
+    Vec<D> dw = dp;
+    if constexpr (Sheared) dw[0] += shear_rate * event_stored * dp[1];
+    const auto carried_heat = [this](double mass, const Vec<D>& before, const Vec<D>& after) {
+      const double energy_after = 0.5 * mass * norm2(after);
+      const double energy_before = 0.5 * mass * norm2(before);
+      for (std::size_t k = 0; k < D; ++k) {
+        heat_rate[k] += energy_after * after[k] - energy_before * before[k];
+      }
+    };
+    const Vec<D> first_before = first_after - (1.0 / first_mass) * dw;
+    if (event.is_wall()) {
+      add_symmetric_outer<D>(stress_rate, dw, first_before + first_after);
+      if (heat) carried_heat(first_mass, first_before, first_after);
+      return;
+    }
+    const Vec<D> partner_before = partner_after + (1.0 / partner_mass) * dw;
+    add_symmetric_outer<D>(stress_rate, dw,
+                           (first_before + first_after) - (partner_before + partner_after));
+    add_symmetric_outer<D>(collisional_stress, r, dp);
+    if (!heat) return;
+    carried_heat(first_mass, first_before, first_after);
+    carried_heat(partner_mass, partner_before, partner_after);
+    const double energy = 0.5 * dot(dp, first_before + first_after);
+    for (std::size_t k = 0; k < D; ++k) collisional_heat[k] += r[k] * energy;
   }
 };
 

@@ -79,6 +79,13 @@ constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
 // The separation a - b of two stored positions, through the nearest image in a periodic box.
 
 
+// separation() for a box that is not sheared: the minimum image of a rectangular lattice.
+template <std::size_t D>
+constexpr Vec<D> image_separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
+  const Vec<D> r = a.position - b.position;
+  return r - image_offset(r, box);
+}
+
 // Brings one coordinate into [0, side) and returns by how many sides it moved it: floor(x / side).
 // Strictly inside, floor() is 0 and the subtraction changes nothing (at -0 it would make +0,
 // hence the strict test): no libm call then.
@@ -132,18 +139,22 @@ constexpr double earliest_contact(double t0, const Vec<D>& r, const Vec<D>& v, d
 // in a sheared box a move across y also moves it along x by the images' shift and changes its
 // x velocity by their speed (it becomes the image of itself inside the box).
 template <std::size_t D>
-void wrap(Particle<D>& p, const Box<D>& box, std::array<std::int32_t, 3>& image) {
-  if (box.sheared()) {
-    const double layers = std::floor(p.position[1] / box.size[1]);
-    if (layers != 0.0) {
-      p.position[1] -= layers * box.size[1];
-      p.position[0] -= layers * box.sheared_shift(p.time);
-      p.velocity[0] -= layers * box.image_speed();
-      image[1] = static_cast<std::int32_t>(image[1] + layers);
-      // The round-off of the subtraction may leave y a hair outside [0, Ly): a hair's move in.
-      p.position[1] = std::clamp(p.position[1], 0.0, std::nextafter(box.size[1], 0.0));
-    }
-  }
+[[gnu::noinline]] void wrap_across_shear(Particle<D>& p, const Box<D>& box,
+                                         std::array<std::int32_t, 3>& image) {
+  const double layers = std::floor(p.position[1] / box.size[1]);
+  if (layers == 0.0) return;
+  p.position[1] -= layers * box.size[1];
+  p.position[0] -= layers * box.sheared_shift(p.time);
+  p.velocity[0] -= layers * box.image_speed();
+  image[1] = static_cast<std::int32_t>(image[1] + layers);
+  // The round-off of the subtraction may leave y a hair outside [0, Ly): a hair's move in.
+  p.position[1] = std::clamp(p.position[1], 0.0, std::nextafter(box.size[1], 0.0));
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void wrap(Particle<D>& p, const Box<D>& box,
+                                        std::array<std::int32_t, 3>& image) {
+  if (box.sheared()) [[unlikely]] wrap_across_shear(p, box, image);
   wrap(p.position, box, image);
 }
 
@@ -218,7 +229,7 @@ Vec<D> separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box)
   if (box.sheared()) [[unlikely]] {
     return r - sheared_offset(sheared_cells(r, box, a.time), box, a.time);
   }
-  return r - image_offset(r, box);
+  return image_separation(a, b, box);
 }
 
 // contact_time through the image of b in `cells` of a sheared box: the image moves in a straight

@@ -42,14 +42,13 @@ struct ParticleRecord {
   // wrapping, per axis (z unused for disks): the unwrapped position is position + image x side,
   // as in HOOMD's and LAMMPS' image flags. Int32, as theirs.
   std::array<std::int32_t, 3> image{};
-  // How often its velocity was changed other than by a collision (Engine::reset_velocity, for
-  // Andersen's thermostat): predictions made against the old one are stale. Bookkeeping of one
-  // run, not kept by checkpoints (a resumed run predicts everything afresh) and not compared.
-  std::uint32_t resets = 0;
+  // Grows whenever the particle's velocity changes (its collisions, and a thermostat's resets:
+  // Engine::reset_velocity): events predicted against an older value are stale. Bookkeeping of
+  // one run, not kept by checkpoints (a resumed run predicts everything afresh) and not compared;
+  // 32 bits, as no prediction waits for 2^32 changes of its partner.
+  std::uint32_t changes = 0;
 
-  // Changes whenever the particle's stored trajectory changes; events predicted against an older
-  // value are stale. Derived from the counters, which grow on every velocity change.
-  std::uint64_t version() const { return wall_collisions + pair_collisions + resets; }
+  std::uint64_t version() const { return changes; }
   friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
     return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
            a.pair_collisions == b.pair_collisions && a.last_collision == b.last_collision &&
