@@ -396,7 +396,8 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
       std::istringstream rng(f.text(f.at(*found, "rng", where), "the thermostat's rng"));
       if (!(rng >> c.thermostat_rng)) fail("the thermostat's \"rng\" is not a pcg32 state");
       if (resets_as_events(t)) {
-        c.thermostat_next = f.coordinate(f.at(*found, "next", where), "the thermostat's next reset");
+        c.thermostat_next =
+            f.coordinate(f.at(*found, "next", where), "the thermostat's next reset");
         if (!(c.thermostat_next >= c.time)) {
           fail(fmt::format("the thermostat's next reset {} is before the checkpoint's time {}",
                            c.thermostat_next, c.time));

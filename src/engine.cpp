@@ -82,7 +82,8 @@ Event Engine<D>::apply(Event event) {
     advance(b, t);
     // In a sheared box b becomes the image a touches, so that the rule sees their relative
     // velocity (the wraps below bring it back); the separation is then the one seen directly.
-    if (system_.box.sheared()) [[unlikely]] to_touching_image(a, b, t);
+    if (system_.box.sheared()) [[unlikely]]
+      to_touching_image(a, b, t);
     const double restitution = event.elastic_by_tc ? 1.0 : rule_.restitution;
     const Vec<D> r = image_separation(a, b, system_.box), before = a.velocity;
     if (growing()) [[unlikely]] {
@@ -97,7 +98,8 @@ Event Engine<D>::apply(Event event) {
       event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
       event.contact[k] = r[k];
     }
-    if (system_.box.sheared()) [[unlikely]] back_into_sheared_box(a, b);
+    if (system_.box.sheared()) [[unlikely]]
+      back_into_sheared_box(a, b);
     wrap(a.position, system_.box, ra.image);
     wrap(b.position, system_.box, rb.image);
     ++ra.pair_collisions;

@@ -57,8 +57,8 @@ void FastEngine<D>::locate_all() {
   const Box<D>& box = this->system_.box;
   for (std::uint32_t i = 0; i < n; ++i) {
     if (sheared_) {
-      layer_[i] = static_cast<std::int32_t>(
-          std::floor(position_at(particles[i], clock_)[1] / box.size[1]));
+      layer_[i] =
+          static_cast<std::int32_t>(std::floor(position_at(particles[i], clock_)[1] / box.size[1]));
     }
     const std::uint32_t cell = grid_.locate(grid_motion(i, clock_).first);
     if (grid_.cell_of(i) == CellGrid<D>::kNone) {
@@ -225,8 +225,8 @@ void FastEngine<D>::predict_with(std::uint32_t i, std::size_t layer_axis, bool l
   earliest.read_partner_version(this->system_.records);
   Pending best = earliest.pending;
   EventKey best_key = earliest.key;
-  const auto crossing = sheared_ ? sheared_crossing(i)
-                                 : grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
+  const auto crossing =
+      sheared_ ? sheared_crossing(i) : grid_.next_crossing(grid_.cell_of(i), here, p.velocity);
   if (crossing.delay != kNever) {
     best.crossing_axis = crossing.axis;
     best.crossing_upward = crossing.upward;

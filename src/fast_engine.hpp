@@ -20,8 +20,8 @@
 
 #include "carom/engine.hpp"
 #include "cell_grid.hpp"
-#include "prediction.hpp"
 #include "event_calendar.hpp"
+#include "prediction.hpp"
 
 namespace carom {
 

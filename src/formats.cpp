@@ -114,10 +114,10 @@ namespace {
 nlohmann::ordered_json thermostat_json(const Thermostat& t) {
   if (t.kind == ThermostatKind::none) return nullptr;
   // Andersen's resets as events have no interval: null.
-  nlohmann::ordered_json j = {
-      {"kind", name_of(t.kind)},
-      {"kT", t.kT},
-      {"every", resets_as_events(t) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(t.every)}};
+  nlohmann::ordered_json j = {{"kind", name_of(t.kind)},
+                              {"kT", t.kT},
+                              {"every", resets_as_events(t) ? nlohmann::ordered_json(nullptr)
+                                                            : nlohmann::ordered_json(t.every)}};
   if (t.kind == ThermostatKind::andersen) {
     j["rate"] = t.rate;
     j["seed"] = t.seed;

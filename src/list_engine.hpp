@@ -60,9 +60,9 @@ class ListEngine final : public Engine<D> {
   // disks near 0.4 (cells 3,600 and lists 4,500 at 0.3; 3,180 and 2,730 at 0.5).
   static constexpr double kLeastPacking = D == 2 ? 0.4 : 0.25;
 
-  // Whether lists serve this system: particles that do not grow in a box not sheared, none of zero size nor much
-  // smaller than the largest (a list would hold too many), and in a periodic box one image of
-  // each neighbour within reach.
+  // Whether lists serve this system: particles that do not grow in a box not sheared, none of zero
+  // size nor much smaller than the largest (a list would hold too many), and in a periodic box one
+  // image of each neighbour within reach.
   static bool suits(const System<D>& system, const Growth& growth);
 
   // Predictions use `kernel` (tests choose each; the widest the CPU runs by default).

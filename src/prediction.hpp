@@ -135,6 +135,21 @@ struct WiderContacts : NarrowContacts {
 };
 #endif
 
+// The contact kernels' contract for policies that take one candidate at a time: time_of(b) for
+// each candidate but the particle itself (kNever), and the mask of those no later than `limit`.
+template <std::size_t D, class Names, class TimeOf>
+std::uint64_t one_at_a_time(const Particle<D>& a, const Particle<D>* particles,
+                            const std::uint32_t* candidates, std::size_t count, double limit,
+                            double* times, Names, TimeOf&& time_of) {
+  std::uint64_t soon = 0;
+  for (std::size_t n = 0; n < count; ++n) {
+    const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
+    times[n] = &b == &a ? kNever : time_of(b);
+    if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
+  }
+  return soon;
+}
+
 // Growing particles (see Growth): their own wall hits and contacts, one candidate at a time.
 struct GrowingContacts {
   static constexpr std::size_t kLanes = 4;
@@ -147,21 +162,14 @@ struct GrowingContacts {
   std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
                            const Box<D>& box, const Particle<D>* particles,
                            const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times, Names) const {
-    std::uint64_t soon = 0;
-    for (std::size_t n = 0; n < count; ++n) {
-      const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
-      // Unlike the fixed-size contact, a growing particle overlaps itself: skipped.
-      if (&b == &a) {
-        times[n] = kNever;
-        continue;
-      }
-      const Vec<D> offset =
-          box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
-      times[n] = growing_contact_time(a, b, offset, rate);
-      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
-    }
-    return soon;
+                           double* times, Names names) const {
+    // Unlike the fixed-size contact, a growing particle overlaps itself: one_at_a_time skips it.
+    return one_at_a_time(
+        a, particles, candidates, count, limit, times, names, [&](const Particle<D>& b) {
+          const Vec<D> offset =
+              box.periodic() ? image_offset(here - position_at(b, clock), box) : Vec<D>{};
+          return growing_contact_time(a, b, offset, rate);
+        });
   }
 };
 
@@ -177,19 +185,12 @@ struct ShearedContacts {
   std::uint64_t operator()(const Particle<D>& a, const Vec<D>& here, double clock,
                            const Box<D>& box, const Particle<D>* particles,
                            const std::uint32_t* candidates, std::size_t count, double limit,
-                           double* times, Names) const {
-    std::uint64_t soon = 0;
-    for (std::size_t n = 0; n < count; ++n) {
-      const Particle<D>& b = particles[Names::template index<D>(candidates[n])];
-      if (&b == &a) {
-        times[n] = kNever;
-        continue;
-      }
-      const Vec<D> cells = sheared_cells(here - position_at(b, clock), box, clock);
-      times[n] = sheared_contact_time(a, b, cells, box, limit);
-      if (times[n] <= limit && times[n] != kNever) soon |= std::uint64_t{1} << n;
-    }
-    return soon;
+                           double* times, Names names) const {
+    return one_at_a_time(
+        a, particles, candidates, count, limit, times, names, [&](const Particle<D>& b) {
+          const Vec<D> cells = sheared_cells(here - position_at(b, clock), box, clock);
+          return sheared_contact_time(a, b, cells, box, limit);
+        });
   }
 };
 

@@ -152,10 +152,10 @@ void Simulation<D>::record(const Event& event) {
                                    system.records[partner].mass,
                                    flux_velocity(system.particles[partner], system.box));
     } else {
-      fluxes.add_event_as<D, false>(event, engine_->stored_time(),
-                                    system.records[event.first].mass,
+      fluxes.add_event_as<D, false>(event, engine_->stored_time(), system.records[event.first].mass,
                                     system.particles[event.first].velocity,
-                                    system.records[partner].mass, system.particles[partner].velocity);
+                                    system.records[partner].mass,
+                                    system.particles[partner].velocity);
     }
   }
   last_event_ = event;
@@ -247,7 +247,8 @@ template <std::size_t D>
 void Simulation<D>::reset_one_velocity() {
   const Thermostat& thermostat = settings_.thermostat;
   const System<D>& system = state();
-  const auto i = static_cast<std::uint32_t>(thermostat_rng_(static_cast<std::uint32_t>(system.size())));
+  const auto i =
+      static_cast<std::uint32_t>(thermostat_rng_(static_cast<std::uint32_t>(system.size())));
   Particle<D> reset = system.particles[i];
   advance(reset, stored_time_);
   reset.velocity = maxwell_velocity<D>(thermostat.kT, system.records[i].mass, thermostat_rng_);
@@ -413,8 +414,8 @@ void Simulation<D>::measure_from(double t) {
 
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
-  return {source,         state(),      settings_,     time_, settled_,
-          counts_,        measurement_, measure_from_, {},    thermostat_instants_,
+  return {source,          state(),         settings_,     time_, settled_,
+          counts_,         measurement_,    measure_from_, {},    thermostat_instants_,
           thermostat_rng_, thermostat_next_};
 }
 

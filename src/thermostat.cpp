@@ -29,8 +29,7 @@ void rescale_velocities(System<D>& system, double kT) {
   double mass = 0.0;
   for (const ParticleRecord& r : system.records) mass += r.mass;
   // Only a periodic box keeps its centre of mass's motion out of the temperature.
-  const Vec<D> drift =
-      system.box.periodic() ? (1.0 / mass) * peculiar_momentum(system) : Vec<D>{};
+  const Vec<D> drift = system.box.periodic() ? (1.0 / mass) * peculiar_momentum(system) : Vec<D>{};
   const double scale = std::sqrt(kT / now);
   const Box<D>& box = system.box;
   for (Particle<D>& p : system.particles) {

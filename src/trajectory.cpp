@@ -89,8 +89,8 @@ class ExtendedXyz final : public TextFormat<D> {
   void line(std::ostream& out, std::size_t, const Particle<D>& p, const ParticleRecord& record,
             const std::array<std::int32_t, 3>& image) override {
     out << fmt::format("H {} {} {} {} {} {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
-                       record.wall_collisions + record.pair_collisions, record.mass, xyz(record.mass * p.velocity), image[0],
-                       image[1], image[2]);
+                       record.wall_collisions + record.pair_collisions, record.mass,
+                       xyz(record.mass * p.velocity), image[0], image[1], image[2]);
   }
 };
 

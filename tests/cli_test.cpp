@@ -54,6 +54,19 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
+  // Each `carom run START 1` with the options given is refused (exit 2) with the message given.
+  void expect_runs_refused(
+      const fs::path& start,
+      const std::vector<std::pair<std::vector<std::string>, std::string>>& refused) {
+    for (const auto& [options, message] : refused) {
+      std::vector<std::string> args = {"run", start, "1", "-o", dir_ / "out.txt"};
+      args.insert(args.end(), options.begin(), options.end());
+      const Result r = carom(args);
+      EXPECT_EQ(r.exit_code, 2) << options.front();
+      EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    }
+  }
+
   Result carom(const std::vector<std::string>& args, const std::string& stdin_text = "") {
     std::string command = quote(CAROM_EXE);
     for (const auto& a : args) command.append(" ").append(quote(a));
@@ -918,8 +931,8 @@ TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
   EXPECT_NEAR(j["temperature"].get<double>(), 2.0, 1e-12);
   EXPECT_EQ(j["thermostat"]["kind"], "rescale");
   // Andersen's without an interval: resets as events, no "every".
-  ASSERT_EQ(carom({"run", start, "3", "--kT", "2", "--thermostat", "andersen",
-                   "--thermostat-rate", "1", "--summary", summary, "-o", dir_ / "out.txt"})
+  ASSERT_EQ(carom({"run", start, "3", "--kT", "2", "--thermostat", "andersen", "--thermostat-rate",
+                   "1", "--summary", summary, "-o", dir_ / "out.txt"})
                 .exit_code,
             0);
   const auto events = nlohmann::json::parse(read_file(summary));
@@ -934,13 +947,7 @@ TEST_F(Cli, ThermostatsHoldTheTemperatureAndBadOnesAreRefused) {
       {{"--thermostat-every", "1"}, "need --thermostat KIND"},
       {{"--thermostat", "berendsen"}, "berendsen"},
   };
-  for (const auto& [options, message] : refused) {
-    std::vector<std::string> args = {"run", start, "1", "-o", dir_ / "out.txt"};
-    args.insert(args.end(), options.begin(), options.end());
-    const Result r = carom(args);
-    EXPECT_EQ(r.exit_code, 2) << options.front();
-    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
-  }
+  expect_runs_refused(start, refused);
 }
 
 TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
@@ -951,8 +958,8 @@ TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
                 .exit_code,
             0);
   ASSERT_EQ(carom({"run", start, "10", "--rule", "elastic", "--shear", "0.5", "--velocity-profile",
-                   "--thermostat", "rescale", "--kT", "1", "--thermostat-every", "0.5",
-                   "--summary", summary, "-o", dir_ / "out.txt"})
+                   "--thermostat", "rescale", "--kT", "1", "--thermostat-every", "0.5", "--summary",
+                   summary, "-o", dir_ / "out.txt"})
                 .exit_code,
             0);
   const auto j = nlohmann::json::parse(read_file(summary));
@@ -964,15 +971,15 @@ TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
   EXPECT_DOUBLE_EQ(shear["shear_viscosity"].get<double>(),
                    shear["shear_stress"].get<double>() / 0.5);
   EXPECT_GT(shear["shear_viscosity_error"].get<double>(), 0.0);
-  ASSERT_EQ(carom({"run", start, "1", "--rule", "elastic", "--summary", summary, "-o",
-                   dir_ / "out.txt"})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      carom({"run", start, "1", "--rule", "elastic", "--summary", summary, "-o", dir_ / "out.txt"})
+          .exit_code,
+      0);
   EXPECT_TRUE(nlohmann::json::parse(read_file(summary))["shear"].is_null());
   const fs::path walled = dir_ / "walled.txt";
   ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
-  const Result walls = carom({"run", walled, "1", "--rule", "elastic", "--shear", "1", "-o",
-                              dir_ / "out.txt"});
+  const Result walls =
+      carom({"run", walled, "1", "--rule", "elastic", "--shear", "1", "-o", dir_ / "out.txt"});
   EXPECT_EQ(walls.exit_code, 2);
   EXPECT_NE(walls.err.find("--shear needs a periodic box"), std::string::npos) << walls.err;
   const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
@@ -982,13 +989,7 @@ TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
       {{"--shear", "nan", "--rule", "elastic"}, "--shear"},
       {{"--shear", "1", "--rule", "elastic", "--transport"}, "a sheared run gives its viscosity"},
   };
-  for (const auto& [options, message] : refused) {
-    std::vector<std::string> args = {"run", start, "1", "-o", dir_ / "out.txt"};
-    args.insert(args.end(), options.begin(), options.end());
-    const Result r = carom(args);
-    EXPECT_EQ(r.exit_code, 2) << options.front();
-    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
-  }
+  expect_runs_refused(start, refused);
 }
 
 TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {

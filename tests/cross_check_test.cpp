@@ -372,8 +372,7 @@ TEST(CrossCheck, CellsEqualReferenceForDenseSpheres) {
 // Lees-Edwards: random gases in sheared periodic boxes, at random rates and starting offsets
 // (elastic and inelastic), against the reference engine.
 template <std::size_t D>
-void check_sheared_against_reference(std::uint64_t seed, int trials, std::size_t most,
-                                     int events) {
+void check_sheared_against_reference(std::uint64_t seed, int trials, std::size_t most, int events) {
   pcg32 rng(seed);
   for (int trial = 0; trial < trials; ++trial) {
     const std::size_t n = 2 + rng() % most;
@@ -384,8 +383,8 @@ void check_sheared_against_reference(std::uint64_t seed, int trials, std::size_t
     if constexpr (D == 2) {
       system = random_gas(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max, size[0], size[1]);
     } else {
-      system = carom::testing::random_spheres(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max,
-                                              size);
+      system =
+          carom::testing::random_spheres(rng, n, trial % 3 == 0 ? r_max / 4 : r_max, r_max, size);
     }
     system.box.boundary = Boundary::periodic;
     system.box.shear_rate = (trial % 2 ? 1.0 : -1.0) * uniform(rng, 0.01, 2.0);
@@ -394,8 +393,8 @@ void check_sheared_against_reference(std::uint64_t seed, int trials, std::size_t
         trial % 5 == 4 ? CollisionRule{Rule::elastic, 0.8, 0.05} : CollisionRule{Rule::elastic};
     expect_same_runs(system, rule, uniform(rng, 1, 40), events,
                      std::string(D == 2 ? "sheared" : "sheared 3D") + " trial " +
-                         std::to_string(trial) + " (rate " +
-                         std::to_string(system.box.shear_rate) + ")");
+                         std::to_string(trial) + " (rate " + std::to_string(system.box.shear_rate) +
+                         ")");
   }
 }
 
@@ -414,14 +413,14 @@ TEST(CrossCheck, FastEqualsReferenceForDenseShearedSystems) {
     options.boundary = Boundary::periodic;
     System<2> disks = make_initial<2>(options);
     disks.box.shear_rate = rate;
-    expect_same_runs(disks, {Rule::elastic}, 1e9, 3000, "sheared disks at rate " +
-                                                            std::to_string(rate));
+    expect_same_runs(disks, {Rule::elastic}, 1e9, 3000,
+                     "sheared disks at rate " + std::to_string(rate));
     options.n = 250;
     options.packing_fraction = 0.4;
     System<3> spheres = make_initial<3>(options);
     spheres.box.shear_rate = -rate;
-    expect_same_runs(spheres, {Rule::elastic}, 1e9, 3000, "sheared spheres at rate " +
-                                                              std::to_string(rate));
+    expect_same_runs(spheres, {Rule::elastic}, 1e9, 3000,
+                     "sheared spheres at rate " + std::to_string(rate));
   }
 }
 

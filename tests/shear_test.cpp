@@ -66,8 +66,7 @@ TEST(Shear, ContactTimesAreThoseWithTheMovingImage) {
   // Both ways round, bit for bit.
   EXPECT_EQ(t, sheared_contact_time(b, a, -1.0 * cells, box));
   // They touch then, through that image.
-  const Vec<2> apart =
-      position_at(a, t) - position_at(b, t) - sheared_offset(cells, box, t);
+  const Vec<2> apart = position_at(a, t) - position_at(b, t) - sheared_offset(cells, box, t);
   EXPECT_NEAR(std::sqrt(norm2(apart)), 1.0, 1e-12);
   // Without the images' motion (a box not sheared) the time would differ.
   EXPECT_GT(std::abs(t - contact_time(a, b, sheared_offset(cells, box, 0.5))), 1e-3);
@@ -126,9 +125,10 @@ void expect_sheared_kinetic_stress_integrates_exactly(double rate) {
     const auto event = engine->step(kNever);
     ASSERT_TRUE(event);
     const double t = engine->stored_time();
-    const SymmetricTensor r0 = kinetic_rate(before, last), r1 = kinetic_rate(before, (last + t) / 2),
-                          r2 = kinetic_rate(before, t);
-    for (std::size_t c = 0; c < 6; ++c) simpson[c] += (t - last) / 6.0 * (r0[c] + 4 * r1[c] + r2[c]);
+    const SymmetricTensor r0 = kinetic_rate(before, last),
+                          r1 = kinetic_rate(before, (last + t) / 2), r2 = kinetic_rate(before, t);
+    for (std::size_t c = 0; c < 6; ++c)
+      simpson[c] += (t - last) / 6.0 * (r0[c] + 4 * r1[c] + r2[c]);
     const System<D>& after = engine->system();
     const auto partner = static_cast<std::size_t>(event->partner);
     fluxes.add_event<D>(*event, t, 1.0, flux_velocity(after.particles[event->first], after.box),
@@ -155,8 +155,8 @@ void expect_the_heating_balances_the_stress(double rate) {
   const auto peculiar_energy = [](const System<D>& system) {
     double energy = 0.0;
     for (std::size_t i = 0; i < system.size(); ++i) {
-      energy += 0.5 * system.records[i].mass *
-                norm2(peculiar_velocity(system.particles[i], system.box));
+      energy +=
+          0.5 * system.records[i].mass * norm2(peculiar_velocity(system.particles[i], system.box));
     }
     return energy;
   };

@@ -9,10 +9,10 @@
 #include <variant>
 
 #include "carom/checkpoint.hpp"
+#include "carom/fluxes.hpp"
 #include "carom/initial.hpp"
 #include "carom/invariant_check.hpp"
 #include "carom/observables.hpp"
-#include "carom/fluxes.hpp"
 #include "carom/simulation.hpp"
 
 namespace carom {
@@ -79,21 +79,26 @@ TEST(Thermostat, RescalingHoldsAnInelasticGasAtItsTemperature) {
   EXPECT_LT(kinetic_temperature(simulation.state()), 1.5);
 }
 
+// The kinetic temperature of a run sampled every 0.5 from `from` to `to`, averaged.
+double mean_temperature_after(Simulation<2>& simulation, double from, double to) {
+  double sum = 0.0;
+  int samples = 0;
+  for (double t = 0.5; t <= to; t += 0.5) {
+    simulation.run_until(t);
+    if (t < from) continue;
+    sum += kinetic_temperature(simulation.state());
+    ++samples;
+  }
+  return sum / samples;
+}
+
 TEST(Thermostat, AndersenBringsAGasToItsTemperatureAndHoldsIt) {
   // Started at kT = 1, held at 2: after a few 1 / rate the temperature fluctuates about 2.
   Settings settings{{Rule::elastic}};
   settings.thermostat = {ThermostatKind::andersen, 2.0, 0.05, 1.0, 5};
   Simulation<2> simulation(gas<2>(500, 0.3), settings);
-  double sum = 0.0;
-  int samples = 0;
-  for (double t = 0.5; t <= 30.0; t += 0.5) {
-    simulation.run_until(t);
-    if (t < 6.0) continue;
-    sum += kinetic_temperature(simulation.state());
-    ++samples;
-  }
   // kT over 500 disks fluctuates by about 2 / sqrt(500) = 4.5 %; the mean of 49 samples less.
-  EXPECT_NEAR(sum / samples, 2.0, 0.04);
+  EXPECT_NEAR(mean_temperature_after(simulation, 6.0, 30.0), 2.0, 0.04);
 }
 
 // The same run in both engines, and in pieces through a checkpoint, bit for bit.
@@ -149,15 +154,7 @@ TEST(Thermostat, AndersenResetsAsEventsComeAtTheirRateAndHoldTheTemperature) {
   Settings settings{{Rule::elastic}};
   settings.thermostat = {ThermostatKind::andersen, 2.0, 0.0, 1.0, 5};
   Simulation<2> simulation(gas<2>(500, 0.3), settings);
-  double sum = 0.0;
-  int samples = 0;
-  for (double t = 0.5; t <= 30.0; t += 0.5) {
-    simulation.run_until(t);
-    if (t < 6.0) continue;
-    sum += kinetic_temperature(simulation.state());
-    ++samples;
-  }
-  EXPECT_NEAR(sum / samples, 2.0, 0.04);
+  EXPECT_NEAR(mean_temperature_after(simulation, 6.0, 30.0), 2.0, 0.04);
   // 500 particles at rate 1 for 30: 15000 resets, give or take sqrt(15000) = 122.
   const double resets = static_cast<double>(simulation.checkpoint("test").thermostat_instants);
   EXPECT_NEAR(resets, 15000.0, 4.0 * 122.0);

@@ -78,7 +78,6 @@ constexpr Vec<D> image_offset(const Vec<D>& separation, const Box<D>& box) {
 
 // The separation a - b of two stored positions, through the nearest image in a periodic box.
 
-
 // separation() for a box that is not sheared: the minimum image of a rectangular lattice.
 template <std::size_t D>
 constexpr Vec<D> image_separation(const Particle<D>& a, const Particle<D>& b, const Box<D>& box) {
@@ -154,7 +153,8 @@ template <std::size_t D>
 template <std::size_t D>
 [[gnu::always_inline]] inline void wrap(Particle<D>& p, const Box<D>& box,
                                         std::array<std::int32_t, 3>& image) {
-  if (box.sheared()) [[unlikely]] wrap_across_shear(p, box, image);
+  if (box.sheared()) [[unlikely]]
+    wrap_across_shear(p, box, image);
   wrap(p.position, box, image);
 }
 
@@ -205,7 +205,8 @@ Vec<D> sheared_cells(const Vec<D>& separation, const Box<D>& box, double t) {
   };
   Vec<D> cells;
   cells[1] = nearest(separation[1], box.size[1]);
-  const double x = cells[1] == 0.0 ? separation[0] : separation[0] - cells[1] * box.sheared_shift(t);
+  const double x =
+      cells[1] == 0.0 ? separation[0] : separation[0] - cells[1] * box.sheared_shift(t);
   cells[0] = nearest(x, box.size[0]);
   if constexpr (D == 3) cells[2] = nearest(separation[2], box.size[2]);
   return cells;

@@ -247,15 +247,20 @@ def test_pending_measurement_survives_a_checkpoint(cli, tmp_path):
     assert_same_run(sim, resumed, "resumed")
 
 
-@pytest.mark.parametrize("kind,rate,every", [("rescale", None, 0.25), ("andersen", 0.8, 0.25),
-                                              ("andersen", 0.8, None)])
-def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate, every):
-    # carom.read with a thermostat runs as `carom run --thermostat`, and a checkpoint saved on
-    # its way (Andersen's random stream included, and with resets as events the next one's time)
-    # continues it exactly, in either front end.
+@pytest.mark.parametrize("kind,rate,every,shear", [
+    ("rescale", None, 0.25, None), ("andersen", 0.8, 0.25, None), ("andersen", 0.8, None, None),
+    ("rescale", None, 0.25, 0.4), ("andersen", 0.8, None, -0.3)])
+def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate, every, shear):
+    # carom.read with a thermostat (and a shear) runs as `carom run --thermostat` (`--shear`),
+    # and a checkpoint saved on its way (Andersen's random stream included, with resets as events
+    # the next one's time, and the sliding images' offset) continues it exactly, in either front
+    # end.
     path = cli_init(cli, tmp_path / "gas.txt", n=150, phi=0.35, seed=2, boundary="periodic")
     options = dict(kT=1.5, thermostat=kind)
     flags = ["--kT", "1.5", "--thermostat", kind]
+    if shear is not None:
+        options.update(shear=shear, velocity_profile=True)
+        flags += ["--shear", str(shear), "--velocity-profile"]
     if every is not None:
         options["thermostat_every"] = every
         flags += ["--thermostat-every", str(every)]
@@ -269,6 +274,7 @@ def test_thermostats_equal_cli_and_resume_exactly(cli, tmp_path, kind, rate, eve
         tmp_path / "final.txt")
     expected = json.loads(summary.read_text())
     assert expected["thermostat"]["kind"] == kind
+    assert (expected["shear"] is None) == (shear is None)
     assert deterministic(sim.observables()) == deterministic(expected)
 
     half = carom.read(path, rule="elastic", **options)
@@ -295,31 +301,6 @@ def test_bad_thermostats_are_refused_as_on_the_command_line(tmp_path, cli):
         carom.read(path, kT=1.0, thermostat="andersen", thermostat_every=1.0)
     with pytest.raises(ValueError, match="thermostat"):
         carom.read(path, kT=1.0, thermostat="nose-hoover", thermostat_every=1.0)
-
-
-def test_shear_equals_cli_and_resumes_exactly(cli, tmp_path):
-    # carom.read with shear runs as `carom run --shear`, and a checkpoint (which carries the
-    # images' offset) continues it exactly, in either front end.
-    path = cli_init(cli, tmp_path / "gas.txt", n=150, phi=0.35, seed=3, boundary="periodic",
-                    dim=3)
-    options = dict(shear=0.4, velocity_profile=True, kT=1.0, thermostat="rescale",
-                   thermostat_every=0.3)
-    flags = ["--shear", "0.4", "--velocity-profile", "--kT", "1", "--thermostat", "rescale",
-             "--thermostat-every", "0.3"]
-    sim = carom.read(path, rule="elastic", **options)
-    sim.run(4.0)
-    summary = tmp_path / "summary.json"
-    cli("run", path, "4", "--rule", "elastic", *flags, "--summary", summary, "-o",
-        tmp_path / "final.txt")
-    expected = json.loads(summary.read_text())
-    assert expected["shear"]["rate"] == 0.4 and expected["shear"]["shear_viscosity"] > 0
-    assert deterministic(sim.observables()) == deterministic(expected)
-    half = carom.read(path, rule="elastic", **options)
-    half.run(1.7)
-    half.save(tmp_path / "half.ckpt")
-    resumed = carom.resume(tmp_path / "half.ckpt")
-    resumed.run(4.0)
-    assert_same_state(resumed, sim)
 
 
 def test_bad_shears_are_refused_as_on_the_command_line(tmp_path, cli):

@@ -205,9 +205,8 @@ std::vector<std::string> measure_names(const SweepPlan& plan) {
       if (std::find(names.begin(), names.end(), name) == names.end()) names.emplace_back(name);
     }
   };
-  if (any_task([](const PlanSetting& s) {
-        return s.key == "transport" && std::get<bool>(s.value);
-      })) {
+  if (any_task(
+          [](const PlanSetting& s) { return s.key == "transport" && std::get<bool>(s.value); })) {
     add(kTransportMeasures);
   }
   if (any_task([](const PlanSetting& s) { return s.key == "shear"; })) add(kShearMeasures);
