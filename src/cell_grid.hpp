@@ -227,6 +227,22 @@ class CellGrid {
     }
   }
 
+  // Calls visit(j) for every particle in the first and the last row of cells along y.
+  template <class Visit>
+  void for_each_in_edge_rows(Visit&& visit) const {
+    const std::uint32_t rows = count_[1];
+    const std::uint32_t planes = D == 3 ? count_[D - 1] : 1;
+    for (const std::uint32_t row : {0u, rows - 1}) {
+      if (row == rows - 1 && rows == 1) break;  // one row: visited once
+      for (std::uint32_t z = 0; z < planes; ++z) {
+        const std::uint32_t first = row * stride_[1] + (D == 3 ? z * stride_[D - 1] : 0);
+        for (std::uint32_t x = 0; x < count_[0]; ++x) {
+          for (std::uint32_t j = head_[first + x]; j != kNone; j = next_[j]) visit(j);
+        }
+      }
+    }
+  }
+
   // Whether `cell` is in the first or the last row along y (a sheared box's edge rows).
   bool in_edge_row(std::uint32_t cell) const {
     const std::uint32_t row = coordinate(cell, 1);

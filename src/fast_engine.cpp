@@ -25,6 +25,12 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Gro
   if (sheared_) {
     horizon_ = this->image_horizon();
     layer_.assign(this->system_.size(), 0);
+    // With five cells or more along every axis, only the images across the sheared boundary are
+    // ambiguous (see the header).
+    edge_rows_renewed_ = true;
+    for (std::size_t k = 0; k < D; ++k) {
+      edge_rows_renewed_ = edge_rows_renewed_ && grid_.cells_along(k) >= 5;
+    }
   }
   locate_all();
   predict_all();
@@ -99,6 +105,19 @@ template <std::size_t D>
 void FastEngine<D>::predict_all() {
   const auto n = static_cast<std::uint32_t>(this->system_.particles.size());
   for (std::uint32_t i = 0; i < n; ++i) predict(i);
+  schedule_horizon();
+}
+
+template <std::size_t D>
+void FastEngine<D>::renew() {
+  if (!edge_rows_renewed_) {
+    predict_all();
+    return;
+  }
+  // Only pairs across the sheared boundary see their nearest image change: those of the edge
+  // rows (a particle elsewhere cannot touch across it before it enters one, and is then
+  // predicted afresh).
+  grid_.for_each_in_edge_rows([this](std::uint32_t i) { predict(i); });
   schedule_horizon();
 }
 
@@ -274,7 +293,7 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
     switch (entry_kind(i, key)) {
       case EntryKind::renewal:
         clock_ = t;
-        predict_all();
+        renew();
         continue;
       case EntryKind::crossing: {
         clock_ = t;

@@ -61,8 +61,11 @@ class FastEngine final : public Engine<D> {
     return slot == horizon_slot_ ? EntryKind::renewal
                                  : particle_entry(slot, key, pending_[slot].pending);
   }
-  // Predicts every particle afresh (at the start and at every renewal horizon).
+  // Predicts every particle afresh (at the start and after rebases and interventions).
   void predict_all();
+  // At the renewal horizon: every particle predicted afresh, or in a sheared box of five cells
+  // or more along every axis those of the edge rows only.
+  void renew();
   // Every particle in the cell it is in at clock_ (in a sheared box, with the layers between its
   // stored state and the box made afresh).
   void locate_all();
@@ -84,6 +87,7 @@ class FastEngine final : public Engine<D> {
   // In a sheared box: how many boxes up along y particle i's stored state lies from where the
   // grid has it (its stored state is that image of it until it collides). Empty otherwise.
   std::vector<std::int32_t> layer_;
+  bool edge_rows_renewed_ = false;  // see renew()
   CellGrid<D> grid_;
   EventCalendar queue_;
   // Each particle's earliest collision and the time of it (the calendar's key is the crossing's
