@@ -237,6 +237,28 @@ TEST(SweepTask, ATransportPlanMeasuresTransportCoefficients) {
   EXPECT_EQ(std::find(plain.begin(), plain.end(), "self_diffusion"), plain.end());
 }
 
+TEST(SweepTask, AShearedPlanMeasuresItsViscosity) {
+  const Folder folder;
+  std::string text = kSmallPlan;
+  text.replace(text.find("n = 16"), 6, "n = 60");
+  text.replace(text.find("end_time = 2"), 12,
+               "end_time = 4\nshear = 0.5\nvelocity_profile = true\nkT = 1\n"
+               "thermostat = \"rescale\"\nthermostat_every = 0.25");
+  const SweepPlan plan = parse(text);
+  const std::vector<std::string> names = measure_names(plan);
+  for (const char* name : {"shear_rate", "shear_stress", "shear_viscosity"}) {
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  }
+  const std::string command = task_commands(plan, 0, "out").back();
+  EXPECT_NE(command.find(" --shear 0.5"), std::string::npos) << command;
+  EXPECT_NE(command.find(" --velocity-profile"), std::string::npos) << command;
+  const TaskResult result = run_task(plan, 0, folder / "out");
+  ASSERT_EQ(result.status, TaskStatus::done) << result.error;
+  EXPECT_EQ(result.measure("shear_rate"), 0.5);
+  EXPECT_GT(result.measure("shear_viscosity"), 0.0);
+  EXPECT_DOUBLE_EQ(result.measure("shear_viscosity"), result.measure("shear_stress") / 0.5);
+}
+
 TEST(SweepPlan, ThermostatsAreRunOptionsCheckedTaskByTask) {
   std::string text = kSmallPlan;
   text.replace(text.find("end_time = 2"), 12,
