@@ -165,7 +165,11 @@ void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_
   if (this->growing()) [[unlikely]] {
     predict_growing(i, layer_axis, layer_upward);
   } else if (sheared_) [[unlikely]] {
-    predict_sheared(i, layer_axis, layer_upward);
+    if (wide_) {
+      predict_sheared_wide(i, layer_axis, layer_upward);
+    } else {
+      predict_sheared(i, layer_axis, layer_upward);
+    }
   } else if (wide_) {
     predict_wide(i, layer_axis, layer_upward);
   } else {
@@ -204,6 +208,19 @@ template <std::size_t D>
                                                      bool layer_upward) {
   predict_with(i, layer_axis, layer_upward, ShearedContacts{});
 }
+
+template <std::size_t D>
+#ifdef CAROM_HAVE_AVX2_KERNEL
+[[gnu::flatten, gnu::target("avx2")]] void FastEngine<D>::predict_sheared_wide(
+    std::uint32_t i, std::size_t layer_axis, bool layer_upward) {
+  predict_with(i, layer_axis, layer_upward, ShearedWideContacts{});
+}
+#else
+void FastEngine<D>::predict_sheared_wide(std::uint32_t i, std::size_t layer_axis,
+                                         bool layer_upward) {
+  predict_sheared(i, layer_axis, layer_upward);
+}
+#endif
 
 template <std::size_t D>
 template <class Contacts>

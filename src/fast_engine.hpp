@@ -49,6 +49,7 @@ class FastEngine final : public Engine<D> {
   void predict_wide(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
   void predict_growing(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
   void predict_sheared(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
+  void predict_sheared_wide(std::uint32_t i, std::size_t layer_axis, bool layer_upward);
   template <class Contacts>
   void predict_with(std::uint32_t i, std::size_t layer_axis, bool layer_upward,
                     const Contacts& contacts);
