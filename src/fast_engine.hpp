@@ -12,6 +12,12 @@
 // 2/5 of the box, apart, so the nearest image at prediction time is the one they touch through.
 // (With four, two particles on the far edges of adjacent cells are exactly half a box apart and the
 // nearest image is ambiguous: the fuzzer found that.)
+//
+// In a sheared box (Lees-Edwards) the images above and below slide along x, so a particle in an
+// edge row of cells may touch the image of one anywhere in the far edge row: it searches that
+// whole row, and the nearest image across the boundary changes as the images slide, so the edge
+// rows are predicted again every image horizon. A particle's stored state keeps the image it was
+// stored as until it collides; the grid holds where it is in the box (layer_).
 #pragma once
 
 #include <cstdint>
