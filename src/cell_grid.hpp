@@ -232,8 +232,9 @@ class CellGrid {
   void for_each_in_edge_rows(Visit&& visit) const {
     const std::uint32_t rows = count_[1];
     const std::uint32_t planes = D == 3 ? count_[D - 1] : 1;
-    for (const std::uint32_t row : {0u, rows - 1}) {
-      if (row == rows - 1 && rows == 1) break;  // one row: visited once
+    const std::uint32_t last = rows > 1 ? 2 : 1;  // one row: visited once
+    for (std::uint32_t edge = 0; edge < last; ++edge) {
+      const std::uint32_t row = edge == 0 ? 0 : rows - 1;
       for (std::uint32_t z = 0; z < planes; ++z) {
         const std::uint32_t first = row * stride_[1] + (D == 3 ? z * stride_[D - 1] : 0);
         for (std::uint32_t x = 0; x < count_[0]; ++x) {

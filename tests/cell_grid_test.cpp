@@ -29,6 +29,37 @@ TEST(CellGrid, CellsAreAtLeastTheInteractionRange) {
   EXPECT_EQ(grid.cell_count(), 4u * 1u);  // 10 / 2 = 5 exactly, but cells are a hair wider
 }
 
+TEST(CellGrid, TheEdgeRowsAreTheFirstAndLastAlongYAndTheFarRowIsSearchedWhole) {
+  // 10 x 10 cells of width 2 (a hair wider: 9 x 9), one particle a cell.
+  Box<2> box{Vec2{{20, 20}}, Boundary::periodic};
+  CellGrid<2> grid(box, 2.0, 200);
+  const std::uint32_t columns = grid.cells_along(0), rows = grid.cells_along(1);
+  ASSERT_GE(rows, 5u);
+  std::uint32_t n = 0;
+  for (std::uint32_t y = 0; y < rows; ++y) {
+    for (std::uint32_t x = 0; x < columns; ++x) grid.insert(n++, y * columns + x);
+  }
+  std::set<std::uint32_t> edges;
+  grid.for_each_in_edge_rows([&](std::uint32_t j) { EXPECT_TRUE(edges.insert(j).second); });
+  EXPECT_EQ(edges.size(), 2u * columns);
+  for (const std::uint32_t j : edges) EXPECT_TRUE(j < columns || j >= (rows - 1) * columns) << j;
+  // A cell of the bottom row: with the block around it, the whole top row, each once.
+  std::set<std::uint32_t> seen = near(grid, 3);
+  grid.for_each_across_shear(3, [&](std::uint32_t j) { EXPECT_TRUE(seen.insert(j).second); });
+  for (std::uint32_t x = 0; x < columns; ++x) EXPECT_TRUE(seen.count((rows - 1) * columns + x));
+  // An inner row has no far row.
+  std::size_t across = 0;
+  grid.for_each_across_shear(2 * columns + 3, [&](std::uint32_t) { ++across; });
+  EXPECT_EQ(across, 0u);
+  // One row of cells: it is the edge row, visited once.
+  CellGrid<2> flat(Box<2>{Vec2{{20, 2.5}}, Boundary::periodic}, 2.0, 20);
+  ASSERT_EQ(flat.cells_along(1), 1u);
+  for (std::uint32_t x = 0; x < flat.cells_along(0); ++x) flat.insert(x, x);
+  std::size_t visited = 0;
+  flat.for_each_in_edge_rows([&](std::uint32_t) { ++visited; });
+  EXPECT_EQ(visited, flat.cells_along(0));
+}
+
 TEST(CellGrid, AHugeSparseBoxHasAboutTwoCellsPerParticle) {
   const CellGrid<2> grid(Box<2>{Vec2{{1e6, 1e6}}}, 1e-3, 10);
   EXPECT_LE(grid.cell_count(), 36u);
