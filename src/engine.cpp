@@ -23,7 +23,7 @@ Engine<D>::Engine(System<D> system, const CollisionRule& rule, const Growth& gro
   largest_ = grown_radius(largest_radius(system_), growth_.rate, growth_.until);
   if (growing()) {
     for (const Particle<D>& p : system_.particles) {
-      fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));
+      raise_speed_bound(norm2(p.velocity));
     }
   }
   if (system_.box.sheared()) {
@@ -64,7 +64,7 @@ Event Engine<D>::apply(Event event) {
     const Vec<D> before = a.velocity;
     if (growing()) [[unlikely]] {
       event.impulse = growing_bounce(a, event.partner, system_.box, ra.mass, growth_.rate);
-      fastest_ = std::max(fastest_, std::sqrt(norm2(a.velocity)) * (1.0 + 1e-9));
+      raise_speed_bound(norm2(a.velocity));
     } else {
       event.impulse = bounce(a, event.partner, system_.box, ra.mass);
     }
@@ -89,8 +89,7 @@ Event Engine<D>::apply(Event event) {
     if (growing()) [[unlikely]] {
       event.impulse = collide(a, b, r, rule_.rule, restitution, ra.mass, rb.mass,
                               (a.radius + b.radius) * growth_.rate);
-      const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
-      fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
+      raise_speed_bound(std::max(norm2(a.velocity), norm2(b.velocity)));
     } else {
       event.impulse = collide(a, b, r, rule_.rule, restitution, ra.mass, rb.mass);
     }
@@ -126,8 +125,7 @@ void Engine<D>::back_into_sheared_box(Particle<D>& a, Particle<D>& b) {
   const auto partner = static_cast<std::size_t>(&b - system_.particles.data());
   wrap_across_shear(a, system_.box, system_.records[first].image);
   wrap_across_shear(b, system_.box, system_.records[partner].image);
-  const double faster = std::max(norm2(a.velocity), norm2(b.velocity));
-  fastest_ = std::max(fastest_, std::sqrt(faster) * (1.0 + 1e-9));
+  raise_speed_bound(std::max(norm2(a.velocity), norm2(b.velocity)));
 }
 
 template <std::size_t D>
@@ -166,9 +164,7 @@ void Engine<D>::reset_velocity(std::uint32_t i, double t, const Vec<D>& velocity
   wrap(p, system_.box, record.image);
   ++record.changes;
   now_ = t;
-  if (system_.box.sheared()) {
-    fastest_ = std::max(fastest_, std::sqrt(norm2(p.velocity)) * (1.0 + 1e-9));
-  }
+  if (system_.box.sheared()) raise_speed_bound(norm2(p.velocity));
   velocity_reset(i);
 }
 

@@ -83,7 +83,7 @@ void FastEngine<D>::cross_shear(std::uint32_t i, bool upward) {
   const Box<D>& box = this->system_.box;
   position[1] = upward ? 0.0 : std::nextafter(box.size[1], 0.0);
   grid_.move(i, grid_.locate(position));
-  this->fastest_ = std::max(this->fastest_, std::sqrt(norm2(velocity)) * (1.0 + 1e-9));
+  this->raise_speed_bound(norm2(velocity));
   shorten_horizon();
   predict(i);
 }
@@ -317,23 +317,18 @@ std::optional<Event> FastEngine<D>::step(double end_time) {
         const Pending pending = pending_[i].pending;
         const std::size_t axis = pending.crossing_axis;
         const bool upward = pending.crossing_upward;
-        if (sheared_) [[unlikely]] {
-          if (axis == 1 && grid_.leaves_along_y(grid_.cell_of(i), upward)) {
-            cross_shear(i, upward);
-          } else {
-            grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, upward));
-            // Into an edge row, the far row's cells around it are new too (all of them, as the
-            // images slide): predicted afresh.
-            if (grid_.in_edge_row(grid_.cell_of(i))) {
-              predict(i);
-            } else {
-              predict(i, axis, upward);
-            }
-          }
+        if (sheared_ && axis == 1 && grid_.leaves_along_y(grid_.cell_of(i), upward)) [[unlikely]] {
+          cross_shear(i, upward);
           continue;
         }
         grid_.move(i, grid_.adjacent(grid_.cell_of(i), axis, upward));
-        predict(i, axis, upward);
+        // Into a sheared box's edge row, the far row's cells around it are new too (all of them,
+        // as the images slide): predicted afresh.
+        if (sheared_ && grid_.in_edge_row(grid_.cell_of(i))) [[unlikely]] {
+          predict(i);
+        } else {
+          predict(i, axis, upward);
+        }
         continue;
       }
       case EntryKind::wall: {

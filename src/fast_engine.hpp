@@ -86,7 +86,8 @@ class FastEngine final : public Engine<D> {
   void cross_shear(std::uint32_t i, bool upward);
   // Queues the next time every particle is predicted again, or none.
   void schedule_horizon();
-  // With growth or shear, after an event: brings that renewal forward if the particles sped up.
+  // Where the particles may have sped up (growth, shear, a thermostat's reset): brings that
+  // renewal forward as much.
   void shorten_horizon();
 
   bool wide_;  // the CPU has AVX2: predictions use the four-wide contact kernel

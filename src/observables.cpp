@@ -43,7 +43,6 @@ double degrees_of_freedom(const System<D>& system) {
 
 template <std::size_t D>
 Vec<D> peculiar_momentum(const System<D>& system) {
-  if (!system.box.sheared()) return momentum(system);
   Vec<D> total;
   for (std::size_t i = 0; i < system.size(); ++i) {
     total += system.records[i].mass * peculiar_velocity(system.particles[i], system.box);
@@ -56,13 +55,9 @@ double kinetic_temperature(const System<D>& system) {
   const double dof = degrees_of_freedom(system);
   if (!(dof > 0.0)) return 0.0;
   double energy = 0.0;
-  if (system.box.sheared()) {
-    for (std::size_t i = 0; i < system.size(); ++i) {
-      const Vec<D> c = peculiar_velocity(system.particles[i], system.box);
-      energy += 0.5 * system.records[i].mass * norm2(c);
-    }
-  } else {
-    energy = kinetic_energy(system);
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    energy +=
+        0.5 * system.records[i].mass * norm2(peculiar_velocity(system.particles[i], system.box));
   }
   if (system.box.periodic()) {
     double mass = 0.0;

@@ -251,16 +251,12 @@ void Simulation<D>::reset_one_velocity() {
       static_cast<std::uint32_t>(thermostat_rng_(static_cast<std::uint32_t>(system.size())));
   Particle<D> reset = system.particles[i];
   advance(reset, stored_time_);
-  reset.velocity = maxwell_velocity<D>(thermostat.kT, system.records[i].mass, thermostat_rng_);
   // Drawn relative to the streaming profile where the particle is, in a sheared box.
-  if (system.box.sheared()) {
-    std::array<std::int32_t, 3> image{};
-    Particle<D> inside = reset;
-    wrap(inside, system.box, image);
-    reset.velocity[0] += system.box.stream_velocity(inside.position[1]);
-  }
+  const Vec<D> velocity = streaming_velocity(
+      maxwell_velocity<D>(thermostat.kT, system.records[i].mass, thermostat_rng_), reset,
+      system.box);
   const Vec<D> before = flux_velocity(system.particles[i], system.box);
-  engine_->reset_velocity(i, stored_time_, reset.velocity);
+  engine_->reset_velocity(i, stored_time_, velocity);
   if (counts_.fluxes) {
     counts_.fluxes->change_velocity<D>(time_, stored_time_, system.records[i].mass, before,
                                        flux_velocity(state().particles[i], system.box));

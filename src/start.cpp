@@ -165,9 +165,8 @@ void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
   system.box.shear_rate = shear.rate;
   system.box.shear_offset = 0.0;
   if (!shear.profile) return;
-  for (Particle<D>& p : system.particles) {
-    p.velocity[0] += system.box.stream_velocity(position_at(p, 0.0)[1]);
-  }
+  for (Particle<D>& p : system.particles)
+    p.velocity = streaming_velocity(p.velocity, p, system.box);
 }
 
 }  // namespace

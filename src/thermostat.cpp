@@ -31,15 +31,10 @@ void rescale_velocities(System<D>& system, double kT) {
   // Only a periodic box keeps its centre of mass's motion out of the temperature.
   const Vec<D> drift = system.box.periodic() ? (1.0 / mass) * peculiar_momentum(system) : Vec<D>{};
   const double scale = std::sqrt(kT / now);
-  const Box<D>& box = system.box;
+  // In a sheared box, the motion relative to the streaming profile is rescaled.
   for (Particle<D>& p : system.particles) {
-    if (box.sheared()) {  // the motion relative to the streaming profile is rescaled
-      const Vec<D> c = peculiar_velocity(p, box);
-      p.velocity = drift + scale * (c - drift);
-      p.velocity[0] += box.stream_velocity(p.position[1]);
-    } else {
-      p.velocity = drift + scale * (p.velocity - drift);
-    }
+    const Vec<D> c = peculiar_velocity(p, system.box);
+    p.velocity = streaming_velocity(drift + scale * (c - drift), p, system.box);
   }
 }
 
@@ -49,10 +44,10 @@ std::size_t andersen_resets(System<D>& system, const Thermostat& thermostat, pcg
   std::size_t resets = 0;
   for (std::size_t i = 0; i < system.size(); ++i) {
     if (uniform_deviate(rng) >= probability) continue;
-    Particle<D>& p = system.particles[i];
-    p.velocity = maxwell_velocity<D>(thermostat.kT, system.records[i].mass, rng);
     // In a sheared box, drawn relative to the streaming profile where the particle is.
-    if (system.box.sheared()) p.velocity[0] += system.box.stream_velocity(p.position[1]);
+    Particle<D>& p = system.particles[i];
+    p.velocity = streaming_velocity(maxwell_velocity<D>(thermostat.kT, system.records[i].mass, rng),
+                                    p, system.box);
     ++resets;
   }
   return resets;

@@ -145,6 +145,10 @@ class Engine {
   // raised after each collision (and, in a sheared box, when an engine sees a particle cross the
   // sheared boundary), made afresh when every state is renewed (rebase, intervene).
   double fastest_ = 0.0;
+  // Raises fastest_ to cover a particle whose velocity has this square.
+  void raise_speed_bound(double speed2) {
+    fastest_ = std::max(fastest_, std::sqrt(speed2) * (1.0 + 1e-9));
+  }
   double now_ = 0.0;                 // the stored time of the last processed event
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 

@@ -257,6 +257,14 @@ Vec<D> peculiar_velocity(const Particle<D>& p, const Box<D>& box) {
   return c;
 }
 
+// The converse: the velocity of particle p (of its stored state, whichever image) when it moves
+// at `peculiar` relative to the streaming profile.
+template <std::size_t D>
+Vec<D> streaming_velocity(Vec<D> peculiar, const Particle<D>& p, const Box<D>& box) {
+  if (box.sheared()) peculiar[0] += box.stream_velocity(p.position[1]);
+  return peculiar;
+}
+
 // Growing particles (Lubachevsky-Stillinger compression, carom compress): every radius grows
 // linearly in stored time, radius(t) = radius x (1 + rate x t), `radius` being a particle's radius
 // at stored time 0, so that the size ratios are kept. The functions below are the growing twins
