@@ -33,13 +33,18 @@ class Neighbours {
 
   std::size_t size() const { return points_.at.size(); }
 
-  // The displacement from particle i to particle j (minimum image in a periodic box).
+  // The displacement from particle i to particle j (minimum image in a periodic box; in a
+  // sheared one, y first, whose image carries the shift along x).
   Vec<D> separation(std::size_t i, std::size_t j) const {
     Vec<D> r;
-    for (std::size_t k = 0; k < D; ++k) {
-      double dx = frame_.position[j][k] - frame_.position[i][k];
-      if (frame_.periodic) dx -= frame_.box[k] * std::nearbyint(dx / frame_.box[k]);
-      r[k] = dx;
+    for (std::size_t k = 0; k < D; ++k) r[k] = frame_.position[j][k] - frame_.position[i][k];
+    if (frame_.periodic) {
+      const double layers = std::nearbyint(r[1] / frame_.box[1]);
+      r[1] -= layers * frame_.box[1];
+      r[0] -= layers * frame_.shear_shift;
+      for (std::size_t k = 0; k < D; ++k) {
+        if (k != 1) r[k] -= frame_.box[k] * std::nearbyint(r[k] / frame_.box[k]);
+      }
     }
     return r;
   }
@@ -58,8 +63,11 @@ class Neighbours {
     while (true) {
       std::array<double, D> q{};
       bool reaches = true;
+      for (std::size_t k = 0; k < D; ++k) q[k] = points_.at[i][k] + shift[k] * frame_.box[k];
+      // A sheared box's images one box up lie shear_shift further along x (within half a side of
+      // 0 as carom writes it, so that shifts of -1, 0 and 1 sides along x still cover the box).
+      q[0] += shift[1] * wrapped_shift_;
       for (std::size_t k = 0; k < D; ++k) {
-        q[k] = points_.at[i][k] + shift[k] * frame_.box[k];
         reaches = reaches && q[k] + r >= 0.0 && q[k] - r <= frame_.box[k];
       }
       if (reaches) {
@@ -102,20 +110,32 @@ class Neighbours {
   using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
                                                    Points, static_cast<int>(D), std::uint32_t>;
 
+  // In a sheared box, the images' shift within half a side of 0 (any multiple of Lx names the
+  // same lattice), so that for_each_candidate's images along x reach every part of the box.
+  static double nearest_shift(const Frame& frame) {
+    return frame.shear_shift - frame.box[0] * std::nearbyint(frame.shear_shift / frame.box[0]);
+  }
+
   static Points wrapped(const Frame& frame) {
     Points points;
     points.at.resize(frame.position.size());
     for (std::size_t i = 0; i < frame.position.size(); ++i) {
+      std::array<double, D>& x = points.at[i];
+      for (std::size_t k = 0; k < D; ++k) x[k] = frame.position[i][k];
+      if (!frame.periodic) continue;
+      // y first: a move by whole layers of a sheared box moves x by the shift as well.
+      const double layers = std::floor(x[1] / frame.box[1]);
+      x[1] -= layers * frame.box[1];
+      x[0] -= layers * frame.shear_shift;
       for (std::size_t k = 0; k < D; ++k) {
-        double x = frame.position[i][k];
-        if (frame.periodic) x -= frame.box[k] * std::floor(x / frame.box[k]);
-        points.at[i][k] = x;
+        if (k != 1) x[k] -= frame.box[k] * std::floor(x[k] / frame.box[k]);
       }
     }
     return points;
   }
 
   const Frame& frame_;
+  double wrapped_shift_ = nearest_shift(frame_);
   Points points_;
   Tree tree_;
   std::vector<std::uint64_t> seen_;  // the stamp of the search that last found each particle
@@ -344,6 +364,8 @@ Msd mean_square_displacement(const std::vector<Frame>& frames) {
       for (std::size_t k = 0; k < d; ++k) {
         double x = frames[f].position[i][k];
         if (first.periodic) x += frames[f].box[k] * static_cast<double>(frames[f].image[i][k]);
+        // A sheared box's images one box up lie the shift further along x.
+        if (k == 0) x += frames[f].shear_shift * static_cast<double>(frames[f].image[i][1]);
         unwrapped[(f * n + i) * d + k] = x;
       }
     }

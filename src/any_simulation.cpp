@@ -66,6 +66,10 @@ std::vector<double> AnySimulation::box() const {
   });
 }
 
+double AnySimulation::shear_shift() const {
+  return visit([](const auto& s) { return shown_shift(s.state().box, s.stored_time()); });
+}
+
 void AnySimulation::check_target(double t) const {
   visit([&](const auto& s) { s.check_target(t); });
 }

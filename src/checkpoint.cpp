@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string_view>
 
@@ -472,6 +473,23 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
   return c;
 }
 
+// Where in `json` the first number that is not finite lies (JSON would write it as null, which
+// no reader takes back as a number), as "counts/fluxes/kinetic_stress/0"; nullopt if none.
+std::optional<std::string> first_non_finite(const Json& json) {
+  if (json.is_number_float()) {
+    return std::isfinite(json.get<double>()) ? std::nullopt : std::optional<std::string>("");
+  }
+  if (!json.is_structured()) return std::nullopt;
+  std::size_t index = 0;
+  for (auto it = json.begin(); it != json.end(); ++it, ++index) {
+    if (const auto below = first_non_finite(*it)) {
+      const std::string key = json.is_object() ? it.key() : std::to_string(index);
+      return below->empty() ? key : key + "/" + *below;
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 template <std::size_t D>
@@ -514,6 +532,13 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
                           {"seed", t.seed},          {"instants", c.thermostat_instants},
                           {"rng", rng.str()}};
     if (resets_as_events(t)) head["thermostat"]["next"] = c.thermostat_next;
+  }
+  // A number the run overflowed would be written as null: a checkpoint carom could not read.
+  if (const auto where = first_non_finite(head)) {
+    throw std::runtime_error(fmt::format(
+        "cannot save a checkpoint: the run's {} is not a finite number (it overflowed double "
+        "precision: speeds or a shear rate too large to integrate)",
+        *where));
   }
   std::string text = head.dump(1);
   Fnv1a hash;

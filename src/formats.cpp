@@ -180,7 +180,9 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
                : nlohmann::ordered_json(nullptr);
     };
     shear = {{"rate", rate},
-             {"offset", system.box.shear_offset},
+             // The images' shift now, at the end of what was run (the stored offset is the
+             // one at the epoch, which can lie far back).
+             {"offset", shown_shift(system.box, simulation.stored_time())},
              {"shear_stress", value(p, 1.0)},
              {"shear_stress_error", spread(error, 1.0)},
              {"shear_viscosity", value(p, 1.0 / rate)},

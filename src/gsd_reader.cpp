@@ -246,6 +246,7 @@ struct FrameBox {
   int dimension = 3;
   std::array<double, 3> size{};
   bool periodic = true;
+  double shear_shift = 0.0;  // xy Ly: a sheared run's images one box up lie at (xy Ly, Ly)
 };
 
 FrameBox read_frame_box(GsdReader& gsd, std::uint64_t frame) {
@@ -255,8 +256,10 @@ FrameBox read_frame_box(GsdReader& gsd, std::uint64_t frame) {
   const auto box_values = gsd.values("configuration/box", frame);
   std::vector<double> box = box_values ? box_values->data : std::vector<double>{1, 1, 1, 0, 0, 0};
   if (box.size() != 6) gsd.fail("configuration/box does not hold 6 values");
-  if (box[3] != 0.0 || box[4] != 0.0 || box[5] != 0.0) {
-    gsd.fail("its box is tilted (xy, xz, yz not 0): carom's boxes are rectangular");
+  if (box[4] != 0.0 || box[5] != 0.0) {
+    gsd.fail(
+        "its box is tilted in xz or yz: carom's boxes are rectangular, or sheared along x "
+        "(tilt xy only)");
   }
   for (std::size_t k = 0; k < static_cast<std::size_t>(dim); ++k) {
     if (!(box[k] > 0.0) || !std::isfinite(box[k])) {
@@ -264,9 +267,15 @@ FrameBox read_frame_box(GsdReader& gsd, std::uint64_t frame) {
     }
   }
   const auto periodic = gsd.values("log/carom/periodic", frame);
-  return {static_cast<int>(dim),
-          {box[0], box[1], box[2]},
-          !(periodic && periodic->data.size() == 1 && periodic->data[0] == 0.0)};
+  FrameBox frame_box{static_cast<int>(dim),
+                     {box[0], box[1], box[2]},
+                     !(periodic && periodic->data.size() == 1 && periodic->data[0] == 0.0),
+                     box[3] * box[1]};
+  if (!std::isfinite(frame_box.shear_shift)) gsd.fail(fmt::format("its tilt xy is {}", box[3]));
+  if (frame_box.shear_shift != 0.0 && !frame_box.periodic) {
+    gsd.fail("its box is tilted (xy) but has walls (log/carom/periodic = 0)");
+  }
+  return frame_box;
 }
 
 template <std::size_t D>
@@ -312,6 +321,12 @@ AnyClassicInput read_gsd_start(const std::string& path, std::optional<std::uint6
     gsd.fail(fmt::format("it has frames 0 to {}, not {}", gsd.frames() - 1, k));
   }
   const FrameBox box = read_frame_box(gsd, k);
+  if (box.shear_shift != 0.0) {
+    gsd.fail(fmt::format(
+        "frame {} is a sheared box (tilt xy = {:g}): a run starts from a rectangular box; a "
+        "sheared run goes on from its checkpoint (carom run --resume)",
+        k, box.shear_shift / box.size[1]));
+  }
   if (box.dimension == 2) return start_from<2>(gsd, k, box);
   return start_from<3>(gsd, k, box);
 }
@@ -361,6 +376,7 @@ std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection
                                               : static_cast<double>(k);
     if (!std::isfinite(f.time)) gsd.fail(fmt::format("frame {} has time {}", k, f.time));
     f.periodic = frame_box.periodic;
+    f.shear_shift = frame_box.shear_shift;
     for (std::size_t c = 0; c < d; ++c) f.box[c] = box[c];
     for (std::uint64_t i = 0; i < chunks.n; ++i) {
       Vec<3> x{}, v{};

@@ -1,6 +1,7 @@
 // The GSD writer: GsdFormat (gsd_format.hpp) appends frames to a file of the HOOMD schema.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -22,6 +23,17 @@ constexpr std::uint32_t version(std::uint32_t major, std::uint32_t minor) {
   return major << 16 | minor;
 }
 constexpr std::uint64_t kFirstIndexCapacity = 256;
+
+// Moves a position of the rectangular box [0, L) along x by whole sides into HOOMD's tilted box
+// of tilt shift / Ly (the parallelogram of x - shift (y / Ly - 1/2) in [0, Lx)), where HOOMD
+// expects its particles, keeping `image` the flags that unwrap it.
+template <std::size_t D>
+void into_tilted_box(Vec<D>& position, const Vec<D>& side, double shift,
+                     std::array<std::int32_t, 3>& image) {
+  const double sides = std::floor((position[0] - shift * (position[1] / side[1] - 0.5)) / side[0]);
+  position[0] -= sides * side[0];
+  add_sides(image[0], sides);
+}
 
 // GSD's element types.
 enum Type : std::uint8_t {
@@ -123,13 +135,17 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
   // HOOMD's box is centred on the origin; a disk's box has Lz = 0, as HOOMD writes 2D boxes.
   std::array<float, 6> box{};
   for (std::size_t k = 0; k < D; ++k) box[k] = static_cast<float>(side[k]);
+  // A sheared box as HOOMD's tilted one: the images one box up lie at (xy Ly, Ly).
+  const double at = system.stored(t);
+  const double shift = shown_shift(system.box, at);
+  box[3] = static_cast<float>(shift / side[1]);
   std::vector<float> position(3 * std::size_t{n}), velocity(3 * std::size_t{n}), diameter(n),
       mass(n);
   std::vector<std::int32_t> image(3 * std::size_t{n});
-  const double at = system.stored(t);
   for (std::uint32_t i = 0; i < n; ++i) {
     std::array<std::int32_t, 3> flags = system.records[i].image;
-    const Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
+    Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
+    if (shift != 0.0) into_tilted_box(p.position, side, shift, flags);
     for (std::size_t k = 0; k < D; ++k) {
       position[3 * i + k] = static_cast<float>(p.position[k] - 0.5 * side[k]);
       velocity[3 * i + k] = static_cast<float>(p.velocity[k]);

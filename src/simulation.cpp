@@ -108,6 +108,20 @@ void Simulation<D>::check_target(double t) const {
         "box and time unit",
         crossings, t, kMostCrossings));
   }
+  // A thermostat's work grows with how often it acts, whatever the particles do: each instant
+  // touches every particle, and Andersen's resets come N NU a unit of time.
+  const Thermostat& thermostat = settings_.thermostat;
+  if (thermostat.kind == ThermostatKind::none) return;
+  const auto n = static_cast<double>(state().size());
+  const bool resets = resets_as_events(thermostat);
+  const double touches =
+      resets ? n * thermostat.rate * (t - time_) : n * (t - time_) / thermostat.every;
+  if (touches > kMostCrossings) {
+    throw RunLengthError(fmt::format(
+        "the thermostat would act on a particle about {:.3g} times before {}, more than the {:.0e} "
+        "carom can process: check {}",
+        touches, t, kMostCrossings, resets ? "--thermostat-rate" : "--thermostat-every"));
+  }
 }
 
 template <std::size_t D>

@@ -127,6 +127,10 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
   }
   const Thermostat thermostat{kind, *kT, every.value_or(0.0), rate.value_or(0.0), seed};
   try {
+    // The magnitudes the command line reads, from every front end.
+    check_number(*kT, "--kT");
+    if (every) check_number(*every, "--thermostat-every");
+    if (rate) check_number(*rate, "--thermostat-rate");
     check_thermostat(thermostat);
   } catch (const std::invalid_argument& e) {
     throw RequestError(e.what());
@@ -139,8 +143,10 @@ ShearRequest shear_request(std::optional<double> rate, bool profile) {
     if (profile) throw RequestError("--velocity-profile needs --shear RATE: the profile's slope");
     return {};
   }
-  if (!std::isfinite(*rate)) {
-    throw RequestError(fmt::format("--shear must be a finite number, got {}", *rate));
+  try {
+    check_number(*rate, "--shear");  // what the command line reads, from every front end
+  } catch (const std::invalid_argument& e) {
+    throw RequestError(e.what());
   }
   if (*rate == 0.0 && profile) {
     throw RequestError("--velocity-profile needs a shear rate other than 0");

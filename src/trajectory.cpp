@@ -74,18 +74,20 @@ class ExtendedXyz final : public TextFormat<D> {
   }
 
  private:
+  // A sheared box's lattice is that of its images at the frame's time: the second vector
+  // (shift, Ly, 0), a tilted cell as ASE and OVITO read it.
   void header(std::ostream& out, std::uint64_t, double t, const System<D>& system) override {
     const Vec<D>& L = system.box.size;
     const double lz = D == 3 ? L[D - 1] : 1.0;
     const char* pbc = !system.box.periodic() ? "F F F" : D == 3 ? "T T T" : "T T F";
     out << fmt::format(
-        "{}\nLattice=\"{} 0 0 0 {} 0 0 0 {}\" "
+        "{}\nLattice=\"{} 0 0 {} {} 0 0 0 {}\" "
         "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1:masses:R:1:"
         "momenta:R:3:image:I:3 pbc=\"{}\" Time={}\n",
-        system.size(), L[0], L[1], lz, pbc, t);
+        system.size(), L[0], shown_shift(system.box, system.stored(t)), L[1], lz, pbc, t);
   }
   // masses and momenta are the columns ASE reads get_masses() and get_velocities() from (velo is
-  // OVITO's); image unwraps pos as pos + image x the box.
+  // OVITO's); image unwraps pos as pos + image . the lattice.
   void line(std::ostream& out, std::size_t, const Particle<D>& p, const ParticleRecord& record,
             const std::array<std::int32_t, 3>& image) override {
     out << fmt::format("H {} {} {} {} {} {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
@@ -120,14 +122,22 @@ class LammpsDump final : public TextFormat<D> {
   }
 
  private:
-  void header(std::ostream& out, std::uint64_t index, double, const System<D>& system) override {
+  // A sheared box is written as LAMMPS' triclinic one, whose tilt xy is the images' shift: the
+  // x bounds are then those of the box that holds the tilted cell, and each bound line ends in
+  // a tilt factor (xy, xz = 0, yz = 0).
+  void header(std::ostream& out, std::uint64_t index, double t, const System<D>& system) override {
     const Vec<D>& L = system.box.size;
     const char* bounds = system.box.periodic() ? "pp pp pp" : D == 3 ? "ff ff ff" : "ff ff pp";
-    out << fmt::format(
-        "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS {}\n0 {}\n0 {}\n{}\n"
-        "ITEM: ATOMS id type x y z vx vy vz radius mass ix iy iz\n",
-        index, system.size(), bounds, L[0], L[1],
-        D == 3 ? fmt::format("0 {}", L[D - 1]) : std::string("-0.5 0.5"));
+    const std::string z = D == 3 ? fmt::format("0 {}", L[D - 1]) : std::string("-0.5 0.5");
+    out << fmt::format("ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\n", index, system.size());
+    if (system.box.sheared()) {
+      const double xy = shown_shift(system.box, system.stored(t));
+      out << fmt::format("ITEM: BOX BOUNDS xy xz yz {}\n{} {} {}\n0 {} 0\n{} 0\n", bounds,
+                         std::min(0.0, xy), L[0] + std::max(0.0, xy), xy, L[1], z);
+    } else {
+      out << fmt::format("ITEM: BOX BOUNDS {}\n0 {}\n0 {}\n{}\n", bounds, L[0], L[1], z);
+    }
+    out << "ITEM: ATOMS id type x y z vx vy vz radius mass ix iy iz\n";
   }
   void line(std::ostream& out, std::size_t index, const Particle<D>& p,
             const ParticleRecord& record, const std::array<std::int32_t, 3>& image) override {

@@ -141,8 +141,12 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
           fail(fmt::format("the Lattice's box sides must be greater than 0, found {}", x));
         }
         f.box[k / 4] = x;
+      } else if (k == 3) {
+        f.shear_shift = x;  // a sheared run's images one box up: (shift, Ly, 0)
       } else if (x != 0.0) {
-        fail("the Lattice must be a rectangular box (Lx 0 0 0 Ly 0 0 0 Lz)");
+        fail(
+            "the Lattice must be a rectangular box (Lx 0 0 0 Ly 0 0 0 Lz) or a sheared one "
+            "(Lx 0 0 shift Ly 0 0 0 Lz)");
       }
     }
     // pbc="T T F" (periodic disks: carom writes z F) or all alike; a slab periodic in some
@@ -161,6 +165,9 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
       }
       f.periodic = is_true(flags[0]);
       z_periodic = is_true(flags[2]);
+    }
+    if (f.shear_shift != 0.0 && !f.periodic) {
+      fail("the Lattice is tilted (a sheared box) but the box is not periodic (pbc)");
     }
     // Without a Time, frames count in whole units, as GSD's steps do.
     f.time = static_cast<double>(frames.size());

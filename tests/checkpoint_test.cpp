@@ -103,6 +103,26 @@ TEST(Checkpoint, WhatRunsWriteIsReadBackWithAndWithoutItsChecksum) {
   EXPECT_TRUE(std::holds_alternative<Checkpoint<3>>(read(written(simulation.checkpoint("s")))));
 }
 
+// A number a run overflowed is never written (JSON would make it null, a checkpoint no reader
+// takes back): saving says which one. (Regression: --shear 1e80 --velocity-profile saved null
+// kinetic stresses that --resume refused.)
+TEST(Checkpoint, ANumberThatOverflowedIsNeverWritten) {
+  pcg32 rng(16);
+  Simulation<2> simulation(random_gas(rng, 20, 0.3, 0.5, 10, 8), {{Rule::elastic}});
+  simulation.run_until(1.0);
+  Checkpoint<2> checkpoint = simulation.checkpoint("gas.txt");
+  ASSERT_TRUE(checkpoint.counts.fluxes);
+  checkpoint.counts.fluxes->kinetic_stress[0] = std::numeric_limits<double>::quiet_NaN();
+  try {
+    written(checkpoint);
+    ADD_FAILURE() << "a NaN was written";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("counts/fluxes/kinetic_stress/0 is not a finite number"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Checkpoint, TheChecksumCoversTheValuesNotTheLayout) {
   const std::string text = saved();
   // Reindented by a tool, keys reordered: still the same checkpoint.

@@ -596,6 +596,43 @@ TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
   EXPECT_EQ(carom({"run", "--resume", checkpoint, end, "-q"}).exit_code, 0);
 }
 
+// A sheared box renews its predictions at every image horizon, however few events there are:
+// two disks sheared at 1e9 make renewals all the time and no collisions. The stop is heard
+// within the slice the renewals are counted in. (Regression: 10 s to 10 min after SIGINT.)
+TEST_F(Cli, CtrlCStopsAShearedRunOfRenewalsAndSavesIt) {
+  const fs::path start = write("two.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
+  const fs::path checkpoint = dir_ / "ck";
+  const pid_t pid = start_run(start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear",
+                                      "1e9", "--checkpoint", checkpoint.string(), "-q"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_TRUE(wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }))
+      << "the sheared run ignored SIGINT";
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  EXPECT_GT(nlohmann::json::parse(read_file(checkpoint))["time"].get<double>(), 0.0);
+}
+
+// Work without bound is refused before the run (exit 2), from the command line and so from every
+// front end: a thermostat acting astronomically often, a shear whose images slide across the box
+// more often than could ever be processed, shears beyond the numbers carom reads.
+TEST_F(Cli, RunsThatCouldNeverFinishAreRefused) {
+  const fs::path start = dir_ / "gas.txt";
+  ASSERT_EQ(
+      carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--thermostat", "rescale", "--kT", "1", "--thermostat-every", "1e-100"},
+       "check --thermostat-every"},
+      {{"--thermostat", "andersen", "--kT", "1", "--thermostat-rate", "1e100"},
+       "check --thermostat-rate"},
+      {{"--rule", "elastic", "--shear", "1e99"}, "could cross the box"},
+      {{"--rule", "elastic", "--shear", "1e80", "--velocity-profile"}, "could cross the box"},
+      {{"--thermostat", "rescale", "--kT", "1e101", "--thermostat-every", "1"}, "--kT"},
+  };
+  expect_runs_refused(start, refused);
+}
+
 TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   const fs::path start = dir_ / "gas.txt";
   ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);

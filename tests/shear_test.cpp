@@ -227,5 +227,87 @@ TEST(Shear, ShearedSpheresAgreeInBothEnginesAndAcrossCheckpoints) {
   expect_sheared_runs_agree<3>(0.7, false, true);  // Andersen's resets as events
 }
 
+// Where every particle would be at the run's time had the box not wrapped it: position + image x
+// sides, plus image_y x the images' shift along x (see ParticleRecord::image).
+template <std::size_t D>
+std::vector<Vec<D>> unwrapped_positions(const Simulation<D>& simulation) {
+  const System<D>& system = simulation.state();
+  const double t = simulation.stored_time();
+  std::vector<Vec<D>> unwrapped;
+  for (std::size_t i = 0; i < system.size(); ++i) {
+    std::array<std::int32_t, 3> image = system.records[i].image;
+    Vec<D> u = synchronised(system.particles[i], system.box, t, image).position;
+    for (std::size_t k = 0; k < D; ++k) u[k] += image[k] * system.box.size[k];
+    u[0] += image[1] * shown_shift(system.box, t);
+    unwrapped.push_back(u);
+  }
+  return unwrapped;
+}
+
+// Image flags count real crossings only: the unwrapped positions of a sheared run never jump,
+// along any axis, through collisions across the sliding images, crossings of the sheared
+// boundary, the epoch's moves (which reduce the stored shift by whole sides) and a thermostat's
+// interventions. Each particle's unwrapped motion between two looks dt apart is bounded by its
+// flight at the largest lab speed of the run (the peculiar speed plus the stream's at the
+// farthest layer any particle reached), which the old flags broke by whole box sides.
+template <std::size_t D>
+void expect_unwrapped_motion_is_continuous(double rate, bool thermostat) {
+  Settings settings{{Rule::elastic}, EngineKind::fast};
+  if (thermostat) settings.thermostat = {ThermostatKind::rescale, 1.0, 0.25, 0.0, 1};
+  System<D> gas = sheared_gas<D>(D == 2 ? 200 : 150, 0.4, rate);
+  const double height = gas.box.size[1];
+  Simulation<D> simulation(std::move(gas), settings);
+  std::vector<Vec<D>> before = unwrapped_positions(simulation);
+  const double dt = 0.02;
+  double farthest = 0.0;  // the most layers any particle has moved along y
+  for (int step = 1; step <= 500; ++step) {
+    double fastest = 0.0;
+    for (const Particle<D>& p : simulation.snapshot()) {
+      fastest = std::max(fastest, std::sqrt(norm2(peculiar_velocity(p, simulation.state().box))));
+    }
+    simulation.run_until(step * dt);
+    const std::vector<Vec<D>> after = unwrapped_positions(simulation);
+    const double stream = std::abs(rate) * height * (farthest + 1.0);
+    const double reach = 3.0 * (fastest + 1.0 + stream) * dt;
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      for (std::size_t k = 0; k < D; ++k) {
+        ASSERT_LE(std::abs(after[i][k] - before[i][k]), reach)
+            << "particle " << i << " axis " << k << " at t = " << step * dt;
+      }
+      farthest = std::max(farthest, std::ceil(std::abs(after[i][1]) / height));
+    }
+    before = after;
+  }
+  // The events crossed the sheared boundary many times, and the flags saw real crossings.
+  int crossed = 0;
+  for (const ParticleRecord& r : simulation.state().records) crossed += r.image[1] != 0;
+  EXPECT_GT(crossed, 0);
+}
+
+TEST(Shear, ImageFlagsCountRealCrossingsOnly) {
+  expect_unwrapped_motion_is_continuous<2>(1e-9, false);
+  expect_unwrapped_motion_is_continuous<2>(0.6, false);
+  expect_unwrapped_motion_is_continuous<2>(-0.4, true);
+  expect_unwrapped_motion_is_continuous<3>(0.5, false);
+  expect_unwrapped_motion_is_continuous<3>(0.8, true);
+}
+
+// A collision through a sliding image moves no flag of either particle: two disks that meet
+// across the sheared boundary without crossing it keep their flags at 0.
+TEST(Shear, ACollisionThroughTheSlidingImagesMovesNoFlag) {
+  System<2> system;
+  // The image of `high` one box down starts at x = 2.5 - 7.5 = 5 - 10 and slides by -3 t.
+  system.box = {{10.0, 10.0}, Boundary::periodic, 0.3, 7.5};
+  Particle<2> low{{5.0, 0.6}, {0.0, -1.0}, 0.0, 0.5}, high{{2.5, 9.4}, {0.0, 1.0}, 0.0, 0.5};
+  system.particles = {low, high};
+  system.records.resize(2);
+  Simulation<2> simulation(std::move(system), {{Rule::elastic}});
+  simulation.run_until(0.2);  // they touch at t = 0.169, y = 0.43 and 9.57: neither crossed
+  ASSERT_EQ(simulation.counts().pair_collisions, 1u);
+  for (const ParticleRecord& r : simulation.state().records) {
+    EXPECT_EQ(r.image, (std::array<std::int32_t, 3>{0, 0, 0}));
+  }
+}
+
 }  // namespace
 }  // namespace carom

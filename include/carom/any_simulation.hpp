@@ -48,6 +48,9 @@ class AnySimulation {
   const Settings& settings() const;
   Boundary boundary() const;
   std::vector<double> box() const;  // the D sides
+  // In a sheared box, the x shift of the images one box up at time() (shown_shift), which the
+  // image flags unwrap with along x; 0 otherwise.
+  double shear_shift() const;
 
   void check_target(double t) const;
   RunStatus run_until(double t, std::uint64_t max_events = Simulation<2>::kNoLimit);

@@ -153,10 +153,11 @@ class Engine {
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 
  private:
-  // A pair collision in a sheared box: b moved into the image a touches at t, and after the
-  // collision both brought back along y (wrap_across_shear) and the speed bound raised.
-  [[gnu::noinline]] void to_touching_image(const Particle<D>& a, Particle<D>& b, double t) const;
-  [[gnu::noinline]] void back_into_sheared_box(Particle<D>& a, Particle<D>& b);
+  // A pair collision in a sheared box: b moved into the image a touches at t (the image's cells
+  // returned), and after the collision both wrapped back into the box, b's image flags left
+  // counting its real crossings only, and the speed bound raised.
+  [[gnu::noinline]] Vec<D> to_touching_image(const Particle<D>& a, Particle<D>& b, double t) const;
+  [[gnu::noinline]] void back_into_sheared_box(Particle<D>& a, Particle<D>& b, const Vec<D>& cells);
   // intervene()'s steps: every particle stored at t (wrapped into a periodic box); the epoch at
   // t, the last event's place, and every prediction made again.
   void move_all_to(double t);
@@ -176,12 +177,33 @@ Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t) {
   return p;
 }
 
-// The same, adding the box sides wrapping moves it by to `image`, its image flags (a trajectory's).
+// In a sheared box, the whole box sides by which the images' shift at stored time t lies from
+// the one frames, summaries and Python show (shown_shift).
+template <std::size_t D>
+double sides_beyond_shown_shift(const Box<D>& box, double t) {
+  return box.sheared() ? std::nearbyint(box.sheared_shift(t) / box.size[0]) : 0.0;
+}
+
+// The x shift of the images one box up at stored time t as frames, summaries and Python show it:
+// within half a side of 0 (any multiple of Lx names the same lattice of images, and readers of
+// a tilted box, freud's and OVITO's, want the smallest tilt). 0 in a box that is not sheared.
+template <std::size_t D>
+double shown_shift(const Box<D>& box, double t) {
+  if (!box.sheared()) return 0.0;
+  return box.sheared_shift(t) - sides_beyond_shown_shift(box, t) * box.size[0];
+}
+
+// The same, adding the box sides wrapping moves it by to `image`, its image flags as a
+// trajectory has them: in a sheared box such that position + image x sides + image_y x
+// shown_shift along x is where the particle would be had the box not wrapped it (see
+// ParticleRecord::image).
 template <std::size_t D>
 Particle<D> synchronised(Particle<D> p, const Box<D>& box, double t,
                          std::array<std::int32_t, 3>& image) {
   advance(p, t);
   wrap(p, box, image);
+  if (box.sheared()) [[unlikely]]
+    add_sides(image[0], sides_beyond_shown_shift(box, t) * image[1]);
   return p;
 }
 
@@ -209,13 +231,15 @@ double speed_bound(const System<D>& system) {
   return std::max(fastest, std::sqrt(2.0 * energy / lightest)) * (1.0 + 1e-9);
 }
 
-// How many times a particle at speed_bound() would cross the box's shortest side in `duration`:
-// a bound on the work a run can need (wall hits, cell crossings, renewals of predictions in a
-// small periodic box). Used to refuse runs that could never finish (a typo such as 1e84 for 1.84,
-// or a mass of 1e75 that could hand a light disk astronomical speeds).
+// How many times a particle at speed_bound() would cross the box's shortest side in `duration`,
+// or the images across a sheared boundary slide by a box side: a bound on the work a run can need
+// (wall hits, cell crossings, renewals of predictions in a small periodic box or at the sheared
+// boundary). Used to refuse runs that could never finish (a typo such as 1e84 for 1.84, a mass of
+// 1e75 that could hand a light disk astronomical speeds, or a shear rate of 1e99).
 template <std::size_t D>
 double most_crossings(const System<D>& system, double duration) {
-  return speed_bound(system) * duration / shortest_side(system.box);
+  const double speed = speed_bound(system) + std::abs(system.box.image_speed());
+  return speed * duration / shortest_side(system.box);
 }
 
 // Runs needing more box crossings than this are refused as impossible to finish.

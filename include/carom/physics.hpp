@@ -102,20 +102,13 @@ void wrap(Vec<D>& position, const Box<D>& box) {
   for (std::size_t k = 0; k < D; ++k) wrap_coordinate(position[k], box.size[k]);
 }
 
-// The same, adding the sides each axis moved by to `image` (see ParticleRecord::image), which
-// saturates at the int32 range rather than overflow (and is left alone for a position that is not
-// a number, which no run has but a reader may be handed).
+// The same, adding the sides each axis moved by to `image`.
 template <std::size_t D>
 void wrap(Vec<D>& position, const Box<D>& box, std::array<std::int32_t, 3>& image) {
   if (!box.periodic()) return;
   for (std::size_t k = 0; k < D; ++k) {
     const double moved = wrap_coordinate(position[k], box.size[k]);
-    if (moved == 0.0) continue;  // inside already, most of the time
-    const double sides = image[k] + moved;
-    if (std::isnan(sides)) continue;
-    constexpr double kLow = std::numeric_limits<std::int32_t>::min();
-    constexpr double kHigh = std::numeric_limits<std::int32_t>::max();
-    image[k] = static_cast<std::int32_t>(std::clamp(sides, kLow, kHigh));
+    if (moved != 0.0) add_sides(image[k], moved);  // inside already, most of the time
   }
 }
 
@@ -145,7 +138,7 @@ template <std::size_t D>
   p.position[1] -= layers * box.size[1];
   p.position[0] -= layers * box.sheared_shift(p.time);
   p.velocity[0] -= layers * box.image_speed();
-  image[1] = static_cast<std::int32_t>(image[1] + layers);
+  add_sides(image[1], layers);
   // The round-off of the subtraction may leave y a hair outside [0, Ly): a hair's move in.
   p.position[1] = std::clamp(p.position[1], 0.0, std::nextafter(box.size[1], 0.0));
 }

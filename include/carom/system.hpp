@@ -30,6 +30,17 @@ struct Particle {
   friend bool operator==(const Particle&, const Particle&) = default;
 };
 
+// Adds `sides` (a whole number) to an image flag (see ParticleRecord::image), saturating at the
+// int32 range rather than overflow (and leaving it alone for a count that is not a number, which
+// no run has but a reader may be handed).
+inline void add_sides(std::int32_t& flag, double sides) {
+  const double sum = flag + sides;
+  if (std::isnan(sum)) return;
+  constexpr double kLow = std::numeric_limits<std::int32_t>::min();
+  constexpr double kHigh = std::numeric_limits<std::int32_t>::max();
+  flag = static_cast<std::int32_t>(std::clamp(sum, kLow, kHigh));
+}
+
 // The cold data of a particle, read only when it collides: its mass and what has happened to it.
 struct ParticleRecord {
   double mass = 1.0;
@@ -40,7 +51,11 @@ struct ParticleRecord {
   double last_collision = -std::numeric_limits<double>::infinity();
   // In a periodic box, how many box sides the particle's stored position has been moved by
   // wrapping, per axis (z unused for disks): the unwrapped position is position + image x side,
-  // as in HOOMD's and LAMMPS' image flags. Int32, as theirs.
+  // as in HOOMD's and LAMMPS' image flags. Int32, as theirs. In a sheared box the image one box
+  // up lies at (shift, Ly) (Box::sheared_shift), as in a tilted box of HOOMD's: the unwrapped x
+  // adds image_y x shift, and when the stored shift drops by whole sides (shift_epoch) they move
+  // into image_x, so that the unwrapped position never jumps. Only real crossings count: a
+  // collision through a sliding image moves no flag.
   std::array<std::int32_t, 3> image{};
   // Grows whenever the particle's velocity changes (its collisions, and a thermostat's resets:
   // Engine::reset_velocity): events predicted against an older value are stale. Bookkeeping of
@@ -135,8 +150,14 @@ struct System {
   void shift_epoch(double shift) {
     epoch = absolute(shift);
     if (box.sheared()) {  // the images' shift at the new epoch, reduced to [0, Lx)
-      box.shear_offset = std::fmod(box.sheared_shift(shift), box.size[0]);
+      const double unreduced = box.sheared_shift(shift);
+      box.shear_offset = std::fmod(unreduced, box.size[0]);
       if (box.shear_offset < 0.0) box.shear_offset += box.size[0];
+      // The sides the shift dropped by move into the x image flags (see ParticleRecord::image).
+      const double sides = std::nearbyint((unreduced - box.shear_offset) / box.size[0]);
+      if (sides != 0.0) {
+        for (ParticleRecord& r : records) add_sides(r.image[0], sides * r.image[1]);
+      }
     }
     for (Particle<D>& p : particles) p.time -= shift;
     for (ParticleRecord& r : records) r.last_collision -= shift;

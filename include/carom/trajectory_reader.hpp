@@ -21,11 +21,15 @@ struct Frame {
   int dimension = 2;  // 2 (disks) or 3 (spheres): the same in every frame of a file
   Vec<3> box;
   bool periodic = false;
+  // The x shift of the box's images one box up, as a sheared run's frame has it (Lees-Edwards;
+  // a tilted box of tilt shear_shift / Ly): the lattice of images is (Lx, 0, 0), (shear_shift,
+  // Ly, 0), (0, 0, Lz). 0 in a rectangular box.
+  double shear_shift = 0.0;
   std::vector<Vec<3>> position, velocity;
   std::vector<double> radius;
   std::vector<std::uint32_t> collisions;
-  // The box sides each particle crossed (unwrapped position = position + image x box); empty
-  // when the file has none.
+  // The box sides each particle crossed (unwrapped position = position + image x box, plus
+  // image_y x shear_shift along x); empty when the file has none.
   std::vector<std::array<std::int32_t, 3>> image;
 };
 

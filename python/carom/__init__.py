@@ -305,15 +305,25 @@ class Simulation:
     @property
     def images(self):
         """Every particle's image flags at sim.time: (N, D) int32, the box sides it has crossed
-        (HOOMD's and LAMMPS' convention; zero with walls)."""
+        (HOOMD's and LAMMPS' convention; zero with walls). In a sheared box the image one box up
+        lies at (sim.shear_shift, Ly), as in HOOMD's tilted box of tilt xy = shear_shift / Ly."""
         return self._idle.images
 
     @property
+    def shear_shift(self):
+        """In a sheared box (shear=), the x shift of the images one box up at sim.time, within
+        half a side of 0; 0.0 otherwise."""
+        return self._idle.shear_shift
+
+    @property
     def unwrapped_positions(self):
-        """positions + images * box: where each particle would be had the box not wrapped it,
-        (N, D) float64 (for displacements and the mean squared displacement)."""
+        """positions + images * box (plus images_y * shear_shift along x in a sheared box): where
+        each particle would be had the box not wrapped it, (N, D) float64 (for displacements and
+        the mean squared displacement)."""
         core = self._idle
-        return core.positions + core.images * _np.asarray(core.box)
+        unwrapped = core.positions + core.images * _np.asarray(core.box)
+        unwrapped[:, 0] += core.images[:, 1] * core.shear_shift
+        return unwrapped
 
     @property
     def velocities(self):

@@ -197,6 +197,8 @@ void export_simulation(py::module_& m) {
       .def_property_readonly("dim",
                              [](const PythonSimulation& s) { return s.simulation().dimension(); })
       .def_property_readonly("box", &PythonSimulation::box)
+      .def_property_readonly("shear_shift",
+                             [](const PythonSimulation& s) { return s.simulation().shear_shift(); })
       .def_property_readonly(
           "boundary",
           [](const PythonSimulation& s) { return std::string(name_of(s.simulation().boundary())); })
