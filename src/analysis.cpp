@@ -363,9 +363,12 @@ Msd mean_square_displacement(const std::vector<Frame>& frames) {
     for (std::size_t i = 0; i < n; ++i) {
       for (std::size_t k = 0; k < d; ++k) {
         double x = frames[f].position[i][k];
-        if (first.periodic) x += frames[f].box[k] * static_cast<double>(frames[f].image[i][k]);
-        // A sheared box's images one box up lie the shift further along x.
-        if (k == 0) x += frames[f].shear_shift * static_cast<double>(frames[f].image[i][1]);
+        if (first.periodic) {
+          const std::array<std::int32_t, 3>& image = frames[f].image[i];
+          x += frames[f].box[k] * static_cast<double>(image[k]);
+          // A sheared box's images one box up lie the shift further along x.
+          if (k == 0) x += frames[f].shear_shift * static_cast<double>(image[1]);
+        }
         unwrapped[(f * n + i) * d + k] = x;
       }
     }

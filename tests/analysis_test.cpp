@@ -340,6 +340,30 @@ TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
   EXPECT_THROW(mean_square_displacement(uneven), std::invalid_argument);
 }
 
+// A sheared run's frame (the images one box up shifted along x): a pair that touches across the
+// sheared boundary is at contact, seen from either particle, and not where the rectangular box's
+// images would put it.
+TEST(Rdf, PairsAcrossTheShearedBoundaryAreSeenThroughTheSlidingImages) {
+  Frame f;
+  f.dimension = 2;
+  f.box = {10.0, 10.0, 1.0};
+  f.periodic = true;
+  f.shear_shift = 3.0;
+  // The image of the second one box down lies at (8 - 3, 9.8 - 10) = (5, -0.2): 0.5 from the first.
+  f.position = {{5.0, 0.3, 0.0}, {8.0, 9.8, 0.0}};
+  f.radius = {0.25, 0.25};
+  f.velocity.assign(2, Vec<3>{});
+  f.collisions.assign(2, 0);
+  const Rdf rdf = radial_distribution({f}, {0.1, 2.0});
+  double pairs_below_contact = 0.0, pairs_at_contact = 0.0;
+  for (std::size_t m = 0; m < rdf.r.size(); ++m) {
+    (rdf.r[m] < 0.5 ? pairs_below_contact : pairs_at_contact) += rdf.g[m];
+    if (rdf.r[m] > 0.6) EXPECT_EQ(rdf.g[m], 0.0) << "r = " << rdf.r[m];
+  }
+  EXPECT_EQ(pairs_below_contact, 0.0);
+  EXPECT_GT(pairs_at_contact, 0.0);
+}
+
 TEST(Msd, EveryLagUpTo200FramesThenLogSpacedLags) {
   std::vector<Frame> frames(1000);
   for (std::size_t f = 0; f < frames.size(); ++f) {
