@@ -332,35 +332,42 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
   // Z over 20 intervals of the measurement window, first half against second; a run resumed
-  // from a checkpoint goes on with the intervals it holds.
-  std::shared_ptr<ZDrift<D>> z_drift;
+  // from a checkpoint goes on with the intervals (and transport blocks) it holds when it measures
+  // the same window to the same end: one resumed at its end rebuilds its summary from them.
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
+  const WindowRecords earlier =
+      start.records.continued_by(window_start, spec.end_time) ? start.records : WindowRecords{};
+  start.records = {};  // the first run() after a resume is the one it continues
+  std::shared_ptr<ZDrift<D>> z_drift;
   if (spec.end_time > window_start) {
     z_drift = observers.add(std::make_shared<ZDrift<D>>(
-        (spec.end_time - window_start) / ZDrift<D>::kIntervals, start.records.drift));
+        (spec.end_time - window_start) / ZDrift<D>::kIntervals, earlier.drift));
   }
   std::shared_ptr<TransportMeter<D>> transport_meter;
   if (spec.transport && spec.end_time > window_start) {
     simulation.keep_heat_flux();
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
         TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
-        start.records.transport));
+        earlier.transport));
   }
-  start.records = {};  // the first run() after a resume is the one it continues
-  const auto window_records = [&z_drift, &transport_meter] {
-    WindowRecords records;
-    if (z_drift) records.drift = z_drift->record();
-    if (transport_meter) records.transport = transport_meter->record();
-    return records;
+  // Every checkpoint holds what the summary needs beyond the state, whenever it is saved: on the
+  // run's way, stopped, failed or at its end (a stop may land after the end is reached and
+  // before the summary is written, and the resumed run must write the summary this one would).
+  const auto checkpoint_now = [&] {
+    Checkpoint<D> checkpoint = simulation.checkpoint(start.source);
+    checkpoint.seed = start.seed;
+    checkpoint.records.window_start = window_start;
+    checkpoint.records.end_time = spec.end_time;
+    if (z_drift) checkpoint.records.drift = z_drift->record();
+    if (transport_meter) checkpoint.records.transport = transport_meter->record();
+    return checkpoint;
   };
   if (spec.checkpoint_every) {
     observers.add(std::make_shared<CheckpointWriter<D>>(
-        spec.checkpoint, start.source, *spec.checkpoint_every,
-        [&outputs] {
+        spec.checkpoint, *spec.checkpoint_every, checkpoint_now, [&outputs] {
           if (!outputs.flush()) throw std::runtime_error(kCannotStream);
-        },
-        window_records));
+        }));
   }
   if (hooks.progress) {
     observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
@@ -383,7 +390,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
                         dynamic_cast<const InvariantError*>(&e) != nullptr;
     if (spec.checkpoint.empty() || broken) throw;
-    save_checkpoint(spec.checkpoint, simulation, start.source, window_records());
+    save_checkpoint(spec.checkpoint, checkpoint_now());
     throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
   }
   account();
@@ -392,12 +399,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
-  // The drift record helps only a run that goes on to the same end: one stopped on its way. A
-  // run that reached its end keeps none, as a state saved between runs (sim.save) keeps none.
-  if (!spec.checkpoint.empty()) {
-    save_checkpoint(spec.checkpoint, simulation, start.source,
-                    status == RunStatus::stopped ? window_records() : WindowRecords{});
-  }
+  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, checkpoint_now());
   if (!streamed_ok) {
     throw std::runtime_error(
         fmt::format("{}{}", kCannotStream,
