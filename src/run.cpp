@@ -232,8 +232,12 @@ void check_run_spec(const RunSpec& spec) {
 }
 
 struct Runner::State {
-  explicit State(Start s) : start(std::move(s)) {}
+  explicit State(Start s) : start(std::move(s)), records(start.records) {}
   Start start;
+  // What the measurements of the last run() gathered (before any, the resumed checkpoint's):
+  // what a checkpoint saved now holds with the state, and the next run() goes on with when it
+  // measures the same window to the same end.
+  WindowRecords records;
   // RunOutputs<2> or <3>, as the simulation is; made by the first run().
   std::shared_ptr<void> outputs;
   double wall_seconds = 0.0;          // in run(), over the Runner's life
@@ -248,6 +252,16 @@ struct Runner::State {
     return *static_cast<RunOutputs<D>*>(outputs.get());
   }
 
+  // The checkpoint of `simulation` with what its run keeps beyond the state: the seed its
+  // summary reports and the window's records.
+  template <std::size_t D>
+  Checkpoint<D> checkpoint_of(const Simulation<D>& simulation,
+                              const WindowRecords& window_records) const {
+    Checkpoint<D> checkpoint = simulation.checkpoint(start.source);
+    checkpoint.seed = start.seed;
+    checkpoint.records = window_records;
+    return checkpoint;
+  }
   template <std::size_t D>
   void check(const Simulation<D>& simulation, const RunSpec& spec,
              const std::vector<std::pair<std::string, std::string>>& others) const;
@@ -337,8 +351,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
   const WindowRecords earlier =
-      start.records.continued_by(window_start, spec.end_time) ? start.records : WindowRecords{};
-  start.records = {};  // the first run() after a resume is the one it continues
+      records.continued_by(window_start, spec.end_time) ? records : WindowRecords{};
   std::shared_ptr<ZDrift<D>> z_drift;
   if (spec.end_time > window_start) {
     z_drift = observers.add(std::make_shared<ZDrift<D>>(
@@ -351,18 +364,16 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
         TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
         earlier.transport));
   }
+  const auto records_now = [&] {
+    WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};
+    if (z_drift) now.drift = z_drift->record();
+    if (transport_meter) now.transport = transport_meter->record();
+    return now;
+  };
   // Every checkpoint holds what the summary needs beyond the state, whenever it is saved: on the
   // run's way, stopped, failed or at its end (a stop may land after the end is reached and
   // before the summary is written, and the resumed run must write the summary this one would).
-  const auto checkpoint_now = [&] {
-    Checkpoint<D> checkpoint = simulation.checkpoint(start.source);
-    checkpoint.seed = start.seed;
-    checkpoint.records.window_start = window_start;
-    checkpoint.records.end_time = spec.end_time;
-    if (z_drift) checkpoint.records.drift = z_drift->record();
-    if (transport_meter) checkpoint.records.transport = transport_meter->record();
-    return checkpoint;
-  };
+  const auto checkpoint_now = [&] { return checkpoint_of(simulation, records_now()); };
   if (spec.checkpoint_every) {
     observers.add(std::make_shared<CheckpointWriter<D>>(
         spec.checkpoint, *spec.checkpoint_every, checkpoint_now, [&outputs] {
@@ -385,21 +396,23 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     status = simulation.run_until(spec.end_time);
   } catch (const std::runtime_error& e) {
     account();
+    records = records_now();
     // A write that failed as the run went (a full disk): the state the run has reached is sound
     // and worth keeping when there is somewhere to keep it. A jam or a broken invariant is not.
     const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
                         dynamic_cast<const InvariantError*>(&e) != nullptr;
     if (spec.checkpoint.empty() || broken) throw;
-    save_checkpoint(spec.checkpoint, checkpoint_now());
+    save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
     throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
   }
   account();
+  records = records_now();
   drift = z_drift ? z_drift->verdict() : std::nullopt;
   pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
-  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, checkpoint_now());
+  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
   if (!streamed_ok) {
     throw std::runtime_error(
         fmt::format("{}{}", kCannotStream,
@@ -438,6 +451,11 @@ void Runner::check(const RunSpec& spec,
 
 RunOutcome Runner::run(const RunSpec& spec, const RunHooks& hooks) {
   return state_->start.simulation.visit([&](auto& s) { return state_->run(s, spec, hooks); });
+}
+
+void Runner::save(const std::string& path) const {
+  state_->start.simulation.visit(
+      [&](const auto& s) { save_checkpoint(path, state_->checkpoint_of(s, state_->records)); });
 }
 
 void Runner::close_outputs() {

@@ -884,6 +884,44 @@ TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
   }
 }
 
+// Regression: a stop that landed after the final checkpoint was written and before the summary
+// left a checkpoint without the window's records, and `--resume` of it reported no drift
+// verdict, no pressure tensor errors, no transport and no seed. A run resumed where its end is
+// reached writes the summary of the run (here: the summary it wrote itself).
+TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const auto summary_without_clock = [](const fs::path& path) {
+    nlohmann::json summary = nlohmann::json::parse(read_file(path));
+    summary.erase("wall_seconds");
+    summary.erase("events_per_second");
+    return summary.dump(2);
+  };
+  // The physics, then the measurements asked for (which a resumed run is asked for again).
+  using Options = std::vector<std::string>;
+  for (const auto& [physics, measured] :
+       {std::pair{Options{"--kT", "1", "--seed", "5"}, Options{"--transport"}},
+        std::pair{Options{"--shear", "0.2", "--velocity-profile", "--thermostat", "rescale", "--kT",
+                          "1", "--thermostat-every", "1"},
+                  Options{}}}) {
+    Options run = {"run",      start, "20", "--rule", "elastic", "--equilibrate", "4", "--checkpoint",
+                   checkpoint, "--summary", dir_ / "whole.json", "-o", dir_ / "out.txt"};
+    run.insert(run.end(), physics.begin(), physics.end());
+    run.insert(run.end(), measured.begin(), measured.end());
+    ASSERT_EQ(carom(run).exit_code, 0) << physics.front();
+    Options resume = {"run",     "--resume", checkpoint, "20", "--summary", dir_ / "resumed.json",
+                      "-o", dir_ / "out.txt"};
+    resume.insert(resume.end(), measured.begin(), measured.end());
+    const Result resumed = carom(resume);
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    const std::string whole = summary_without_clock(dir_ / "whole.json");
+    EXPECT_EQ(summary_without_clock(dir_ / "resumed.json"), whole) << physics.front();
+    EXPECT_EQ(nlohmann::json::parse(whole)["compressibility_factor_drift"]["intervals"], 20);
+  }
+}
+
 TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
   const fs::path start = dir_ / "spheres.txt", summary = dir_ / "summary.json";
   ASSERT_EQ(carom({"init", "--dim", "3", "--n", "300", "--phi", "0.3", "--boundary", "periodic",
