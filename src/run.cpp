@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 #include "carom/atomic_file.hpp"
 #include "carom/checkpoint.hpp"
@@ -87,9 +88,16 @@ void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
     sample.records.assign(state.records.begin(), state.records.begin() + taken);
     std::ostringstream one;
     try {
-      trajectory_format_for<D>(spec.dump)->frame(one, 0, now, sample);
+      const auto format = trajectory_format_for<D>(spec.dump);
+      // Every particle's numbers as the format stores them (a .gsd file's single precision):
+      // refused now rather than as the frames go (where the run's speeds, which a thermostat or
+      // a shear may raise, are checked frame by frame).
+      format->check_frame(state, now);
+      format->frame(one, 0, now, sample);
     } catch (const std::invalid_argument& e) {
       throw RequestError(e.what());
+    } catch (const std::range_error& e) {
+      throw RequestError(fmt::format("--dump {}: {}", spec.dump, e.what()));
     }
     const double frame_bytes = static_cast<double>(one.tellp()) *
                                static_cast<double>(state.size()) / static_cast<double>(taken);

@@ -226,6 +226,27 @@ def test_tasks_stopped_at_their_end_are_rerun_to_the_same_files(cli, tmp_path):
     assert_same_contents(contents(out), reference, "rerun from the end")
 
 
+def test_a_sweep_with_a_gsd_dump_killed_goes_on_to_the_same_files(cli, tmp_path):
+    """Regression: a sweep with a .gsd dump could never be resumed: every rerun failed its
+    tasks ("a resumed run cannot continue a .gsd trajectory yet"). Killed mid-run, it reruns to
+    the files of the sweep never killed, the dumps byte for byte."""
+    text = PLAN.format(**LONG).replace("\n[sweep]", 'dump = "movie.gsd"\nevery = 60\n\n[sweep]')
+    plan = write_plan(tmp_path, text)
+    out = tmp_path / "out"
+    cli("sweep", plan, "-o", out, "-q")
+    reference = set_aside(out, "reference")
+    movies = {task: (reference / task / "movie.gsd").read_bytes() for task in TASKS}
+    reference = contents(reference)
+    sweep = sweep_process(cli, plan, out)
+    wait_until(lambda: running(out), sweep)
+    sweep.kill()
+    sweep.communicate(timeout=60)
+    cli("sweep", plan, "-o", out, "-q")
+    assert_same_contents(contents(out), reference, "killed")
+    for task in TASKS:
+        assert (out / task / "movie.gsd").read_bytes() == movies[task], task
+
+
 def test_a_dask_worker_killed_mid_task_changes_nothing(long_sweep, client):
     plan, out, reference = long_sweep
     shutil.rmtree(out, ignore_errors=True)
