@@ -150,7 +150,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "Write frames of every particle at t = 0, DT, 2 DT, ... (--every DT) to this file "
       "as the run goes: .xyz (extended XYZ, for OVITO and ASE), .lammpstrj (LAMMPS "
       "text dump) or .gsd (HOOMD-blue's GSD, for HOOMD, OVITO and freud). A resumed run "
-      "continues the same .xyz or .lammpstrj file");
+      "continues the same file");
   run->add_option("--every", args.every, "Time between --dump frames")->check(finite_number());
   run->add_option(
       "--events", args.events,

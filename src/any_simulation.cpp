@@ -147,8 +147,4 @@ AnySystem AnySimulation::snapshot_system() const {
   });
 }
 
-void AnySimulation::save(const std::string& path, const std::string& source) const {
-  visit([&](const auto& s) { save_checkpoint(path, s, source); });
-}
-
 }  // namespace carom

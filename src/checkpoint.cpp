@@ -413,6 +413,16 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     if (const auto found = j.find("transport"); found != j.end()) {
       c.records.transport = f.transport(*found);
     }
+    if (const auto found = j.find("window_records"); found != j.end()) {
+      const std::string where = "\"window_records\"";
+      c.records.window_start = f.coordinate(f.at(*found, "window_start", where),
+                                            "the window records' window_start");
+      c.records.end_time =
+          f.coordinate(f.at(*found, "end_time", where), "the window records' end_time");
+    }
+    if (const auto found = j.find("seed"); found != j.end()) {
+      c.seed = f.count(*found, "the seed");
+    }
   }
   const nlohmann::json& particles = f.at(j, "particles");
   if (!particles.is_array()) fail("\"particles\" must be a list of particle rows");
@@ -520,6 +530,11 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"measure_from", c.measure_from ? Json(*c.measure_from) : Json(nullptr)},
       {"z_drift", drift_json(c.records.drift)},
   };
+  if (c.records.window_start) {
+    head["window_records"] = {{"window_start", *c.records.window_start},
+                              {"end_time", *c.records.end_time}};
+  }
+  if (c.seed) head["seed"] = *c.seed;
   if (c.records.transport) head["transport"] = transport_json(*c.records.transport);
   if (c.system.box.sheared()) {
     head["shear"] = {{"rate", c.system.box.shear_rate}, {"offset", c.system.box.shear_offset}};
@@ -635,10 +650,7 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
 }
 
 template <std::size_t D>
-void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
-                     const std::string& source, const WindowRecords& records) {
-  Checkpoint<D> checkpoint = simulation.checkpoint(source);
-  checkpoint.records = records;
+void save_checkpoint(const std::string& path, const Checkpoint<D>& checkpoint) {
   AtomicFile file(path);
   write_checkpoint(file.stream(), checkpoint);
   file.commit();
@@ -646,9 +658,7 @@ void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
 
 template void write_checkpoint(std::ostream&, const Checkpoint<2>&);
 template void write_checkpoint(std::ostream&, const Checkpoint<3>&);
-template void save_checkpoint(const std::string&, const Simulation<2>&, const std::string&,
-                              const WindowRecords&);
-template void save_checkpoint(const std::string&, const Simulation<3>&, const std::string&,
-                              const WindowRecords&);
+template void save_checkpoint(const std::string&, const Checkpoint<2>&);
+template void save_checkpoint(const std::string&, const Checkpoint<3>&);
 
 }  // namespace carom

@@ -29,9 +29,8 @@ namespace {
 using gsd::kHeaderSize;
 using gsd::kMagic;
 using gsd::kNameBlock;
+using gsd::kTypeSize;
 
-// Bytes per element of each GSD type (0: not a type).
-constexpr std::array<std::uint64_t, 11> kTypeSize = {0, 1, 2, 4, 8, 1, 2, 4, 8, 4, 8};
 // Elements a start may read from one chunk: far beyond any system carom runs, far below memory.
 constexpr std::uint64_t kMostElements = std::uint64_t{1} << 30;
 

@@ -1,8 +1,13 @@
 // The GSD writer: GsdFormat (gsd_format.hpp) appends frames to a file of the HOOMD schema.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -10,6 +15,7 @@
 #include "carom/engine.hpp"
 #include "carom/version.hpp"
 #include "gsd_format.hpp"
+#include "whole_lines.hpp"
 
 namespace carom {
 
@@ -18,6 +24,7 @@ namespace {
 using gsd::kHeaderSize;
 using gsd::kMagic;
 using gsd::kNameBlock;
+using gsd::kTypeSize;
 
 constexpr std::uint32_t version(std::uint32_t major, std::uint32_t minor) {
   return major << 16 | minor;
@@ -89,7 +96,94 @@ void put_zeros(std::ostream& out, std::uint64_t bytes) {
   out.write(zeros.data(), static_cast<std::streamsize>(zeros.size()));
 }
 
+// The name list: the chunks' names, null-terminated, padded to whole blocks.
+std::string name_list() {
+  std::string names;
+  for (const std::string_view name : kNames) (names += name) += '\0';
+  names.resize((names.size() + kNameBlock - 1) / kNameBlock * kNameBlock, '\0');
+  return names;
+}
+
+// The capacity of the block the index moves to (at the end of the file, after frame `frame`'s
+// chunks) when the frame brings it to `needed` entries and a block of `capacity` cannot take
+// them; nullopt when it can. A resumed run finds where the index was after its frames by the
+// same rule.
+std::optional<std::uint64_t> moved_index_capacity(std::uint64_t frame, std::uint64_t needed,
+                                                  std::uint64_t capacity) {
+  if (needed <= capacity && frame + 1 < capacity) return std::nullopt;
+  return 2 * std::max(needed, capacity);
+}
+
+// `value` as the single-precision number a GSD file stores. Throws std::range_error naming
+// `what` when it would not read back: beyond float's range (stored as inf), or a size (a box
+// side, a diameter, a mass: positive) that rounds to 0.
+template <class What>
+float single(double value, bool size, const What& what) {
+  const auto stored = static_cast<float>(value);
+  if (!std::isinf(stored) && (!size || stored > 0.0f)) return stored;
+  throw std::range_error(fmt::format(
+      "{} is {:g}, which a .gsd file's single precision stores as {} (magnitudes up to {:.3g}{}), "
+      "and no reader takes that back: dump to .xyz or .lammpstrj, which hold every double, or "
+      "rescale the units",
+      what(), value, stored, static_cast<double>(std::numeric_limits<float>::max()),
+      size ? fmt::format(", sizes from {:.3g}",
+                         static_cast<double>(std::numeric_limits<float>::denorm_min()))
+           : ""));
+}
+
 }  // namespace
+
+template <std::size_t D>
+struct GsdFormat<D>::Values {
+  std::array<float, 6> box{};
+  std::vector<float> position, velocity, diameter, mass;
+  std::vector<std::int32_t> image;
+};
+
+template <std::size_t D>
+typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& system) const {
+  const std::size_t n = system.size();
+  const Vec<D>& side = system.box.size;
+  constexpr const char* kAxes = "xyz";
+  Values v;
+  // HOOMD's box is centred on the origin; a disk's box has Lz = 0, as HOOMD writes 2D boxes.
+  for (std::size_t k = 0; k < D; ++k) {
+    v.box[k] = single(side[k], true, [&] { return fmt::format("the box side L{}", kAxes[k]); });
+  }
+  v.position.resize(3 * n);
+  v.velocity.resize(3 * n);
+  v.diameter.resize(n);
+  v.mass.resize(n);
+  v.image.resize(3 * n);
+  const double at = system.stored(t);
+  // A sheared box as HOOMD's tilted one: the images one box up lie at (xy Ly, Ly).
+  const double shift = shown_shift(system.box, at);
+  v.box[3] = single(shift / side[1], false, [] { return std::string("the box's tilt xy"); });
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<std::int32_t, 3> flags = system.records[i].image;
+    Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
+    if (shift != 0.0) into_tilted_box(p.position, side, shift, flags);
+    for (std::size_t k = 0; k < D; ++k) {
+      v.position[3 * i + k] = single(p.position[k] - 0.5 * side[k], false, [&] {
+        return fmt::format("{} of particle {} (from the box's centre) at t = {}", kAxes[k], i, t);
+      });
+      v.velocity[3 * i + k] = single(p.velocity[k], false, [&] {
+        return fmt::format("v{} of particle {} at t = {}", kAxes[k], i, t);
+      });
+      v.image[3 * i + k] = flags[k];
+    }
+    v.diameter[i] =
+        single(2.0 * p.radius, true, [&] { return fmt::format("the diameter of particle {}", i); });
+    v.mass[i] = single(system.records[i].mass, true,
+                       [&] { return fmt::format("the mass of particle {}", i); });
+  }
+  return v;
+}
+
+template <std::size_t D>
+void GsdFormat<D>::check_frame(const System<D>& system, double t) const {
+  values(t, system);
+}
 
 template <std::size_t D>
 void GsdFormat<D>::write_header(std::ostream& out) const {
@@ -114,9 +208,7 @@ void GsdFormat<D>::write_header(std::ostream& out) const {
 
 template <std::size_t D>
 void GsdFormat<D>::start(std::ostream& out) {
-  std::string names;
-  for (const std::string_view name : kNames) (names += name) += '\0';
-  names.resize((names.size() + kNameBlock - 1) / kNameBlock * kNameBlock, '\0');
+  const std::string names = name_list();
   namelist_location_ = kHeaderSize;
   namelist_blocks_ = names.size() / kNameBlock;
   index_location_ = kHeaderSize + names.size();
@@ -129,31 +221,9 @@ void GsdFormat<D>::start(std::ostream& out) {
 template <std::size_t D>
 void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
                          const System<D>& system) {
+  const Values v = values(t, system);  // refused before anything is written
   if (frames_ == 0) start(out);
   const auto n = static_cast<std::uint32_t>(system.size());
-  const Vec<D>& side = system.box.size;
-  // HOOMD's box is centred on the origin; a disk's box has Lz = 0, as HOOMD writes 2D boxes.
-  std::array<float, 6> box{};
-  for (std::size_t k = 0; k < D; ++k) box[k] = static_cast<float>(side[k]);
-  // A sheared box as HOOMD's tilted one: the images one box up lie at (xy Ly, Ly).
-  const double at = system.stored(t);
-  const double shift = shown_shift(system.box, at);
-  box[3] = static_cast<float>(shift / side[1]);
-  std::vector<float> position(3 * std::size_t{n}), velocity(3 * std::size_t{n}), diameter(n),
-      mass(n);
-  std::vector<std::int32_t> image(3 * std::size_t{n});
-  for (std::uint32_t i = 0; i < n; ++i) {
-    std::array<std::int32_t, 3> flags = system.records[i].image;
-    Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
-    if (shift != 0.0) into_tilted_box(p.position, side, shift, flags);
-    for (std::size_t k = 0; k < D; ++k) {
-      position[3 * i + k] = static_cast<float>(p.position[k] - 0.5 * side[k]);
-      velocity[3 * i + k] = static_cast<float>(p.velocity[k]);
-      image[3 * i + k] = flags[k];
-    }
-    diameter[i] = static_cast<float>(2.0 * p.radius);
-    mass[i] = static_cast<float>(system.records[i].mass);
-  }
   const std::vector<std::uint32_t> typeid_(n, 0);
 
   out.seekp(0, std::ios::end);
@@ -163,7 +233,7 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
     added.push_back({frames_, rows, static_cast<std::int64_t>(out.tellp()), columns, id, type, 0});
     write();
   };
-  chunk(kBox, kFloat, 6, 1, [&] { put(out, box); });
+  chunk(kBox, kFloat, 6, 1, [&] { put(out, v.box); });
   chunk(kDimensions, kUint8, 1, 1, [&] { put(out, static_cast<std::uint8_t>(D)); });
   chunk(kStep, kUint64, 1, 1, [&] { put(out, index); });
   // HOOMD's boxes are periodic; carom's may have walls, which its readers take from here.
@@ -171,21 +241,21 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
         [&] { put(out, static_cast<std::uint8_t>(system.box.periodic() ? 1 : 0)); });
   chunk(kTime, kDouble, 1, 1, [&] { put(out, t); });
   chunk(kN, kUint32, 1, 1, [&] { put(out, n); });
-  chunk(kDiameter, kFloat, n, 1, [&] { put(out, diameter); });
-  chunk(kImage, kInt32, n, 3, [&] { put(out, image); });
-  chunk(kMass, kFloat, n, 1, [&] { put(out, mass); });
-  chunk(kPosition, kFloat, n, 3, [&] { put(out, position); });
+  chunk(kDiameter, kFloat, n, 1, [&] { put(out, v.diameter); });
+  chunk(kImage, kInt32, n, 3, [&] { put(out, v.image); });
+  chunk(kMass, kFloat, n, 1, [&] { put(out, v.mass); });
+  chunk(kPosition, kFloat, n, 3, [&] { put(out, v.position); });
   chunk(kTypeid, kUint32, n, 1, [&] { put(out, typeid_); });
   chunk(kTypes, kInt8, 1, 2, [&] { out.write("A", 2); });  // one type, "A", null-terminated
-  chunk(kVelocity, kFloat, n, 3, [&] { put(out, velocity); });
+  chunk(kVelocity, kFloat, n, 3, [&] { put(out, v.velocity); });
   // Chunks with no rows (N = 0) are not indexed: GSD has no empty chunks.
   std::erase_if(added, [](const Entry& e) { return e.n == 0; });
 
   // The index grows by doubling into a new block at the end; the header points at it last, so
   // that an interruption leaves the previous frames readable.
-  const std::uint64_t needed = entries_.size() + added.size();
-  if (needed > index_capacity_ || frames_ + 1 >= index_capacity_) {
-    index_capacity_ = 2 * std::max(needed, index_capacity_);
+  if (const auto moved =
+          moved_index_capacity(frames_, entries_.size() + added.size(), index_capacity_)) {
+    index_capacity_ = *moved;
     index_location_ = static_cast<std::uint64_t>(out.tellp());
     put(out, entries_);
     put_zeros(out, (index_capacity_ - entries_.size()) * sizeof(Entry));
@@ -199,10 +269,113 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
 }
 
 template <std::size_t D>
-std::uint64_t GsdFormat<D>::whole_frames_before(std::istream&, double, bool, double) const {
-  throw std::invalid_argument(
-      "a resumed run cannot continue a .gsd trajectory yet: give --dump a new file (or an .xyz "
-      "or .lammpstrj one, which it continues)");
+std::uint64_t GsdFormat<D>::whole_frames_before(std::istream& in, double t, bool inclusive,
+                                                double) {
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  const auto read = [&](std::uint64_t offset, void* data, std::uint64_t bytes) {
+    if (offset > size || bytes > size - offset) return false;
+    in.seekg(static_cast<std::streamoff>(offset));
+    in.read(static_cast<char*>(data), static_cast<std::streamsize>(bytes));
+    return static_cast<bool>(in);
+  };
+  const auto refuse = [](const std::string& why) {
+    throw std::invalid_argument(
+        fmt::format("it is not a GSD trajectory carom wrote ({}), and a resumed run continues only "
+                    "carom's own: give --dump a new file",
+                    why));
+  };
+  std::uint64_t magic = 0;
+  if (read(0, &magic, sizeof magic) && magic != kMagic) refuse("it does not start as GSD does");
+  const std::string names = name_list();
+  const std::uint64_t first_index = kHeaderSize + names.size();
+  // The header and the names are written first, at once: a file without them whole is one a
+  // run was killed as it began.
+  if (size < first_index) return 0;
+  std::array<char, kHeaderSize> header{};
+  std::string stored_names(names.size(), '\0');
+  read(0, header.data(), header.size());
+  const auto field = [&](std::size_t offset) {
+    std::uint64_t value = 0;
+    std::memcpy(&value, header.data() + offset, sizeof value);
+    return value;
+  };
+  if (field(24) != kHeaderSize || field(32) != names.size() / kNameBlock ||
+      !read(kHeaderSize, stored_names.data(), names.size()) || stored_names != names ||
+      std::string_view(header.data() + 112, strnlen(header.data() + 112, 64)) != "hoomd") {
+    refuse("its chunks are not the ones carom writes");
+  }
+  if (size <= first_index + kFirstIndexCapacity * sizeof(Entry)) return 0;  // no frame's chunks
+  const std::uint64_t index_at = field(8), capacity = field(16);
+  if (capacity > size / sizeof(Entry)) refuse("its index runs past the end of the file");
+  std::vector<Entry> index(capacity);
+  if (!read(index_at, index.data(), capacity * sizeof(Entry))) {
+    refuse("its index runs past the end of the file");
+  }
+  // Where a chunk ends, if it lies in the file.
+  const auto end_of = [&](const Entry& e) -> std::optional<std::uint64_t> {
+    const std::uint64_t element = e.type < kTypeSize.size() ? kTypeSize[e.type] : 0;
+    const auto at = static_cast<std::uint64_t>(e.location);
+    if (element == 0 || e.location <= 0 || at > size || e.m == 0 || e.n > size / e.m ||
+        e.n * e.m > (size - at) / element) {
+      return std::nullopt;
+    }
+    return at + e.n * e.m * element;
+  };
+  // The frames in order, each with its chunks as this writer indexes them, while whole and
+  // taken before t.
+  std::vector<Entry> kept;
+  for (std::uint64_t frame = 0; (frame + 1) * kChunks <= capacity; ++frame) {
+    const std::span<const Entry> chunks(index.data() + frame * kChunks, kChunks);
+    bool whole = true;
+    for (std::uint16_t c = 0; c < kChunks; ++c) {
+      whole = whole && chunks[c].frame == frame && chunks[c].id == c && end_of(chunks[c]);
+    }
+    double time = 0.0;
+    const Entry& time_chunk = chunks[kTime];
+    if (!whole || time_chunk.type != kDouble || time_chunk.n != 1 ||
+        !read(static_cast<std::uint64_t>(time_chunk.location), &time, sizeof time) ||
+        !written_before(time, t, inclusive)) {
+      break;
+    }
+    kept.insert(kept.end(), chunks.begin(), chunks.end());
+  }
+  const std::uint64_t frames = kept.size() / kChunks;
+  if (frames == 0) return 0;
+  // The index as the writer left it after the last frame kept, and the file's length then.
+  std::uint64_t location = first_index, block = kFirstIndexCapacity, length = 0;
+  for (std::uint64_t frame = 0; frame < frames; ++frame) {
+    std::uint64_t frame_end = 0;
+    for (std::uint64_t c = 0; c < kChunks; ++c) {
+      frame_end = std::max(frame_end, *end_of(kept[frame * kChunks + c]));
+    }
+    length = frame_end;
+    if (const auto moved = moved_index_capacity(frame, (frame + 1) * kChunks, block)) {
+      block = *moved;
+      location = frame_end;
+      length = location + block * sizeof(Entry);
+    }
+  }
+  std::vector<Entry> then(kept.size());
+  if (length > size || !read(location, then.data(), then.size() * sizeof(Entry)) || then != kept) {
+    refuse("its index is not where carom puts it");
+  }
+  frames_ = frames;
+  entries_ = std::move(kept);
+  index_location_ = location;
+  index_capacity_ = block;
+  namelist_location_ = kHeaderSize;
+  namelist_blocks_ = names.size() / kNameBlock;
+  return length;
+}
+
+template <std::size_t D>
+void GsdFormat<D>::continue_after_cut(std::ostream& out) {
+  if (frames_ == 0) return;  // the file begins anew
+  out.seekp(static_cast<std::streamoff>(index_location_ + entries_.size() * sizeof(Entry)));
+  put_zeros(out, (index_capacity_ - entries_.size()) * sizeof(Entry));
+  write_header(out);
+  out.seekp(0, std::ios::end);
 }
 
 template class GsdFormat<2>;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 #include "carom/atomic_file.hpp"
 #include "carom/checkpoint.hpp"
@@ -87,9 +88,16 @@ void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
     sample.records.assign(state.records.begin(), state.records.begin() + taken);
     std::ostringstream one;
     try {
-      trajectory_format_for<D>(spec.dump)->frame(one, 0, now, sample);
+      const auto format = trajectory_format_for<D>(spec.dump);
+      // Every particle's numbers as the format stores them (a .gsd file's single precision):
+      // refused now rather than as the frames go (where the run's speeds, which a thermostat or
+      // a shear may raise, are checked frame by frame).
+      format->check_frame(state, now);
+      format->frame(one, 0, now, sample);
     } catch (const std::invalid_argument& e) {
       throw RequestError(e.what());
+    } catch (const std::range_error& e) {
+      throw RequestError(fmt::format("--dump {}: {}", spec.dump, e.what()));
     }
     const double frame_bytes = static_cast<double>(one.tellp()) *
                                static_cast<double>(state.size()) / static_cast<double>(taken);
@@ -232,8 +240,12 @@ void check_run_spec(const RunSpec& spec) {
 }
 
 struct Runner::State {
-  explicit State(Start s) : start(std::move(s)) {}
+  explicit State(Start s) : start(std::move(s)), records(start.records) {}
   Start start;
+  // What the measurements of the last run() gathered (before any, the resumed checkpoint's):
+  // what a checkpoint saved now holds with the state, and the next run() goes on with when it
+  // measures the same window to the same end.
+  WindowRecords records;
   // RunOutputs<2> or <3>, as the simulation is; made by the first run().
   std::shared_ptr<void> outputs;
   double wall_seconds = 0.0;          // in run(), over the Runner's life
@@ -248,6 +260,16 @@ struct Runner::State {
     return *static_cast<RunOutputs<D>*>(outputs.get());
   }
 
+  // The checkpoint of `simulation` with what its run keeps beyond the state: the seed its
+  // summary reports and the window's records.
+  template <std::size_t D>
+  Checkpoint<D> checkpoint_of(const Simulation<D>& simulation,
+                              const WindowRecords& window_records) const {
+    Checkpoint<D> checkpoint = simulation.checkpoint(start.source);
+    checkpoint.seed = start.seed;
+    checkpoint.records = window_records;
+    return checkpoint;
+  }
   template <std::size_t D>
   void check(const Simulation<D>& simulation, const RunSpec& spec,
              const std::vector<std::pair<std::string, std::string>>& others) const;
@@ -332,35 +354,39 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
   // Z over 20 intervals of the measurement window, first half against second; a run resumed
-  // from a checkpoint goes on with the intervals it holds.
-  std::shared_ptr<ZDrift<D>> z_drift;
+  // from a checkpoint goes on with the intervals (and transport blocks) it holds when it measures
+  // the same window to the same end: one resumed at its end rebuilds its summary from them.
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
+  const WindowRecords earlier =
+      records.continued_by(window_start, spec.end_time) ? records : WindowRecords{};
+  std::shared_ptr<ZDrift<D>> z_drift;
   if (spec.end_time > window_start) {
     z_drift = observers.add(std::make_shared<ZDrift<D>>(
-        (spec.end_time - window_start) / ZDrift<D>::kIntervals, start.records.drift));
+        (spec.end_time - window_start) / ZDrift<D>::kIntervals, earlier.drift));
   }
   std::shared_ptr<TransportMeter<D>> transport_meter;
   if (spec.transport && spec.end_time > window_start) {
     simulation.keep_heat_flux();
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
         TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
-        start.records.transport));
+        earlier.transport));
   }
-  start.records = {};  // the first run() after a resume is the one it continues
-  const auto window_records = [&z_drift, &transport_meter] {
-    WindowRecords records;
-    if (z_drift) records.drift = z_drift->record();
-    if (transport_meter) records.transport = transport_meter->record();
-    return records;
+  const auto records_now = [&] {
+    WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};
+    if (z_drift) now.drift = z_drift->record();
+    if (transport_meter) now.transport = transport_meter->record();
+    return now;
   };
+  // Every checkpoint holds what the summary needs beyond the state, whenever it is saved: on the
+  // run's way, stopped, failed or at its end (a stop may land after the end is reached and
+  // before the summary is written, and the resumed run must write the summary this one would).
+  const auto checkpoint_now = [&] { return checkpoint_of(simulation, records_now()); };
   if (spec.checkpoint_every) {
     observers.add(std::make_shared<CheckpointWriter<D>>(
-        spec.checkpoint, start.source, *spec.checkpoint_every,
-        [&outputs] {
+        spec.checkpoint, *spec.checkpoint_every, checkpoint_now, [&outputs] {
           if (!outputs.flush()) throw std::runtime_error(kCannotStream);
-        },
-        window_records));
+        }));
   }
   if (hooks.progress) {
     observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
@@ -378,26 +404,23 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     status = simulation.run_until(spec.end_time);
   } catch (const std::runtime_error& e) {
     account();
+    records = records_now();
     // A write that failed as the run went (a full disk): the state the run has reached is sound
     // and worth keeping when there is somewhere to keep it. A jam or a broken invariant is not.
     const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
                         dynamic_cast<const InvariantError*>(&e) != nullptr;
     if (spec.checkpoint.empty() || broken) throw;
-    save_checkpoint(spec.checkpoint, simulation, start.source, window_records());
+    save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
     throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
   }
   account();
+  records = records_now();
   drift = z_drift ? z_drift->verdict() : std::nullopt;
   pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
-  // The drift record helps only a run that goes on to the same end: one stopped on its way. A
-  // run that reached its end keeps none, as a state saved between runs (sim.save) keeps none.
-  if (!spec.checkpoint.empty()) {
-    save_checkpoint(spec.checkpoint, simulation, start.source,
-                    status == RunStatus::stopped ? window_records() : WindowRecords{});
-  }
+  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
   if (!streamed_ok) {
     throw std::runtime_error(
         fmt::format("{}{}", kCannotStream,
@@ -436,6 +459,11 @@ void Runner::check(const RunSpec& spec,
 
 RunOutcome Runner::run(const RunSpec& spec, const RunHooks& hooks) {
   return state_->start.simulation.visit([&](auto& s) { return state_->run(s, spec, hooks); });
+}
+
+void Runner::save(const std::string& path) const {
+  state_->start.simulation.visit(
+      [&](const auto& s) { save_checkpoint(path, state_->checkpoint_of(s, state_->records)); });
 }
 
 void Runner::close_outputs() {

@@ -52,15 +52,16 @@ void RunOutputs<D>::open(Stream& stream, const std::string& path, double every,
       std::ifstream in(path, std::ios::binary);
       try {
         kept = keep(in);
-      } catch (const std::invalid_argument& e) {  // a format that cannot be continued
-        throw RequestError(e.what());
+      } catch (const std::invalid_argument& e) {  // a file that cannot be continued
+        throw RequestError(fmt::format("cannot continue '{}': {}", path, e.what()));
       }
     }
     fs::resize_file(path, kept, error);
     if (error) throw RequestError(fmt::format("cannot continue '{}': {}", path, error.message()));
-    mode = std::ios::binary | std::ios::app;
+    mode = std::ios::binary | std::ios::in | std::ios::out;
   }
   stream.file.open(path, mode);
+  stream.file.seekp(0, std::ios::end);
   if (!stream.file) {
     throw RequestError(fmt::format("cannot write '{}': {}", path, std::strerror(errno)));
   }
@@ -91,6 +92,8 @@ void RunOutputs<D>::update(const RunSpec& spec) {
     open(frames_, spec.dump, spec.dump_every, [&](std::istream& in) {
       return format->whole_frames_before(in, t, inclusive, spec.dump_every);
     });
+    format->continue_after_cut(frames_.file);
+    if (!frames_.file) throw RequestError(fmt::format("cannot continue '{}'", spec.dump));
     // A file that begins here (not one a continued run continues) starts with a frame now, when
     // now is on its grid.
     const bool fresh = frames_.file.tellp() == 0;

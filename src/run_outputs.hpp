@@ -42,7 +42,8 @@ class RunOutputs {
   };
   void close(Stream& stream);
   // Opens `path` for `stream`: anew, or (continued and the file exists) cut to the length `keep`
-  // finds in it and appended to.
+  // finds in it and opened at its end for writing on (and for rewriting in place what a binary
+  // format must: a GSD file's index).
   void open(Stream& stream, const std::string& path, double every,
             const std::function<std::uint64_t(std::istream&)>& keep);
 

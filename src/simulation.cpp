@@ -239,11 +239,20 @@ void Simulation<D>::settle_at(double t) {
   stored_time_ = state().stored(t);
   settled_ = true;
   if (measure_from_ && *measure_from_ <= t) reset_measurement();
-  for (Scheduled& entry : observers_) {
-    if (entry.observer->trigger().kind == Trigger::Kind::time && entry.next_time <= t) {
-      entry.observer->observe(*this);
-      schedule(entry);
+  try {
+    for (Scheduled& entry : observers_) {
+      if (entry.observer->trigger().kind == Trigger::Kind::time && entry.next_time <= t) {
+        entry.observer->observe(*this);
+        schedule(entry);
+      }
     }
+  } catch (...) {
+    // An observer that failed (a write to a full disk) leaves the instant incomplete: the
+    // observers after it and the thermostat have not acted at t. A checkpoint saved now says so,
+    // and the run resumed from it completes the instant: the time observers look at t again
+    // (what they wrote at t is cut off first; the drift's record takes an instant once).
+    settled_ = false;
+    throw;
   }
   // After the observers: they see the state the dynamics reached.
   if (t >= next_thermostat_time()) apply_thermostat();
@@ -426,7 +435,7 @@ template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
   return {source,          state(),         settings_,     time_, settled_,
           counts_,         measurement_,    measure_from_, {},    thermostat_instants_,
-          thermostat_rng_, thermostat_next_};
+          thermostat_rng_, thermostat_next_, std::nullopt};
 }
 
 template class Simulation<2>;

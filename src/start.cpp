@@ -217,7 +217,7 @@ Start resume_start(const std::string& path) {
   std::ifstream file = open_input(path);
   return std::visit(
       [&](const auto& checkpoint) {
-        return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", std::nullopt,
+        return Start{AnySimulation(checkpoint), path, checkpoint.source, true, "", checkpoint.seed,
                      checkpoint.records};
       },
       read_checkpoint(file, path));

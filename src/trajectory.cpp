@@ -54,7 +54,7 @@ template <std::size_t D>
 class ExtendedXyz final : public TextFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
-                                    double) const override {
+                                    double) override {
     LineReader reader{in, 0, {}};
     std::uint64_t kept = 0;
     try {
@@ -103,7 +103,7 @@ template <std::size_t D>
 class LammpsDump final : public TextFormat<D> {
  public:
   std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
-                                    double every) const override {
+                                    double every) override {
     LineReader reader{in, 0, {}};
     std::uint64_t kept = 0;
     try {

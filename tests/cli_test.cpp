@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -921,6 +922,44 @@ TEST_F(Cli, ACheckpointedRunResumesBitForBit) {
   }
 }
 
+// Regression: a stop that landed after the final checkpoint was written and before the summary
+// left a checkpoint without the window's records, and `--resume` of it reported no drift
+// verdict, no pressure tensor errors, no transport and no seed. A run resumed where its end is
+// reached writes the summary of the run (here: the summary it wrote itself).
+TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const auto summary_without_clock = [](const fs::path& path) {
+    nlohmann::json summary = nlohmann::json::parse(read_file(path));
+    summary.erase("wall_seconds");
+    summary.erase("events_per_second");
+    return summary.dump(2);
+  };
+  // The physics, then the measurements asked for (which a resumed run is asked for again).
+  using Options = std::vector<std::string>;
+  for (const auto& [physics, measured] :
+       {std::pair{Options{"--kT", "1", "--seed", "5"}, Options{"--transport"}},
+        std::pair{Options{"--shear", "0.2", "--velocity-profile", "--thermostat", "rescale", "--kT",
+                          "1", "--thermostat-every", "1"},
+                  Options{}}}) {
+    Options run = {"run",      start, "20", "--rule", "elastic", "--equilibrate", "4", "--checkpoint",
+                   checkpoint, "--summary", dir_ / "whole.json", "-o", dir_ / "out.txt"};
+    run.insert(run.end(), physics.begin(), physics.end());
+    run.insert(run.end(), measured.begin(), measured.end());
+    ASSERT_EQ(carom(run).exit_code, 0) << physics.front();
+    Options resume = {"run",     "--resume", checkpoint, "20", "--summary", dir_ / "resumed.json",
+                      "-o", dir_ / "out.txt"};
+    resume.insert(resume.end(), measured.begin(), measured.end());
+    const Result resumed = carom(resume);
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+    const std::string whole = summary_without_clock(dir_ / "whole.json");
+    EXPECT_EQ(summary_without_clock(dir_ / "resumed.json"), whole) << physics.front();
+    EXPECT_EQ(nlohmann::json::parse(whole)["compressibility_factor_drift"]["intervals"], 20);
+  }
+}
+
 TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
   const fs::path start = dir_ / "spheres.txt", summary = dir_ / "summary.json";
   ASSERT_EQ(carom({"init", "--dim", "3", "--n", "300", "--phi", "0.3", "--boundary", "periodic",
@@ -1104,24 +1143,62 @@ TEST_F(Cli, TheTimeSeriesIsARunsThermoOutputAndContinuesAcrossResumes) {
             2);
 }
 
-TEST_F(Cli, GsdTrajectoriesAreWrittenAndNotContinuedBlindly) {
-  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt", movie = dir_ / "m.gsd";
+// Regression: a resumed run refused to continue a .gsd dump, so a sweep with one could never be
+// resumed. It continues carom's own, byte for byte, and refuses another program's (exit 2, the
+// file left as it was).
+TEST_F(Cli, GsdTrajectoriesAreWrittenAndContinuedByAResumedRun) {
+  const fs::path start = dir_ / "gas.txt", checkpoint = dir_ / "run.ckpt", movie = dir_ / "m.gsd",
+                 whole = dir_ / "whole.gsd";
   ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.3", "--boundary", "periodic", "-o", start})
                 .exit_code,
             0);
-  ASSERT_EQ(carom({"run", start, "2", "--rule", "elastic", "--boundary", "periodic", "--dump",
-                   movie, "--every", "0.5", "--checkpoint", checkpoint})
+  const std::vector<std::string> physics = {"--rule", "elastic", "--boundary", "periodic"};
+  const auto with = [&](std::vector<std::string> args) {
+    args.insert(args.end(), physics.begin(), physics.end());
+    return args;
+  };
+  ASSERT_EQ(carom(with({"run", start, "4", "--dump", whole, "--every", "0.5"})).exit_code, 0);
+  ASSERT_EQ(carom(with({"run", start, "2.2", "--dump", movie, "--every", "0.5", "--checkpoint",
+                        checkpoint}))
                 .exit_code,
             0);
-  const std::string frames = read_file(movie);
-  EXPECT_EQ(frames.substr(0, 8), std::string("\xDF\x65\xDF\x65\xDF\x65\xDF\x65", 8));
-  // A resumed run would have to rewrite the index: refused, the file left as it was.
+  EXPECT_EQ(read_file(movie).substr(0, 8), std::string("\xDF\x65\xDF\x65\xDF\x65\xDF\x65", 8));
   const Result resumed =
       carom({"run", "--resume", checkpoint, "4", "--dump", movie, "--every", "0.5"});
-  EXPECT_EQ(resumed.exit_code, 2);
-  EXPECT_NE(resumed.err.find("cannot continue a .gsd trajectory"), std::string::npos)
-      << resumed.err;
-  EXPECT_TRUE(read_file(movie) == frames);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_TRUE(read_file(movie) == read_file(whole)) << "the trajectories differ";
+
+  const fs::path theirs = write("theirs.gsd", std::string("\xDF\x65\xDF\x65\xDF\x65\xDF\x65", 8) +
+                                                  std::string(20000, '\x01'));
+  const Result refused =
+      carom({"run", "--resume", checkpoint, "4", "--dump", theirs, "--every", "0.5"});
+  EXPECT_EQ(refused.exit_code, 2);
+  EXPECT_NE(refused.err.find("not a GSD trajectory carom wrote"), std::string::npos)
+      << refused.err;
+  EXPECT_EQ(fs::file_size(theirs), 20008u);
+}
+
+// Regression: a .gsd dump of numbers beyond single precision (a box of 1e50) was written with
+// inf in it, and refused by every reader. Refused up front, exit 2, naming the value; nothing is
+// written.
+TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefusedUpFront) {
+  const fs::path movie = dir_ / "m.gsd";
+  // (A particle that fast crosses the box 10^5 times by t = 1e-33.)
+  for (const auto& [start, end, named] :
+       {std::tuple{write("huge.txt", "1\n0.5\n1e50 1e50\n5 5 1 0\n"), "1", "box side Lx is 1e+50"},
+        std::tuple{write("fast.txt", "2\n0.5\n10 10\n5 5 1 0\n2 2 0 1e39\n"), "1e-33",
+                   "vy of particle 1 at t = 0 is 1e+39"}}) {
+    const Result r =
+        carom({"run", start, end, "--dump", movie, "--every", "0.5", "-o", dir_ / "out.txt"});
+    EXPECT_EQ(r.exit_code, 2) << named;
+    EXPECT_NE(r.err.find(named), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(movie));
+    // .xyz holds every double: the same run dumps there.
+    EXPECT_EQ(carom({"run", start, end, "--dump", dir_ / "m.xyz", "--every", "0.5", "-o",
+                     dir_ / "out.txt"})
+                  .exit_code,
+              0);
+  }
 }
 
 TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {

@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <span>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "carom/classic_input.hpp"
@@ -200,6 +202,104 @@ TEST(Formats, AResumedRunKeepsWhatCameBeforeItsCheckpoint) {
   EXPECT_EQ(frames_kept(frames, 1.0, true), ends[2]);  // t = 0, 0.5, 1
   EXPECT_EQ(frames_kept(frames, 1.0, false), ends[1]);
   EXPECT_EQ(frames_kept(frames.substr(0, frames.size() - 3), 9.0, true), ends[2]);  // cut
+}
+
+// Regression: a resumed run refused to continue a .gsd dump. A GSD file holding frames from
+// beyond a checkpoint (a run killed after it) is taken up at any time: cut to the frames up to
+// it and continued, it is byte for byte the file of a run never interrupted, at the cut and at
+// the end, across the index's moves to larger blocks (first after 20 frames) and when the next
+// frame was being written.
+TEST(Formats, AGsdFileIsContinuedAfterItsLastWholeFrameByteForByte) {
+  const System<2> system = testing::boxed(
+      {10, 10}, {testing::disk({5, 5}, {1, 0.5}, 1), testing::disk({2, 8}, {-0.3, 2}, 0.5)},
+      Boundary::periodic);
+  constexpr std::uint64_t kFrames = 90;
+  const auto time_of = [](std::uint64_t k) { return 0.25 * static_cast<double>(k); };
+  std::ostringstream written(std::ios::binary);
+  auto gsd = trajectory_format_for<2>("m.gsd");
+  std::vector<std::string> after = {""};  // the file after each frame
+  for (std::uint64_t k = 0; k < kFrames; ++k) {
+    gsd->frame(written, k, time_of(k), system);
+    after.push_back(written.str());
+  }
+  const std::string whole = written.str();
+  // Cut back to `t` and continued to the end by another writer, as a resumed run does.
+  const auto continued = [&](const std::string& file, double t, bool inclusive,
+                             std::uint64_t frames_kept) {
+    auto resumed = trajectory_format_for<2>("m.gsd");
+    std::istringstream in(file, std::ios::binary);
+    const std::uint64_t kept = resumed->whole_frames_before(in, t, inclusive, 0.25);
+    std::stringstream io(file.substr(0, kept), std::ios::in | std::ios::out | std::ios::binary);
+    io.seekp(0, std::ios::end);
+    resumed->continue_after_cut(io);
+    EXPECT_TRUE(io.str() == after[frames_kept]) << "cut at t = " << t << ", " << inclusive;
+    for (std::uint64_t k = frames_kept; k < kFrames; ++k) resumed->frame(io, k, time_of(k), system);
+    return io.str();
+  };
+  for (std::uint64_t cut = 0; cut < kFrames; ++cut) {
+    const double t = time_of(cut);
+    EXPECT_TRUE(continued(whole, t, true, cut + 1) == whole) << cut;
+    EXPECT_TRUE(continued(whole, t, false, cut) == whole) << cut;
+    EXPECT_TRUE(continued(whole, t + 0.1, false, cut + 1) == whole) << cut;
+    // A run killed as it wrote the next frame: part of its chunks, not yet indexed.
+    EXPECT_TRUE(continued(after[cut + 1] + std::string(7, '\x01'), 1e9, true, cut + 1) == whole)
+        << cut;
+  }
+  EXPECT_TRUE(continued("", 5.0, true, 0) == whole);
+  EXPECT_TRUE(continued(whole.substr(0, 100), 5.0, true, 0) == whole);  // killed as it began
+}
+
+TEST(Formats, AGsdFileOfAnotherProgramIsNotContinued) {
+  const System<2> system =
+      testing::boxed({10, 10}, {testing::disk({5, 5}, {1, 0.5}, 1)}, Boundary::periodic);
+  std::ostringstream written(std::ios::binary);
+  trajectory_format_for<2>("m.gsd")->frame(written, 0, 0.0, system);
+  const auto refused = [](std::string file) {
+    std::istringstream in(file, std::ios::binary);
+    try {
+      trajectory_format_for<2>("m.gsd")->whole_frames_before(in, 1.0, true, 0.25);
+      ADD_FAILURE() << "continued";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("not a GSD trajectory carom wrote"), std::string::npos)
+          << e.what();
+    }
+  };
+  std::string other_names = written.str();
+  other_names[256] = 'C';  // "Configuration/box"
+  refused(other_names);
+  refused(std::string(written.str().size(), 'x'));
+}
+
+// Regression: a .gsd dump of numbers beyond single precision (a box of 1e50) was written with
+// inf in it, which every reader refused. Every float of a frame (box, positions, velocities,
+// diameters, masses) is checked before anything is written, and named when refused.
+TEST(Formats, GsdFramesBeyondSinglePrecisionAreRefusedBeforeAnythingIsWritten) {
+  const auto refused = [](const System<2>& system, const std::string& named) {
+    auto gsd = trajectory_format_for<2>("m.gsd");
+    std::ostringstream out(std::ios::binary);
+    try {
+      gsd->check_frame(system, 0.0);
+      ADD_FAILURE() << "accepted; expected a refusal naming " << named;
+    } catch (const std::range_error& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(gsd->frame(out, 0, 0.0, system), std::range_error);
+    EXPECT_EQ(out.str(), "");
+  };
+  using testing::boxed;
+  using testing::disk;
+  refused(boxed({1e50, 10}, {disk({5, 5}, {1, 0}, 1)}), "the box side Lx is 1e+50");
+  refused(boxed({10, 10}, {disk({5, 5}, {1, 0}, 1), disk({2, 2}, {0, -1e39}, 1)}),
+          "vy of particle 1 at t = 0 is -1e+39");
+  refused(boxed({10, 10}, {disk({5, 5}, {1, 0}, 1e-50)}), "the diameter of particle 0 is 2e-50");
+  System<2> light = boxed({10, 10}, {disk({5, 5}, {1, 0}, 1)});
+  light.records[0].mass = 1e-60;
+  refused(light, "the mass of particle 0 is 1e-60");
+  // What single precision rounds but reads back is written: a tiny speed stored as 0.
+  std::ostringstream out(std::ios::binary);
+  trajectory_format_for<2>("m.gsd")->frame(out, 0, 0.0,
+                                           boxed({10, 10}, {disk({5, 5}, {1e-50, 0}, 1)}));
+  EXPECT_GT(out.str().size(), 0u);
 }
 
 }  // namespace

@@ -77,8 +77,6 @@ class AnySimulation {
   // Every particle at time(), as a start at t = 0 (stored times 0, records kept): what a
   // compression of this run begins from.
   AnySystem snapshot_system() const;
-  // Writes a checkpoint of the run (atomically); `source` names the input it began from.
-  void save(const std::string& path, const std::string& source) const;
 
  private:
   std::variant<Simulation<2>, Simulation<3>> simulation_;

@@ -37,6 +37,7 @@ struct Checkpoint {
   std::uint64_t thermostat_instants = 0;  // the thermostat's instants done
   pcg32 thermostat_rng;                   // Andersen's draws to come
   double thermostat_next = kNever;        // Andersen's resets as events: the next one's time
+  std::optional<std::uint64_t> seed;      // of the velocities the run began with (its summary's)
 };
 
 using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;
@@ -48,38 +49,35 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& checkpoint);
 // Throws InputError naming `name` for anything that is not a complete, consistent checkpoint.
 AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name);
 
-// Writes the simulation's checkpoint to `path` atomically (a temporary file, then a rename):
-// a crash never leaves half a checkpoint. Throws std::runtime_error when it cannot.
+// Writes `checkpoint` to `path` atomically (a temporary file, then a rename): a crash never
+// leaves half a checkpoint. Throws std::runtime_error when it cannot.
 template <std::size_t D>
-void save_checkpoint(const std::string& path, const Simulation<D>& simulation,
-                     const std::string& source, const WindowRecords& records = {});
+void save_checkpoint(const std::string& path, const Checkpoint<D>& checkpoint);
 
 // Saves a checkpoint whenever its trigger fires (every so many events or seconds), once the run
 // is whole at that instant (Trigger::whole_instant): a checkpoint never splits the events of one
-// time, so that files written up to it are cut at its time exactly. `before_save` (optional)
-// flushes what else the run writes, so that a run killed after a checkpoint has on disk
-// everything the checkpoint counts.
+// time, so that files written up to it are cut at its time exactly. `make` gives what to save:
+// the simulation's checkpoint with what its run keeps beyond it (Simulation::checkpoint, the
+// window's records). `before_save` (optional) flushes what else the run writes, so that a run
+// killed after a checkpoint has on disk everything the checkpoint counts.
 template <std::size_t D>
 class CheckpointWriter final : public Observer<D> {
  public:
-  // `records` (optional) gives the window's records to keep with the state.
-  CheckpointWriter(std::string path, std::string source, Trigger trigger,
-                   std::function<void()> before_save = {},
-                   std::function<WindowRecords()> records = {})
+  CheckpointWriter(std::string path, Trigger trigger, std::function<Checkpoint<D>()> make,
+                   std::function<void()> before_save = {})
       : Observer<D>(trigger.at_whole_instants()),
         path_(std::move(path)),
-        source_(std::move(source)),
-        before_save_(std::move(before_save)),
-        records_(std::move(records)) {}
-  void observe(const Simulation<D>& simulation) override {
+        make_(std::move(make)),
+        before_save_(std::move(before_save)) {}
+  void observe(const Simulation<D>&) override {
     if (before_save_) before_save_();
-    save_checkpoint(path_, simulation, source_, records_ ? records_() : WindowRecords{});
+    save_checkpoint(path_, make_());
   }
 
  private:
-  std::string path_, source_;
+  std::string path_;
+  std::function<Checkpoint<D>()> make_;
   std::function<void()> before_save_;
-  std::function<WindowRecords()> records_;
 };
 
 }  // namespace carom

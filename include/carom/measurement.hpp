@@ -67,11 +67,21 @@ struct DriftRecord {
   friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
 };
 
-// What the measurements over a run's window have gathered so far, beyond its counts: a
-// checkpoint keeps them, so that a run continued from one reports what a run in one piece would.
+// What the measurements over a run's window have gathered so far, beyond its counts: every
+// checkpoint keeps them (one saved at the run's end too), so that a run continued from one
+// reports what a run in one piece would, even a run resumed where its end is already reached.
 struct WindowRecords {
+  // The measurement they are of: the window's start and the run's end time (absent from older
+  // checkpoints, which kept records only of a run stopped on its way to its end).
+  std::optional<double> window_start, end_time;
   std::optional<DriftRecord> drift;          // the drift verdict's (ZDrift)
   std::optional<TransportRecord> transport;  // the transport coefficients' (TransportMeter)
+  // Whether a run measuring from `start` to `end` goes on with them: the same measurement, not
+  // one resumed to another end or with its window opened afresh (whose intervals and blocks are
+  // others: mixing them would report a verdict on two windows).
+  bool continued_by(double start, double end) const {
+    return !window_start || (*window_start == start && end_time == end);
+  }
   friend bool operator==(const WindowRecords&, const WindowRecords&) = default;
 };
 

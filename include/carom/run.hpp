@@ -124,6 +124,10 @@ class Runner {
   // is not sound), SavedRunError, and std::runtime_error when a streamed file could not be
   // written (the end state saved in the checkpoint, if any).
   RunOutcome run(const RunSpec& spec, const RunHooks& hooks = {});
+  // Writes the checkpoint of the run so far to `path` (atomically): what a run's --checkpoint
+  // holds when saved at that instant, the last run()'s window records with the state, so that a
+  // run resumed from it to the same end reports that run's summary.
+  void save(const std::string& path) const;
   // Closes the streamed files (run() closes those the next spec does not name).
   void close_outputs();
 

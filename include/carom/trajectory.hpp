@@ -22,11 +22,20 @@ class TrajectoryFormat {
   virtual ~TrajectoryFormat() = default;
   // Frame number `index` of a run writing a frame every `every`: t = index x every.
   virtual void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) = 0;
+  // Throws std::range_error, naming the value, when a frame of `system` at `t` would not read
+  // back as written (a number beyond a GSD file's single precision). Text formats write every
+  // double as it is.
+  virtual void check_frame(const System<D>& /*system*/, double /*t*/) const {}
   // The length of the leading part of a file in this format made of whole frames taken before
   // `t` (or at it, when `inclusive`): what a resumed run keeps before appending its own frames.
-  // Throws std::invalid_argument for a format a resumed run cannot continue.
+  // The format takes up writing after those frames (a GSD file's index). Throws
+  // std::invalid_argument for a file it cannot continue.
   virtual std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
-                                            double every) const = 0;
+                                            double every) = 0;
+  // Once the file is cut to that length (and opened for reading and writing, at its end):
+  // rewrites what pointed past the cut (a GSD file's header and index). Text formats have
+  // nothing to rewrite.
+  virtual void continue_after_cut(std::ostream& /*out*/) {}
 };
 
 // The format for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text

@@ -212,7 +212,7 @@ void PythonSimulation::measure_from(double t) {
 }
 
 void PythonSimulation::save(const std::string& path) const {
-  simulation().save(path, source());
+  runner_.save(path);
 }
 
 }  // namespace carom::python

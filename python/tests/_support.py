@@ -12,6 +12,17 @@ NOT_DETERMINISTIC = ("input", "wall_seconds", "events_per_second")
 PIECE_DEPENDENT = ("compressibility_factor_drift", "pressure_tensor_error", "transport")
 
 
+# What a checkpoint keeps of its run's measurements (the drift verdict's intervals, the transport
+# blocks, the window they measure): a run in pieces measures each piece's window, so its
+# checkpoints differ from a run in one piece's there (and in the checksum that covers them).
+PIECE_RECORDS = ("z_drift", "transport", "window_records", "checksum")
+
+
+def checkpoint_state(data):
+    """A checkpoint file's fields without its run's measurement records (PIECE_RECORDS)."""
+    return {k: v for k, v in json.loads(data).items() if k not in PIECE_RECORDS}
+
+
 def assert_bitwise_equal(a, b, what="arrays"):
     """Same dtype, shape and bytes: 0.0 and -0.0 differ, as do NaNs with different payloads."""
     a = np.ascontiguousarray(a)

@@ -15,6 +15,7 @@ import textwrap
 import pytest
 
 import carom
+from _support import checkpoint_state
 
 # The outputs, as carom.Simulation.run's keywords; the command line's options are their names.
 OUTPUTS = dict(log="series.csv", log_every=0.25, events="events.csv", checkpoint="run.ckpt",
@@ -40,12 +41,15 @@ def cli_options(options):
 
 
 def files(folder, dim, drop=CLOCK):
-    """Every output file's bytes; the summary as a dict without the fields in `drop`."""
+    """Every output file's bytes; the summary as a dict without the fields in `drop`, and the
+    checkpoint without its measurement records when those are dropped (PIECEWISE)."""
     found = {}
     for name in FILES + (DUMPS[dim],):
         data = (folder / name).read_bytes()
         if name == "summary.json":
             data = {k: v for k, v in json.loads(data).items() if k not in drop}
+        if name == "run.ckpt" and set(PIECEWISE) <= set(drop):
+            data = checkpoint_state(data)
         found[name] = data
     return found
 

@@ -209,6 +209,44 @@ def test_a_sweep_killed_or_stopped_goes_on_to_the_same_files(cli, long_sweep, ho
     assert_same_contents(contents(out), reference, f"after {how.name}")
 
 
+def test_tasks_stopped_at_their_end_are_rerun_to_the_same_files(cli, tmp_path):
+    """Regression: a stop that landed once a task had reached its end, after its final
+    checkpoint and before its summary (how the SIGTERM case above failed now and then on a
+    loaded machine), left a checkpoint without the window's records: the rerun wrote a summary
+    without the drift verdict and the pressure tensor's errors, and the task was done. Tasks
+    caught there (their final checkpoint saved, no summary yet) rerun to the sweep's files."""
+    plan = write_plan(tmp_path, **SHORT)
+    out = tmp_path / "out"
+    cli("sweep", plan, "-o", out, "-q")
+    reference = contents(out)
+    for task in TASKS:
+        assert reference[f"{task}/summary.json"]["compressibility_factor_drift"] is not None
+        (out / task / "summary.json").unlink()
+    cli("sweep", plan, "-o", out, "-q")
+    assert_same_contents(contents(out), reference, "rerun from the end")
+
+
+def test_a_sweep_with_a_gsd_dump_killed_goes_on_to_the_same_files(cli, tmp_path):
+    """Regression: a sweep with a .gsd dump could never be resumed: every rerun failed its
+    tasks ("a resumed run cannot continue a .gsd trajectory yet"). Killed mid-run, it reruns to
+    the files of the sweep never killed, the dumps byte for byte."""
+    text = PLAN.format(**LONG).replace("\n[sweep]", 'dump = "movie.gsd"\nevery = 60\n\n[sweep]')
+    plan = write_plan(tmp_path, text)
+    out = tmp_path / "out"
+    cli("sweep", plan, "-o", out, "-q")
+    reference = set_aside(out, "reference")
+    movies = {task: (reference / task / "movie.gsd").read_bytes() for task in TASKS}
+    reference = contents(reference)
+    sweep = sweep_process(cli, plan, out)
+    wait_until(lambda: running(out), sweep)
+    sweep.kill()
+    sweep.communicate(timeout=60)
+    cli("sweep", plan, "-o", out, "-q")
+    assert_same_contents(contents(out), reference, "killed")
+    for task in TASKS:
+        assert (out / task / "movie.gsd").read_bytes() == movies[task], task
+
+
 def test_a_dask_worker_killed_mid_task_changes_nothing(long_sweep, client):
     plan, out, reference = long_sweep
     shutil.rmtree(out, ignore_errors=True)
