@@ -90,6 +90,22 @@ def sweep_process(cli, plan, out):
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
 
+def has_mpi(cli):
+    """Whether there is an mpirun and carom was built with MPI."""
+    return shutil.which("mpirun") is not None and "sweep: MPI" in cli("--version")
+
+
+def mpi_sweep(cli, *args, cwd=None):
+    """`mpirun -n 3 carom sweep ARGS` run to its end, or None without mpirun or MPI."""
+    if not has_mpi(cli):
+        return None
+    # OpenMPI refuses to run as root unless told it may.
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return subprocess.run([shutil.which("mpirun"), "-n", "3", "--oversubscribe", cli.exe, "sweep",
+                           *[str(a) for a in args]], cwd=cwd, capture_output=True, env=env,
+                          timeout=120)
+
+
 def wait_until(condition, process=None, seconds=60):
     """Polls until condition() holds; fails if the process ends first."""
     deadline = time.monotonic() + seconds
@@ -143,12 +159,8 @@ def test_cli_mpi_and_dask_write_the_same_files(cli, tmp_path, client):
     out = tmp_path / "out"
     cli("sweep", plan, "-o", out, "-q")
     ways = {"carom sweep": contents(set_aside(out, "cli"))}
-    mpirun = shutil.which("mpirun")
-    if mpirun and "sweep: MPI" in cli("--version"):
-        # OpenMPI refuses to run as root unless told it may.
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        proc = subprocess.run([mpirun, "-n", "3", "--oversubscribe", cli.exe, "sweep", str(plan),
-                               "-o", str(out), "-q"], capture_output=True, env=env, timeout=120)
+    if has_mpi(cli):
+        proc = mpi_sweep(cli, plan, "-o", out, "-q")
         assert proc.returncode == 0, proc.stderr.decode()
         ways["mpirun -n 3"] = contents(set_aside(out, "mpi"))
     table = carom.sweep(plan, out, client=client)
@@ -324,18 +336,14 @@ def test_bad_arguments_are_refused(tmp_path):
 def test_a_sweep_under_mpi_records_what_fails_as_without_it(cli, tmp_path):
     """A task whose failure never reaches its error.txt (here its error.txt is a folder that
     cannot be removed) is failed, with the same error and exit code, whatever ran it."""
-    mpirun = shutil.which("mpirun")
-    if not (mpirun and "sweep: MPI" in cli("--version")):
+    if not has_mpi(cli):
         pytest.skip("no mpirun, or carom built without MPI")
     plan = write_plan(tmp_path, **SHORT)
     for way in ("alone", "mpi"):
         (tmp_path / way / TASKS[1] / "error.txt" / "x").mkdir(parents=True)
     alone = subprocess.run([cli.exe, "sweep", str(plan), "-o", "alone", "-q"], cwd=tmp_path,
                            capture_output=True, timeout=120)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    mpi = subprocess.run([mpirun, "-n", "3", "--oversubscribe", cli.exe, "sweep", str(plan),
-                          "-o", "mpi", "-q"], cwd=tmp_path, capture_output=True, env=env,
-                         timeout=120)
+    mpi = mpi_sweep(cli, plan, "-o", "mpi", "-q", cwd=tmp_path)
     assert alone.returncode == 101, alone.stderr.decode()
     assert mpi.returncode == alone.returncode, mpi.stderr.decode()
     rows = (tmp_path / "alone" / "results.csv").read_text().splitlines()
@@ -372,6 +380,8 @@ def test_an_output_that_is_an_input_or_the_sweeps_own_file_is_refused(cli, tmp_p
     assert "results.csv" in why and "the plan" in why, why
     with pytest.raises(ValueError, match="name the same file"):
         carom.sweep(tmp_path / "results.csv", tmp_path)
+    mpi = mpi_sweep(cli, "plan.toml", "-o", "out", "--html", "plan.toml", cwd=tmp_path)
+    assert mpi is None or (mpi.returncode == 2 and b"name the same file" in mpi.stderr)
     assert (tmp_path / "results.csv").read_bytes() == plan.read_bytes()
     assert {p: p.read_bytes() for p in [plan, *out.rglob("*")] if p.is_file()} == before
 
@@ -415,6 +425,8 @@ def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     assert "another sweep is running in" in why, why
     with pytest.raises(ValueError, match="another sweep is running in"):
         carom.sweep(plan, out)
+    mpi = mpi_sweep(cli, plan, "-o", out, "-q")
+    assert mpi is None or (mpi.returncode == 2 and b"another sweep is running in" in mpi.stderr)
     assert sorted(p.name for p in out.iterdir()) == ["sweep.lock"]
     holder.kill()
     holder.wait()

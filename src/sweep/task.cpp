@@ -294,10 +294,12 @@ std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask&
 
 // Refuses a sweep one of whose outputs is one of its inputs or another of its own files, however
 // the paths are spelled (./, .., symbolic or hard links: same_file, as carom run checks its
-// files): the report page must not be the plan, a start file, a table, a lock or any task's file,
-// and no file the sweep writes (the tables, the locks, the tasks' files) may be the plan or a
-// start file. The page's folder must be writable; the tables must not be folders.
-void check_apart(const SweepPlan& plan, const std::string& out_dir, const std::string& page) {
+// files): the report page must not be the plan, a start file, a table, a lock or any task's file
+// or folder, and no file the sweep writes (the tables, the locks, the tasks' files) may be the
+// plan or a start file. The page's folder must be writable; the tables and the page must not be
+// folders. `named_page`: the page is --html's, not the sweep folder's own.
+void check_apart(const SweepPlan& plan, const std::string& out_dir, const std::string& page,
+                 bool named_page) {
   const fs::path dir(out_dir);
   std::vector<SweepFile> inputs = {{"the plan", plan.name()}};
   for (const SweepTask& task : plan.tasks()) {
@@ -310,13 +312,15 @@ void check_apart(const SweepPlan& plan, const std::string& out_dir, const std::s
   const std::vector<SweepFile> tables = {{"results.csv", (dir / "results.csv").string()},
                                          {"summary.csv", (dir / "summary.csv").string()},
                                          {"the sweep's lock", (dir / kSweepLock).string()}};
-  const auto refuse = [](const SweepFile& output, const SweepFile& other) {
-    throw RequestError(fmt::format("{} ({}) and {} ({}) name the same file: the sweep would "
-                                   "overwrite {}; give another {}",
-                                   output.what, output.path, other.what, other.path, other.what,
-                                   output.what.starts_with("the report") ? "--html" : "-o"));
+  // Named as carom run names its clashing files; the page given by --html is moved by it, any
+  // other file by another folder.
+  const SweepFile report{named_page ? "--html" : "the report page", page};
+  const auto refuse = [&](const SweepFile& output, const SweepFile& other) {
+    throw RequestError(fmt::format(
+        "{} and {} name the same file ({} and {}): the sweep would overwrite {}; give another {}",
+        output.what, other.what, output.path, other.path, other.what,
+        named_page && &output == &report ? "--html" : "-o"));
   };
-  const SweepFile report{"the report (--html)", page};
   for (const std::string& path : {tables[0].path, tables[1].path, page}) {
     if (fs::is_directory(path)) {
       throw RequestError(fmt::format("cannot write {}: it is a folder", path));
@@ -428,7 +432,7 @@ void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir,
                         const std::string& report) {
   check_folder_can_be_written(out_dir);
   const std::string page = report.empty() ? (fs::path(out_dir) / kReportPage).string() : report;
-  check_apart(plan, out_dir, page);
+  check_apart(plan, out_dir, page, !report.empty());
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
     const fs::path folder = task_folder(plan, i, out_dir);
     const fs::path commands = folder / task_files::kCommands;
