@@ -36,8 +36,11 @@ Running the same command again skips the tasks that are done and continues the o
 checkpoints: a sweep killed by a batch system's time limit is continued by resubmitting it.
 SIGINT or SIGTERM saves every running task and stops. Under mpirun (or srun), rank 0 hands the
 tasks out one at a time to the other ranks: mpirun -n 17 carom sweep runs 16 tasks at a time.
+A second sweep in a folder one is running in is refused (DIR/sweep.lock), as are outputs that
+would overwrite an input or another of the sweep's files (--html PLAN, say).
 Exit status: 0 every task done; 100 + K when K tasks failed (their errors are in results.csv);
-2 a bad plan (nothing ran); 128 + N stopped by signal N.
+2 a bad plan or option, a refused output or a busy folder (nothing ran); 128 + N stopped by
+signal N.
 
 Example (eos.toml):
   [start]

@@ -15,7 +15,7 @@ std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_
                                   const SweepHooks& hooks, const std::string& report) {
   check_sweep_folder(plan, out_dir, report);
   std::filesystem::create_directories(out_dir);
-  const HeldLock lock = lock_sweep_folder(out_dir);
+  const HeldLock folder_lock = lock_sweep_folder(out_dir);
   std::vector<TaskResult> results = read_task_results(plan, out_dir);
   std::vector<std::size_t> waiting;
   for (std::size_t i = 0; i < results.size(); ++i) {

@@ -213,12 +213,12 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
   std::string text = plan.text();
   int go_on = 1;
   // Rank 0 holds the sweep's lock from its checks to its last table, as run_sweep does.
-  std::optional<HeldLock> lock;
+  std::optional<HeldLock> folder_lock;
   if (outcome.rank == 0) {
     try {
       check_sweep_folder(plan, out_dir, report);
       std::filesystem::create_directories(out_dir);
-      lock = lock_sweep_folder(out_dir);
+      folder_lock = lock_sweep_folder(out_dir);
     } catch (...) {
       go_on = 0;
       broadcast(text, go_on);
