@@ -11,8 +11,10 @@
 //
 // A task is exactly the commands task_commands() prints (carom init, then carom run or carom
 // compress), whatever runs it: its files are theirs, bit for bit. Tasks are resumable: a task
-// whose summary is in its folder is done; one with a checkpoint continues it; any other starts
-// over. Where a task runs, or on how many workers, changes nothing in what it writes.
+// whose summary is in its folder is finished (done, or failed as a compression that jammed short
+// of its target); one with a checkpoint continues it; any other starts over. Where a task runs,
+// or on how many workers, changes nothing in what it writes; a lock keeps any two runners from
+// one task (task.lock) and any two sweeps from one folder (sweep.lock).
 #pragma once
 
 #include <atomic>
