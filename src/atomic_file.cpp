@@ -72,7 +72,8 @@ AtomicFile::~AtomicFile() {
 }
 
 bool AtomicFile::is_temporary_of(std::string_view name, std::string_view target) {
-  const std::string_view marker = kTemporarySuffix.substr(0, kTemporarySuffix.size() - kRandomLetters);
+  const std::string_view marker =
+      kTemporarySuffix.substr(0, kTemporarySuffix.size() - kRandomLetters);
   if (name.size() != target.size() + kTemporarySuffix.size() || !name.starts_with(target) ||
       name.substr(target.size(), marker.size()) != marker) {
     return false;

@@ -518,17 +518,18 @@ def _file_name(name, value):
     return _os.fspath(value)
 
 
-def _sweep_task(text, name, folder, out_dir, index, sweep):
+def _sweep_task(text, name, folder, out_dir, index, sweep_id):
     """One task of carom.sweep, on a Dask worker: the plan parsed again from its text (a worker
     needs to see out_dir, not the plan's file), then the task run, or continued from what an
-    earlier attempt left, until done or until _stop_sweep_tasks(sweep). Returns (status, error)."""
-    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir, sweep)
+    earlier attempt left, until done or until _stop_sweep_tasks(sweep_id). Returns (status,
+    error)."""
+    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir, sweep_id)
 
 
-def _stop_sweep_tasks(sweep):
-    """On a Dask worker: stops the tasks of the sweep whose token is `sweep`, running or to come
-    (each saves its checkpoint)."""
-    _carom.stop_tasks(sweep)
+def _stop_sweep_tasks(sweep_id):
+    """On a Dask worker: stops the tasks of the sweep `sweep_id`, running or to come (each saves
+    its checkpoint)."""
+    _carom.stop_tasks(sweep_id)
 
 
 def _typed(text, kind):
@@ -631,8 +632,8 @@ def sweep(plan, out_dir, client=None):
 
 def _run_tasks(client, plan, out_dir, indices):
     """The tasks `indices` of plan on client's workers, until every one has returned."""
-    sweep = _uuid.uuid4().hex
-    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i, sweep,
+    sweep_id = _uuid.uuid4().hex
+    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i, sweep_id,
                              pure=False) for i in indices]
     try:
         client.gather(futures)
@@ -641,7 +642,7 @@ def _run_tasks(client, plan, out_dir, indices):
         # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
         # left queued on a client that outlives the sweep, and the sweep returns once every task
         # has let go of its folder: a sweep run again at once finds them free.
-        client.run(_stop_sweep_tasks, sweep)
+        client.run(_stop_sweep_tasks, sweep_id)
         client.cancel(futures)
         _carom.wait_for_tasks(plan, out_dir, indices)
         raise

@@ -95,9 +95,9 @@ class SweepStops {
 // Off the main thread (a Dask worker's) no signal is ever seen: there the sweep's token stops it
 // (SweepStops).
 TaskResult run_task_interruptibly(const SweepPlan& plan, std::size_t index,
-                                  const std::string& out_dir, const std::string& sweep) {
+                                  const std::string& out_dir, const std::string& sweep_id) {
   std::atomic<int> stop{0};
-  const SweepStops::Registration registration(sweep, stop);
+  const SweepStops::Registration registration(sweep_id, stop);
   TaskHooks hooks;
   hooks.stop = &stop;
   std::packaged_task<TaskResult()> work([&] { return run_task(plan, index, out_dir, hooks); });
@@ -188,19 +188,20 @@ void export_sweep(py::module_& m) {
                              })
       .def_readonly("wall_seconds", &TaskResult::wall_seconds);
 
-  // (status, error): what a Dask task sends back, plain Python that pickles. `sweep`: the token
-  // stop_tasks stops it by ("" for none).
+  // (status, error): what a Dask task sends back, plain Python that pickles. `sweep_id`: the
+  // token stop_tasks stops it by ("" for none).
   m.def(
       "run_task",
       [](const SweepPlan& plan, std::size_t index, const std::string& out_dir,
-         const std::string& sweep) {
-        const TaskResult result = run_task_interruptibly(plan, index, out_dir, sweep);
+         const std::string& sweep_id) {
+        const TaskResult result = run_task_interruptibly(plan, index, out_dir, sweep_id);
         return std::make_pair(std::string(status_name(result.status)), result.error);
       },
-      "plan"_a, "index"_a, "out_dir"_a, "sweep"_a = "");
+      "plan"_a, "index"_a, "out_dir"_a, "sweep_id"_a = "");
   m.def(
-      "stop_tasks", [](const std::string& sweep) { SweepStops::of_this_process().stop(sweep); },
-      "sweep"_a);
+      "stop_tasks",
+      [](const std::string& sweep_id) { SweepStops::of_this_process().stop(sweep_id); },
+      "sweep_id"_a);
   m.def("wait_for_tasks", &wait_for_tasks, "plan"_a, "out_dir"_a, "indices"_a);
   py::class_<HeldLock>(m, "HeldLock")
       .def("release", &HeldLock::release)

@@ -61,7 +61,9 @@ HeldLock& HeldLock::operator=(HeldLock&& other) noexcept {
   return *this;
 }
 
-HeldLock::~HeldLock() { release(); }
+HeldLock::~HeldLock() {
+  release();
+}
 
 void HeldLock::release() {
   if (fd_ < 0) return;

@@ -3,12 +3,11 @@
 #include <fmt/format.h>
 #include <mpi.h>
 
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <thread>
@@ -70,12 +69,10 @@ std::string encode(const Report& report) {
     // NaN (not measured) has no json number: null stands for it.
     measures.push_back({name, std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value)});
   }
-  return nlohmann::json{{"task", report.task},
-                        {"status", static_cast<int>(report.result.status)},
-                        {"error", report.result.error},
-                        {"dimension", report.result.dimension},
-                        {"measures", measures},
-                        {"wall_seconds", report.result.wall_seconds}}
+  return nlohmann::json{
+      {"task", report.task},          {"status", static_cast<int>(report.result.status)},
+      {"error", report.result.error}, {"dimension", report.result.dimension},
+      {"measures", measures},         {"wall_seconds", report.result.wall_seconds}}
       .dump();
 }
 
@@ -170,8 +167,7 @@ void work(const SweepPlan& plan, const std::string& out_dir, const SweepHooks& h
     if (task == kNoMoreTasks) return;
     last.task = task;
     try {
-      last.result =
-          run_task(plan, static_cast<std::size_t>(task), out_dir, {hooks.stop, nullptr});
+      last.result = run_task(plan, static_cast<std::size_t>(task), out_dir, {hooks.stop, nullptr});
     } catch (const std::exception& e) {
       last.result = TaskResult::with(TaskStatus::failed, e.what());
     }

@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -219,9 +219,9 @@ fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string
 // (AtomicFile's FILE.tmp.XXXXXX): those and nothing else, so that a dump the plan names
 // "run.tmp.xyz" is the user's and stays.
 void remove_leftovers(const fs::path& folder) {
-  constexpr std::array kWrittenWhole = {task_files::kCommands,   task_files::kStart,
-                                        task_files::kSummary,    task_files::kCheckpoint,
-                                        task_files::kPacking,    task_files::kError};
+  constexpr std::array kWrittenWhole = {task_files::kCommands, task_files::kStart,
+                                        task_files::kSummary,  task_files::kCheckpoint,
+                                        task_files::kPacking,  task_files::kError};
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
     if (std::any_of(kWrittenWhole.begin(), kWrittenWhole.end(), [&](const char* target) {
@@ -241,9 +241,9 @@ void check_folder_can_be_written(const std::string& out_dir) {
     existing = existing.parent_path();
   }
   if (!fs::is_directory(existing, error)) {
-    throw RequestError(fmt::format(
-        "cannot make the sweep's folder {} (-o): {} is a file, not a folder", out_dir,
-        existing.string()));
+    throw RequestError(
+        fmt::format("cannot make the sweep's folder {} (-o): {} is a file, not a folder", out_dir,
+                    existing.string()));
   }
   if (::access(existing.c_str(), W_OK) != 0) {
     throw RequestError(fmt::format("cannot write the sweep's folder {} (-o): {}: {}", out_dir,
@@ -262,8 +262,8 @@ std::optional<std::string> start_file(const SweepPlan& plan, const SweepTask& ta
   for (const PlanSetting& s : task.start) {
     if (s.key != "file" || !std::holds_alternative<std::string>(s.value)) continue;
     std::string path = (fs::path(plan.folder()) / std::get<std::string>(s.value)).string();
-    if (const auto colon = path.rfind(':');
-        colon != std::string::npos && !fs::exists(path) && path.substr(0, colon).ends_with(".gsd")) {
+    if (const auto colon = path.rfind(':'); colon != std::string::npos && !fs::exists(path) &&
+                                            path.substr(0, colon).ends_with(".gsd")) {
       path.resize(colon);
     }
     return path;
@@ -275,8 +275,8 @@ std::optional<std::string> start_file(const SweepPlan& plan, const SweepTask& ta
 // and event log the plan names.
 std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask& task,
                                          bool reads_a_start_file) {
-  std::vector<std::string> names = {task_files::kCommands, task_files::kSummary,
-                                    task_files::kError, task_files::kLock};
+  std::vector<std::string> names = {task_files::kCommands, task_files::kSummary, task_files::kError,
+                                    task_files::kLock};
   if (!reads_a_start_file) names.emplace_back(task_files::kStart);
   if (plan.kind() == TaskKind::compress) {
     names.emplace_back(task_files::kPacking);
@@ -363,7 +363,8 @@ void check_apart(const SweepPlan& plan, const std::string& out_dir, const std::s
     if (fs::path(page).filename() == task.name && same_file(folder.path, page)) {
       refuse(report, folder);
     }
-    for (const std::string& name : task_file_names(plan, task, start_file(plan, task).has_value())) {
+    for (const std::string& name :
+         task_file_names(plan, task, start_file(plan, task).has_value())) {
       const SweepFile own{fmt::format("task {}'s {}", task.name, name),
                           (fs::path(folder.path) / name).string()};
       struct stat info {};
