@@ -333,6 +333,16 @@ TEST(SweepTask, AResumedTaskRemovesOnlyCaromsOwnTemporaries) {
   EXPECT_TRUE(read(piece / "run.tmp.xyz") ==
               read(fs::path(folder / "whole") / plan.tasks()[1].name / "run.tmp.xyz"))
       << "the dump lost its frames";
+  // A dump may not take the name of carom's own file or of its temporary: what a resumed task
+  // removes is never the user's.
+  for (const char* name : {"task.lock", "checkpoint.ckpt.tmp.Ab9xYz"}) {
+    std::string own = kSmallPlan;
+    own.replace(own.find("end_time = 2"), 12,
+                fmt::format("end_time = 2\ndump = \"{}\"\nevery = 1", name));
+    EXPECT_NE(refusal(own).find(fmt::format("plan.toml:6: [run] dump: {}", name)),
+              std::string::npos)
+        << refusal(own);
+  }
 }
 
 // Stopped inside its measurement window, a task continues the window its checkpoint holds.

@@ -17,6 +17,7 @@
 // one task (task.lock) and any two sweeps from one folder (sweep.lock).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -93,6 +94,10 @@ inline constexpr const char* kCheckpoint = "checkpoint.ckpt";  // a run's state
 inline constexpr const char* kPacking = "packing.txt";         // a compression's packing
 inline constexpr const char* kError = "error.txt";             // why the task failed
 inline constexpr const char* kLock = "task.lock";              // held while the task runs
+// All of them: a plan's dump or event log may take none of these names, nor that of a temporary
+// file of one (AtomicFile::is_temporary_of), which a resumed task removes.
+inline constexpr std::array kOwn = {kCommands,   kStart,   kSummary, kLog,
+                                    kCheckpoint, kPacking, kError,   kLock};
 }  // namespace task_files
 
 // In a sweep's folder: held while a sweep runs there.
