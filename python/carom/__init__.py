@@ -642,7 +642,9 @@ def _run_tasks(client, plan, out_dir, indices):
         # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
         # left queued on a client that outlives the sweep, and the sweep returns once every task
         # has let go of its folder: a sweep run again at once finds them free.
-        client.run(_stop_sweep_tasks, sweep_id)
+        # A worker that cannot be reached (dead, restarting) is skipped: the wait below still
+        # waits for any task it holds.
+        client.run(_stop_sweep_tasks, sweep_id, on_error="ignore")
         client.cancel(futures)
         _carom.wait_for_tasks(plan, out_dir, indices)
         raise
