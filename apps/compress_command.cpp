@@ -124,12 +124,7 @@ void compress_command(CompressArguments args) {
         "(--unit-diameter rescales it to 1, the box with it)\n",
         particles, s.grown_diameter);
   }
-  if (s.target && s.status == "jammed") {
-    throw std::runtime_error(fmt::format(
-        "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
-        "packing is in {}",
-        particles, s.packing_fraction, s.compressibility_factor, *s.target, where));
-  }
+  if (const std::optional<std::string> why = shortfall(s, where)) throw std::runtime_error(*why);
 }
 
 }  // namespace carom::cli

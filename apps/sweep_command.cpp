@@ -7,7 +7,6 @@
 #include <iostream>
 #include <thread>
 
-#include "carom/atomic_file.hpp"
 #include "carom/sweep.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
@@ -37,8 +36,11 @@ Running the same command again skips the tasks that are done and continues the o
 checkpoints: a sweep killed by a batch system's time limit is continued by resubmitting it.
 SIGINT or SIGTERM saves every running task and stops. Under mpirun (or srun), rank 0 hands the
 tasks out one at a time to the other ranks: mpirun -n 17 carom sweep runs 16 tasks at a time.
+A second sweep in a folder one is running in is refused (DIR/sweep.lock), as are outputs that
+would overwrite an input or another of the sweep's files (--html PLAN, say).
 Exit status: 0 every task done; 100 + K when K tasks failed (their errors are in results.csv);
-2 a bad plan (nothing ran); 128 + N stopped by signal N.
+2 a bad plan or option, a refused output or a busy folder (nothing ran); 128 + N stopped by
+signal N.
 
 Example (eos.toml):
   [start]
@@ -98,12 +100,7 @@ std::string status_text(const SweepProgress& p) {
 int finish(const SweepArguments& args, const SweepPlan& plan, const std::string& folder,
            const std::vector<TaskResult>& results, double seconds) {
   const std::string page =
-      args.html.empty() ? (std::filesystem::path(folder) / "report.html").string() : args.html;
-  {
-    AtomicFile report(page);
-    write_sweep_report(report.stream(), plan, results);
-    report.commit();
-  }
+      args.html.empty() ? (std::filesystem::path(folder) / kReportPage).string() : args.html;
   std::size_t done = 0, failed = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done) ++done;
@@ -178,7 +175,7 @@ int sweep_command(const SweepArguments& args) {
   };
   if (launched_by_mpi_launcher()) {
 #ifdef CAROM_HAVE_MPI
-    const MpiSweepOutcome outcome = run_sweep_mpi(plan, folder, jobs, hooks);
+    const MpiSweepOutcome outcome = run_sweep_mpi(plan, folder, jobs, hooks, args.html);
     if (outcome.rank != 0) return 0;
     return finish(args, plan, folder, outcome.results, line.elapsed());
 #else
@@ -188,7 +185,7 @@ int sweep_command(const SweepArguments& args) {
         "MPI is installed (Debian: libopenmpi-dev openmpi-bin)");
 #endif
   }
-  const std::vector<TaskResult> results = run_sweep(plan, folder, jobs, hooks);
+  const std::vector<TaskResult> results = run_sweep(plan, folder, jobs, hooks, args.html);
   return finish(args, plan, folder, results, line.elapsed());
 }
 

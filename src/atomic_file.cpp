@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -17,6 +18,10 @@ namespace carom {
 namespace {
 
 namespace fs = std::filesystem;
+
+// What mkstemp replaces with six letters or digits: the temporary is TARGET + this.
+constexpr std::string_view kTemporarySuffix = ".tmp.XXXXXX";
+constexpr std::size_t kRandomLetters = 6;
 
 [[noreturn]] void fail(const std::string& what, const std::string& path) {
   throw std::runtime_error(fmt::format("{} '{}': {}", what, path, std::strerror(errno)));
@@ -38,7 +43,7 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)) {
     if (!stream_) fail("cannot open", path_);
     return;
   }
-  std::string pattern = path_ + ".tmp.XXXXXX";
+  std::string pattern = path_ + std::string(kTemporarySuffix);
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   const int fd = ::mkstemp(name.data());
@@ -64,6 +69,19 @@ AtomicFile::~AtomicFile() {
     stream_.close();
     std::remove(temporary_.c_str());
   }
+}
+
+bool AtomicFile::is_temporary_of(std::string_view name, std::string_view target) {
+  const std::string_view marker =
+      kTemporarySuffix.substr(0, kTemporarySuffix.size() - kRandomLetters);
+  if (name.size() != target.size() + kTemporarySuffix.size() || !name.starts_with(target) ||
+      name.substr(target.size(), marker.size()) != marker) {
+    return false;
+  }
+  const std::string_view letters = name.substr(name.size() - kRandomLetters);
+  return std::all_of(letters.begin(), letters.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+  });
 }
 
 void AtomicFile::commit() {

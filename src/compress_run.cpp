@@ -83,6 +83,15 @@ void write_json(std::ostream& out, const CompressionSummary& s) {
   out << json.dump(2) << '\n';
 }
 
+std::optional<std::string> shortfall(const CompressionSummary& s, const std::string& packing) {
+  if (!s.target || s.status != "jammed") return std::nullopt;
+  return fmt::format(
+      "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
+      "packing is in {}",
+      s.dimension == 2 ? "disks" : "spheres", s.packing_fraction, s.compressibility_factor,
+      *s.target, packing);
+}
+
 CompressionResult compress(AnySystem start, const CompressionSpec& spec,
                            const CompressionHooks& hooks) {
   return std::visit([&](auto& system) { return compress_system(std::move(system), spec, hooks); },

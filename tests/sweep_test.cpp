@@ -2,13 +2,16 @@
 // their commands, resumable tasks and the tables.
 #include "carom/sweep.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <thread>
 
 namespace carom {
 namespace {
@@ -303,6 +306,45 @@ TEST(SweepTask, AStoppedTaskContinuesFromItsCheckpointToTheSameFiles) {
             read_task_results(plan, folder / "whole")[1].measures);
 }
 
+// Only carom's own temporaries are leftovers: a dump named "run.tmp.xyz" and a user's note whose
+// names hold ".tmp." stay when a stopped task goes on.
+TEST(SweepTask, AResumedTaskRemovesOnlyCaromsOwnTemporaries) {
+  const Folder folder;
+  std::string text = kSmallPlan;
+  text.replace(text.find("n = 16"), 6, "n = 1000");  // progress is told every 4096 events
+  text.replace(text.find("end_time = 2"), 12, "end_time = 10\ndump = \"run.tmp.xyz\"\nevery = 1");
+  const SweepPlan plan = parse(text);
+  ASSERT_EQ(run_task(plan, 1, folder / "whole").status, TaskStatus::done);
+  std::atomic<int> stop{0};
+  const TaskHooks halfway{&stop, [&](double fraction) {
+                            if (fraction > 0.5) stop = 15;
+                          }};
+  ASSERT_EQ(run_task(plan, 1, folder / "pieces", halfway).status, TaskStatus::stopped);
+  const fs::path piece = fs::path(folder / "pieces") / plan.tasks()[1].name;
+  ASSERT_TRUE(fs::exists(piece / "run.tmp.xyz"));
+  std::ofstream(piece / "notes.tmp.txt") << "mine";
+  std::ofstream(piece / "checkpoint.ckpt.tmp.Ab9xYz") << "{";
+  std::ofstream(piece / "checkpoint.ckpt.tmp.Ab9xYz.old") << "mine too";
+  const TaskResult resumed = run_task(plan, 1, folder / "pieces");
+  ASSERT_EQ(resumed.status, TaskStatus::done) << resumed.error;
+  EXPECT_FALSE(fs::exists(piece / "checkpoint.ckpt.tmp.Ab9xYz"));
+  EXPECT_EQ(read(piece / "notes.tmp.txt"), "mine");
+  EXPECT_EQ(read(piece / "checkpoint.ckpt.tmp.Ab9xYz.old"), "mine too");
+  EXPECT_TRUE(read(piece / "run.tmp.xyz") ==
+              read(fs::path(folder / "whole") / plan.tasks()[1].name / "run.tmp.xyz"))
+      << "the dump lost its frames";
+  // A dump may not take the name of carom's own file or of its temporary: what a resumed task
+  // removes is never the user's.
+  for (const char* name : {"task.lock", "checkpoint.ckpt.tmp.Ab9xYz"}) {
+    std::string own = kSmallPlan;
+    own.replace(own.find("end_time = 2"), 12,
+                fmt::format("end_time = 2\ndump = \"{}\"\nevery = 1", name));
+    EXPECT_NE(refusal(own).find(fmt::format("plan.toml:6: [run] dump: {}", name)),
+              std::string::npos)
+        << refusal(own);
+  }
+}
+
 // Stopped inside its measurement window, a task continues the window its checkpoint holds.
 TEST(SweepTask, AStoppedTaskContinuesItsMeasurementWindow) {
   const Folder folder;
@@ -360,6 +402,77 @@ phi = [0.2, 0.7]
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
   EXPECT_NE(table.find("\n0.7,failed,,,,,,,,random placement jammed"), std::string::npos) << table;
+}
+
+// As carom compress exits 1 for it, a compression that jams before its target is a failed task,
+// its packing and summary kept, the command's own error in results.csv; run again, it stays so.
+TEST(SweepTask, ACompressionThatJamsShortOfItsTargetFails) {
+  const Folder folder;
+  const SweepPlan plan = parse(R"([start]
+n = 64
+phi = 0.3
+polydispersity = 0.2
+boundary = "periodic"
+[compress]
+phi = 0.8
+[sweep]
+rate = [0.1, 1000]
+)");
+  const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
+  EXPECT_EQ(results[0].status, TaskStatus::done) << results[0].error;
+  ASSERT_EQ(results[1].status, TaskStatus::failed);
+  const fs::path task = fs::path(folder / "out") / plan.tasks()[1].name;
+  // carom compress's message, naming the task's packing.
+  const std::string& why = results[1].error;
+  EXPECT_TRUE(why.starts_with("the disks jammed at packing fraction ")) << why;
+  EXPECT_TRUE(why.ends_with(" before reaching 0.8; the jammed packing is in " +
+                            (task / "packing.txt").string()))
+      << why;
+  EXPECT_LT(results[1].measure("packing_fraction"), 0.8);
+  EXPECT_TRUE(fs::exists(task / "packing.txt"));
+  EXPECT_TRUE(fs::exists(task / "summary.json"));
+  EXPECT_EQ(read(task / "error.txt"), results[1].error + "\n");
+  const auto written = fs::last_write_time(task / "summary.json");
+  const std::vector<TaskResult> again = run_sweep(plan, folder / "out", 1);
+  EXPECT_EQ(fs::last_write_time(task / "summary.json"), written);
+  EXPECT_EQ(again[1].status, TaskStatus::failed);
+  EXPECT_EQ(again[1].error, results[1].error);
+  EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
+  const std::string table = read(fs::path(folder / "out") / "results.csv");
+  EXPECT_NE(table.find("\n1000,failed,"), std::string::npos) << table;
+}
+
+// A task whose lock another holds (a worker of an earlier sweep still at it) is not touched
+// until it is let go; a folder another sweep holds is refused.
+TEST(SweepTask, ATaskOrSweepAnotherHoldsIsLeftAlone) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  const fs::path task = fs::path(folder / "out") / plan.tasks()[0].name;
+  fs::create_directories(task);
+  std::optional<HeldLock> held = HeldLock::try_take((task / "task.lock").string());
+  ASSERT_TRUE(held);
+  // The lock is the open file's, not the process's: a thread of this one is kept out too.
+  EXPECT_FALSE(HeldLock::try_take((task / "task.lock").string()));
+  const std::atomic<int> stop{15};
+  EXPECT_EQ(run_task(plan, 0, folder / "out", {&stop, nullptr}).status, TaskStatus::stopped);
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(task)) names.push_back(entry.path().filename());
+  EXPECT_EQ(names, std::vector<std::string>{"task.lock"});
+  TaskResult waited;
+  std::thread waiter([&] { waited = run_task(plan, 0, folder / "out"); });
+  held->release();
+  waiter.join();
+  EXPECT_EQ(waited.status, TaskStatus::done) << waited.error;
+
+  const HeldLock sweep = lock_sweep_folder(folder / "out");
+  try {
+    run_sweep(plan, folder / "out", 1);
+    ADD_FAILURE() << "a second sweep ran in a held folder";
+  } catch (const RequestError& e) {
+    EXPECT_NE(std::string(e.what()).find("another sweep is running in"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find(fmt::format("pid {} on ", ::getpid())), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(SweepTables, ResultsKeepFullPrecisionAndSummariesAverageOverSeeds) {

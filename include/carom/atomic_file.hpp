@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <string>
+#include <string_view>
 
 namespace carom {
 
@@ -21,6 +22,11 @@ class AtomicFile {
   std::ostream& stream() { return stream_; }
   // Flushes, syncs and renames the file into place; throws std::runtime_error on failure.
   void commit();
+
+  // Whether `name` is the name of a temporary file an AtomicFile of `target` (a file name, no
+  // folder) made: TARGET.tmp.XXXXXX, the X's mkstemp's letters and digits. Only such a file may
+  // be deleted as a leftover of a killed write: a user's "run.tmp.xyz" is not one.
+  static bool is_temporary_of(std::string_view name, std::string_view target);
 
  private:
   std::string path_;

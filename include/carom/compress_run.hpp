@@ -45,6 +45,12 @@ struct CompressionSummary {
 // The json of `carom compress --summary` (and of carom.compress's summary).
 void write_json(std::ostream& out, const CompressionSummary& summary);
 
+// Why a compression that jammed before its target failed ("the disks jammed at packing fraction
+// 0.84 (Z = 1e+09) before reaching 0.9; the jammed packing is in OUT"), `packing` naming where
+// its packing is; nothing when it did not fall short. `carom compress` exits 1 with it, and a
+// sweep's compression fails with it.
+std::optional<std::string> shortfall(const CompressionSummary& summary, const std::string& packing);
+
 struct CompressionProgress {
   double packing_fraction = 0.0, compressibility_factor = 0.0, time = 0.0;
   std::uint64_t events = 0;

@@ -22,9 +22,11 @@ struct MpiSweepOutcome {
 // Every rank calls this with the same plan (rank 0's is the one run: its text is sent to the
 // others) and out_dir. Initialises and finalises MPI. With one rank, runs the sweep on `jobs`
 // threads (run_sweep). hooks.stop stops a rank's running task (its checkpoint saved) and, on
-// rank 0, the handing out; hooks.progress is called on rank 0. Throws on rank 0 what
-// check_sweep_folder throws; the other ranks then return with no results.
+// rank 0, the handing out; hooks.progress is called on rank 0. Rank 0 writes the tables and the
+// report (to `report`, empty for out_dir/report.html) from every task's result as its rank
+// reported it: the same results.csv as run_sweep's. Throws on rank 0 what check_sweep_folder
+// and lock_sweep_folder throw; the other ranks then return with no results.
 MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
-                              const SweepHooks& hooks = {});
+                              const SweepHooks& hooks = {}, const std::string& report = {});
 
 }  // namespace carom

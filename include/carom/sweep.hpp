@@ -11,10 +11,13 @@
 //
 // A task is exactly the commands task_commands() prints (carom init, then carom run or carom
 // compress), whatever runs it: its files are theirs, bit for bit. Tasks are resumable: a task
-// whose summary is in its folder is done; one with a checkpoint continues it; any other starts
-// over. Where a task runs, or on how many workers, changes nothing in what it writes.
+// whose summary is in its folder is finished (done, or failed as a compression that jammed short
+// of its target); one with a checkpoint continues it; any other starts over. Where a task runs,
+// or on how many workers, changes nothing in what it writes; a lock keeps any two runners from
+// one task (task.lock) and any two sweeps from one folder (sweep.lock).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -90,7 +93,49 @@ inline constexpr const char* kLog = "log.csv";           // a run's time series
 inline constexpr const char* kCheckpoint = "checkpoint.ckpt";  // a run's state
 inline constexpr const char* kPacking = "packing.txt";         // a compression's packing
 inline constexpr const char* kError = "error.txt";             // why the task failed
+inline constexpr const char* kLock = "task.lock";              // held while the task runs
+// All of them: a plan's dump or event log may take none of these names, nor that of a temporary
+// file of one (AtomicFile::is_temporary_of), which a resumed task removes.
+inline constexpr std::array kOwn = {kCommands,   kStart,   kSummary, kLog,
+                                    kCheckpoint, kPacking, kError,   kLock};
 }  // namespace task_files
+
+// In a sweep's folder: held while a sweep runs there.
+inline constexpr const char* kSweepLock = "sweep.lock";
+// The sweep's report page, unless another is named.
+inline constexpr const char* kReportPage = "report.html";
+
+// A lock held while the object lives: flock on a lock file, which the OS releases when the
+// holder ends, however it ends (a SIGKILL, a crash; a machine's end where the file system's
+// server gives its locks up, as NFS does), so that no lock outlives its holder. Works across
+// machines where the shared file system keeps flock locks for all of them (NFS, GPFS, BeeGFS
+// with global locks, Lustre mounted with -o flock); on one that keeps none (Lustre's default)
+// taking it throws RequestError, saying so. The file stays (removing it would let two holders
+// lock two files of one name); while held, it says who holds it.
+class HeldLock {
+ public:
+  // Takes the lock of `path` (made if missing), or nothing if another holder has it. Throws
+  // RequestError if the file cannot be made or its file system keeps no locks.
+  static std::optional<HeldLock> try_take(const std::string& path);
+  // Who holds the lock of `path`, as the holder wrote it ("pid 4242 on node7"), "" if unknown.
+  static std::string holder(const std::string& path);
+
+  HeldLock(HeldLock&& other) noexcept;
+  HeldLock& operator=(HeldLock&& other) noexcept;
+  HeldLock(const HeldLock&) = delete;
+  HeldLock& operator=(const HeldLock&) = delete;
+  ~HeldLock();
+  void release();  // before the end of its life
+
+ private:
+  explicit HeldLock(int fd) : fd_(fd) {}
+  int fd_ = -1;
+};
+
+// out_dir's sweep lock (out_dir/sweep.lock), held by whatever runs a sweep there, so that two
+// sweeps never run in one folder at once (a job resubmitted while the first still runs).
+// Throws RequestError naming the holder when another sweep holds it. out_dir must exist.
+HeldLock lock_sweep_folder(const std::string& out_dir);
 
 // The carom commands that do what the task does, alone, with its files in `folder`.
 std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
@@ -131,18 +176,30 @@ struct TaskHooks {
 };
 
 // Runs task `index` of `plan` in out_dir/<task name>/, going on from what an earlier attempt left
-// there (done: read; a checkpoint: continued; else from the start). A task that cannot be done
-// (a state point the options cannot make) is failed, its error in error.txt; a stopped one keeps
-// its checkpoint. Throws RequestError only when the folder holds another task's files.
+// there (finished, its summary there: read; a checkpoint: continued; else from the start). A
+// task that cannot be done (a state point the options cannot make) is failed, its error in
+// error.txt; so is a compression that jams short of its target (its packing and summary kept,
+// as carom compress keeps them when it exits 1); a stopped one keeps its checkpoint. Holds the
+// task's lock (task.lock) while it works: while another holds it (an earlier sweep's Dask worker
+// still at the task), waits for it, stopped by hooks.stop meanwhile. Throws RequestError only
+// when the folder holds another task's files.
 TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string& out_dir,
                     const TaskHooks& hooks = {});
 
-// What the tasks' folders hold now: done, failed (error.txt, no summary) or pending.
+// What the tasks' folders hold now: done (a summary), failed (error.txt and no summary, or a
+// compression's summary that says it jammed short of its target) or pending.
 std::vector<TaskResult> read_task_results(const SweepPlan& plan, const std::string& out_dir);
 
-// Refuses (RequestError) an out_dir whose task folders hold the files of other tasks (their
-// task.txt differs: the plan changed), before anything is written.
-void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir);
+// Refuses (RequestError), before anything is written, a sweep into out_dir that could not
+// finish or would destroy what it reads: an out_dir that cannot be a writable folder (a file,
+// under a file); a task folder that is a file or holds the files of another task (its task.txt
+// differs: the plan changed); a table or a report page that is a folder, or a page whose folder
+// is missing; and an output that is an input or another of the sweep's own files, however spelled
+// (./, .., symbolic or hard links): the report page (`report`, empty for out_dir/report.html)
+// must not be the plan, a start file, a table, a lock or any task's file, and nothing the sweep
+// writes may be the plan or a start file.
+void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir,
+                        const std::string& report = {});
 
 // Throws std::invalid_argument unless `results` has one result for each task of `plan`.
 void check_task_results(const SweepPlan& plan, const std::vector<TaskResult>& results);
@@ -166,10 +223,16 @@ struct SweepHooks {
   std::function<void(const SweepProgress&)> progress;
 };
 
-// Runs every task not yet done on `jobs` threads of this process, then writes the tables.
-// Returns every task's result, in the plan's order.
+// Runs every task not yet done on `jobs` threads of this process, then writes the tables and the
+// report (to `report`, empty for out_dir/report.html). Refuses first what check_sweep_folder
+// refuses, and a folder another sweep runs in (lock_sweep_folder, held to the end). Returns every
+// task's result, in the plan's order.
 std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
-                                  const SweepHooks& hooks = {});
+                                  const SweepHooks& hooks = {}, const std::string& report = {});
+
+// Writes the report of `results` to `report` (empty for out_dir/report.html), whole or not at all.
+void write_sweep_report(const SweepPlan& plan, const std::string& out_dir,
+                        const std::vector<TaskResult>& results, const std::string& report = {});
 
 // The swept observables against the first swept axis other than `seed`, with error bars, and
 // the equation of state of hard disks (Henderson) or spheres (Kolafa, Labik and Malijevsky)

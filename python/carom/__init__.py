@@ -33,6 +33,7 @@ import json as _json
 import math as _math
 import numbers as _numbers
 import os as _os
+import uuid as _uuid
 
 import numpy as _np
 
@@ -527,11 +528,18 @@ def _file_name(name, value):
     return _os.fspath(value)
 
 
-def _sweep_task(text, name, folder, out_dir, index):
+def _sweep_task(text, name, folder, out_dir, index, sweep_id):
     """One task of carom.sweep, on a Dask worker: the plan parsed again from its text (a worker
     needs to see out_dir, not the plan's file), then the task run, or continued from what an
-    earlier attempt left. Returns (status, error)."""
-    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir)
+    earlier attempt left, until done or until _stop_sweep_tasks(sweep_id). Returns (status,
+    error)."""
+    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir, sweep_id)
+
+
+def _stop_sweep_tasks(sweep_id):
+    """On a Dask worker: stops the tasks of the sweep `sweep_id`, running or to come (each saves
+    its checkpoint)."""
+    _carom.stop_tasks(sweep_id)
 
 
 def _typed(text, kind):
@@ -581,7 +589,9 @@ def sweep(plan, out_dir, client=None):
     plan: a plan file (TOML), as `carom sweep` reads it (`carom sweep --help` describes it): a
     [start], a [run] or a [compress], and the [sweep] axes whose every combination is a task. A
     bad plan raises ValueError naming the file, line and key, before anything runs; so does an
-    out_dir whose task folders hold another plan's tasks.
+    out_dir whose task folders hold another plan's tasks, an out_dir that cannot be a folder (a
+    file), an out_dir whose files would overwrite the plan or a start file, and an out_dir
+    another sweep is running in (its sweep.lock held).
 
     Each task not yet done is a Dask task (pure=False) that runs it in out_dir/<task>/ exactly as
     `carom sweep` would, on whatever worker gets it: workers must see out_dir and a start `file`
@@ -591,9 +601,13 @@ def sweep(plan, out_dir, client=None):
     client: a dask.distributed Client; None makes a LocalCluster of one single-threaded worker
     process per core, closed at the end. The tasks are resumable, as
     `carom sweep`'s are: a worker that dies mid-task has the task rerun by Dask elsewhere (the
-    scheduler's allowed-failures), continuing it from its checkpoint; a sweep stopped (Ctrl-C)
-    and called again, by carom.sweep or `carom sweep`, runs only what is not done. A task that
-    fails (a start its options cannot make) raises nothing: its row says status "failed" and why.
+    scheduler's allowed-failures), continuing it from its checkpoint. Ctrl-C stops the sweep's
+    tasks on the workers too (each saves its checkpoint) and raises KeyboardInterrupt once none
+    runs any more; called again, by carom.sweep or `carom sweep`, the sweep runs only what is not
+    done. A task holds its folder's task.lock while it runs, so that no two ever write one task
+    (a task still held, by a worker of an earlier sweep, is waited for). A task that fails (a
+    start its options cannot make, a compression that jams short of its `phi`) raises nothing:
+    its row says status "failed" and why.
 
     Then out_dir/results.csv, summary.csv and report.html are written, as `carom sweep` writes
     them, and results.csv is returned: a pandas DataFrame (a numpy structured array without
@@ -608,29 +622,39 @@ def sweep(plan, out_dir, client=None):
     core = _carom.SweepPlan.read(plan)
     _carom.check_sweep_folder(core, out_dir)
     _os.makedirs(out_dir, exist_ok=True)
-    waiting = [i for i, result in enumerate(_carom.read_task_results(core, out_dir))
-               if result.status != "done"]
-    if waiting:
-        if client is None:
-            with distributed.LocalCluster(n_workers=_os.cpu_count() or 1, threads_per_worker=1,
-                                          processes=True) as cluster, \
-                    distributed.Client(cluster) as own:
-                _run_tasks(own, core, out_dir, waiting)
-        else:
-            _run_tasks(client, core, out_dir, waiting)
-    results = _carom.read_task_results(core, out_dir)
-    _carom.write_sweep_tables(core, out_dir, results)
-    _carom.write_sweep_report(core, results, _os.path.join(out_dir, "report.html"))
+    # No other sweep (carom.sweep, carom sweep or carom_mpi) runs in out_dir meanwhile.
+    with _carom.lock_sweep_folder(out_dir):
+        waiting = [i for i, result in enumerate(_carom.read_task_results(core, out_dir))
+                   if result.status != "done"]
+        if waiting:
+            if client is None:
+                with distributed.LocalCluster(n_workers=_os.cpu_count() or 1,
+                                              threads_per_worker=1, processes=True) as cluster, \
+                        distributed.Client(cluster) as own:
+                    _run_tasks(own, core, out_dir, waiting)
+            else:
+                _run_tasks(client, core, out_dir, waiting)
+        results = _carom.read_task_results(core, out_dir)
+        _carom.write_sweep_tables(core, out_dir, results)
+        _carom.write_sweep_report(core, results, _os.path.join(out_dir, "report.html"))
     return _results_table(core, _os.path.join(out_dir, "results.csv"))
 
 
 def _run_tasks(client, plan, out_dir, indices):
     """The tasks `indices` of plan on client's workers, until every one has returned."""
-    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i,
+    sweep_id = _uuid.uuid4().hex
+    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i, sweep_id,
                              pure=False) for i in indices]
     try:
         client.gather(futures)
     except BaseException:
-        # Stopped (Ctrl-C) or refused: nothing left queued on a client that outlives the sweep.
+        # Stopped (Ctrl-C) or refused. A cancelled future does not stop a task a worker runs, so
+        # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
+        # left queued on a client that outlives the sweep, and the sweep returns once every task
+        # has let go of its folder: a sweep run again at once finds them free.
+        # A worker that cannot be reached (dead, restarting) is skipped: the wait below still
+        # waits for any task it holds.
+        client.run(_stop_sweep_tasks, sweep_id, on_error="ignore")
         client.cancel(futures)
+        _carom.wait_for_tasks(plan, out_dir, indices)
         raise

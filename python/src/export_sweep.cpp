@@ -7,7 +7,12 @@
 
 #include <atomic>
 #include <chrono>
+#include <filesystem>
 #include <future>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
 #include <thread>
 
 #include "carom/atomic_file.hpp"
@@ -38,14 +43,61 @@ py::list points(const SweepPlan& plan) {
   return all;
 }
 
+// The stop flags of the tasks this process runs for a carom.sweep, by the sweep's token.
+// carom.sweep, stopped (Ctrl-C), calls stop_tasks(token) on every Dask worker: a worker's thread
+// cannot be interrupted, and a cancelled future does not stop it, so the flags do. A token once
+// stopped stops the tasks of its sweep that start later too (one already handed to a worker).
+class SweepStops {
+ public:
+  static SweepStops& of_this_process() {
+    static SweepStops stops;
+    return stops;
+  }
+  void stop(const std::string& token) {
+    std::lock_guard lock(mutex_);
+    stopped_.insert(token);
+    for (auto [it, end] = running_.equal_range(token); it != end; ++it) it->second->store(1);
+  }
+
+  // `stop` raised by stop(token) while it lives (at once if the sweep is already stopped).
+  class Registration {
+   public:
+    Registration(const std::string& token, std::atomic<int>& stop) {
+      if (token.empty()) return;
+      SweepStops& stops = of_this_process();
+      std::lock_guard lock(stops.mutex_);
+      if (stops.stopped_.count(token) != 0) stop.store(1);
+      entry_ = stops.running_.emplace(token, &stop);
+    }
+    ~Registration() {
+      if (!entry_) return;
+      SweepStops& stops = of_this_process();
+      std::lock_guard lock(stops.mutex_);
+      stops.running_.erase(*entry_);
+    }
+    Registration(const Registration&) = delete;
+    Registration& operator=(const Registration&) = delete;
+
+   private:
+    std::optional<std::multimap<std::string, std::atomic<int>*>::iterator> entry_;
+  };
+
+ private:
+  std::mutex mutex_;
+  std::multimap<std::string, std::atomic<int>*> running_;
+  std::set<std::string> stopped_;
+};
+
 // Python runs its SIGINT handler only on the main thread, and only while that thread runs
 // Python, which it does not while a task works. So the task works on a thread of its own while
 // this one looks for signals every 50 ms, the GIL released in between; what the handler raises
 // (KeyboardInterrupt) stops the task, its checkpoint saved, and is raised once it has stopped.
-// Off the main thread (a Dask worker's) no signal is ever seen and this only waits.
+// Off the main thread (a Dask worker's) no signal is ever seen: there the sweep's token stops it
+// (SweepStops).
 TaskResult run_task_interruptibly(const SweepPlan& plan, std::size_t index,
-                                  const std::string& out_dir) {
+                                  const std::string& out_dir, const std::string& sweep_id) {
   std::atomic<int> stop{0};
+  const SweepStops::Registration registration(sweep_id, stop);
   TaskHooks hooks;
   hooks.stop = &stop;
   std::packaged_task<TaskResult()> work([&] { return run_task(plan, index, out_dir, hooks); });
@@ -68,6 +120,25 @@ TaskResult run_task_interruptibly(const SweepPlan& plan, std::size_t index,
   }
   join();
   return result.get();
+}
+
+// Waits until no one holds the locks of tasks `indices` (their workers stopped and saved), taking
+// and dropping each; Ctrl-C gives up the wait (KeyboardInterrupt).
+void wait_for_tasks(const SweepPlan& plan, const std::string& out_dir,
+                    const std::vector<std::size_t>& indices) {
+  for (const std::size_t index : indices) {
+    if (index >= plan.tasks().size()) continue;
+    const std::filesystem::path lock =
+        std::filesystem::path(out_dir) / plan.tasks()[index].name / task_files::kLock;
+    if (!std::filesystem::exists(lock)) continue;
+    while (!HeldLock::try_take(lock.string())) {
+      {
+        py::gil_scoped_release release;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    }
+  }
 }
 
 }  // namespace
@@ -117,16 +188,28 @@ void export_sweep(py::module_& m) {
                              })
       .def_readonly("wall_seconds", &TaskResult::wall_seconds);
 
-  // (status, error): what a Dask task sends back, plain Python that pickles.
+  // (status, error): what a Dask task sends back, plain Python that pickles. `sweep_id`: the
+  // token stop_tasks stops it by ("" for none).
   m.def(
       "run_task",
-      [](const SweepPlan& plan, std::size_t index, const std::string& out_dir) {
-        const TaskResult result = run_task_interruptibly(plan, index, out_dir);
+      [](const SweepPlan& plan, std::size_t index, const std::string& out_dir,
+         const std::string& sweep_id) {
+        const TaskResult result = run_task_interruptibly(plan, index, out_dir, sweep_id);
         return std::make_pair(std::string(status_name(result.status)), result.error);
       },
-      "plan"_a, "index"_a, "out_dir"_a);
+      "plan"_a, "index"_a, "out_dir"_a, "sweep_id"_a = "");
+  m.def(
+      "stop_tasks",
+      [](const std::string& sweep_id) { SweepStops::of_this_process().stop(sweep_id); },
+      "sweep_id"_a);
+  m.def("wait_for_tasks", &wait_for_tasks, "plan"_a, "out_dir"_a, "indices"_a);
+  py::class_<HeldLock>(m, "HeldLock")
+      .def("release", &HeldLock::release)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](HeldLock& lock, const py::args&) { lock.release(); });
+  m.def("lock_sweep_folder", &lock_sweep_folder, "out_dir"_a);
   m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
-  m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a);
+  m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a, "report"_a = "");
   m.def("write_sweep_tables", &write_sweep_tables, "plan"_a, "out_dir"_a, "results"_a);
   m.def(
       "write_sweep_report",

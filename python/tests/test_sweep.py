@@ -90,6 +90,22 @@ def sweep_process(cli, plan, out):
                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
 
 
+def has_mpi(cli):
+    """Whether there is an mpirun and carom was built with MPI."""
+    return shutil.which("mpirun") is not None and "sweep: MPI" in cli("--version")
+
+
+def mpi_sweep(cli, *args, cwd=None):
+    """`mpirun -n 3 carom sweep ARGS` run to its end, or None without mpirun or MPI."""
+    if not has_mpi(cli):
+        return None
+    # OpenMPI refuses to run as root unless told it may.
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return subprocess.run([shutil.which("mpirun"), "-n", "3", "--oversubscribe", cli.exe, "sweep",
+                           *[str(a) for a in args]], cwd=cwd, capture_output=True, env=env,
+                          timeout=120)
+
+
 def wait_until(condition, process=None, seconds=60):
     """Polls until condition() holds; fails if the process ends first."""
     deadline = time.monotonic() + seconds
@@ -143,12 +159,8 @@ def test_cli_mpi_and_dask_write_the_same_files(cli, tmp_path, client):
     out = tmp_path / "out"
     cli("sweep", plan, "-o", out, "-q")
     ways = {"carom sweep": contents(set_aside(out, "cli"))}
-    mpirun = shutil.which("mpirun")
-    if mpirun and "sweep: MPI" in cli("--version"):
-        # OpenMPI refuses to run as root unless told it may.
-        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        proc = subprocess.run([mpirun, "-n", "3", "--oversubscribe", cli.exe, "sweep", str(plan),
-                               "-o", str(out), "-q"], capture_output=True, env=env, timeout=120)
+    if has_mpi(cli):
+        proc = mpi_sweep(cli, plan, "-o", out, "-q")
         assert proc.returncode == 0, proc.stderr.decode()
         ways["mpirun -n 3"] = contents(set_aside(out, "mpi"))
     table = carom.sweep(plan, out, client=client)
@@ -357,3 +369,136 @@ def test_bad_arguments_are_refused(tmp_path):
     with pytest.raises(ValueError, match="cannot read the plan"):
         carom.sweep(tmp_path / "missing.toml", tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_sweep_under_mpi_records_what_fails_as_without_it(cli, tmp_path):
+    """A task whose failure never reaches its error.txt (here its error.txt is a folder that
+    cannot be removed) is failed, with the same error and exit code, whatever ran it."""
+    if not has_mpi(cli):
+        pytest.skip("no mpirun, or carom built without MPI")
+    plan = write_plan(tmp_path, **SHORT)
+    for way in ("alone", "mpi"):
+        (tmp_path / way / TASKS[1] / "error.txt" / "x").mkdir(parents=True)
+    alone = subprocess.run([cli.exe, "sweep", str(plan), "-o", "alone", "-q"], cwd=tmp_path,
+                           capture_output=True, timeout=120)
+    mpi = mpi_sweep(cli, plan, "-o", "mpi", "-q", cwd=tmp_path)
+    assert alone.returncode == 101, alone.stderr.decode()
+    assert mpi.returncode == alone.returncode, mpi.stderr.decode()
+    rows = (tmp_path / "alone" / "results.csv").read_text().splitlines()
+    assert rows[2].startswith("0.3,2,failed,") and "error.txt" in rows[2], rows[2]
+    assert (tmp_path / "mpi" / "results.csv").read_text().replace("mpi/", "alone/") \
+        == (tmp_path / "alone" / "results.csv").read_text()
+
+
+def refusal(cli, *args, cwd):
+    """The first line of a command's error (exit 2) run in cwd, after 'carom: error: '."""
+    cli(*args, expect=2, cwd=cwd)
+    first = cli.last_stderr.splitlines()[0]
+    assert first.startswith("carom: error: "), cli.last_stderr
+    return first[len("carom: error: "):]
+
+
+def test_an_output_that_is_an_input_or_the_sweeps_own_file_is_refused(cli, tmp_path):
+    """--html naming the plan, a table or a task's file, however spelled, and an -o whose tables
+    would be the plan: refused (exit 2) before any task runs, nothing overwritten."""
+    plan = write_plan(tmp_path, **SHORT)
+    cli("sweep", "plan.toml", "-o", "out", "-q", cwd=tmp_path)
+    out = tmp_path / "out"
+    before = {p: p.read_bytes() for p in [plan, *out.rglob("*")] if p.is_file()}
+    (tmp_path / "link.html").symlink_to(out / TASKS[0] / "summary.json")
+    os.link(out / "summary.csv", tmp_path / "hard.html")
+    for page in ["plan.toml", "./plan.toml", "out/results.csv", f"out/../out/{TASKS[1]}/log.csv",
+                 f"out/{TASKS[0]}/checkpoint.ckpt", "link.html", "hard.html",
+                 f"out/{TASKS[2]}/task.txt"]:
+        why = refusal(cli, "sweep", "plan.toml", "-o", "out", "--html", page, cwd=tmp_path)
+        assert "name the same file" in why and "--html" in why, why
+    # A plan named as the sweep's table, in the sweep's folder.
+    shutil.copy(plan, tmp_path / "results.csv")
+    why = refusal(cli, "sweep", "results.csv", "-o", ".", cwd=tmp_path)
+    assert "results.csv" in why and "the plan" in why, why
+    with pytest.raises(ValueError, match="name the same file"):
+        carom.sweep(tmp_path / "results.csv", tmp_path)
+    mpi = mpi_sweep(cli, "plan.toml", "-o", "out", "--html", "plan.toml", cwd=tmp_path)
+    assert mpi is None or (mpi.returncode == 2 and b"name the same file" in mpi.stderr)
+    assert (tmp_path / "results.csv").read_bytes() == plan.read_bytes()
+    assert {p: p.read_bytes() for p in [plan, *out.rglob("*")] if p.is_file()} == before
+
+
+def test_output_locations_are_checked_before_any_task_runs(cli, tmp_path):
+    plan = write_plan(tmp_path, **SHORT)
+    (tmp_path / "file").write_text("not a folder")
+    why = cli.error("sweep", plan, "-o", tmp_path / "file")
+    assert "is a file" in why, why
+    why = cli.error("sweep", plan, "-o", tmp_path / "file" / "out")
+    assert "is a file" in why, why
+    with pytest.raises(ValueError, match="is a file"):
+        carom.sweep(plan, tmp_path / "file")
+    why = cli.error("sweep", plan, "-o", tmp_path / "out", "--html", "/nonexistent/r.html")
+    assert "/nonexistent" in why, why
+    assert not (tmp_path / "out").exists()
+    (tmp_path / "out" / "results.csv").mkdir(parents=True)
+    why = cli.error("sweep", plan, "-o", tmp_path / "out")
+    assert "results.csv" in why and "folder" in why, why
+    assert list((tmp_path / "out").iterdir()) == [tmp_path / "out" / "results.csv"]
+    assert (tmp_path / "file").read_text() == "not a folder"
+
+
+def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
+    """Another sweep holds the folder (its sweep.lock): refused before anything runs, however
+    the sweep is run; once the holder has gone (even killed), the folder is free."""
+    import fcntl
+
+    plan = write_plan(tmp_path, **SHORT)
+    out = tmp_path / "out"
+    out.mkdir()
+    holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent("""
+        import fcntl, sys
+        f = open(sys.argv[1], "a")
+        fcntl.flock(f, fcntl.LOCK_EX)
+        print("held", flush=True)
+        sys.stdin.read()
+        """), str(out / "sweep.lock")], stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+    assert holder.stdout.readline() == b"held\n"
+    why = cli.error("sweep", plan, "-o", out, "-q")
+    assert "another sweep is running in" in why, why
+    with pytest.raises(ValueError, match="another sweep is running in"):
+        carom.sweep(plan, out)
+    mpi = mpi_sweep(cli, plan, "-o", out, "-q")
+    assert mpi is None or (mpi.returncode == 2 and b"another sweep is running in" in mpi.stderr)
+    assert sorted(p.name for p in out.iterdir()) == ["sweep.lock"]
+    holder.kill()
+    holder.wait()
+    cli("sweep", plan, "-o", out, "-q")
+    with open(out / "sweep.lock") as f:
+        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free once the sweep has ended
+    assert done(out) == list(TASKS)
+
+
+def test_ctrl_c_stops_the_tasks_on_the_dask_workers(cli, long_sweep, client):
+    """Ctrl-C in carom.sweep: the tasks its workers run stop too (a cancelled future does not stop
+    a worker's thread), so that a sweep run again at once does not write a task together with a
+    worker of the first: it goes on to the same files."""
+    plan, out, reference = long_sweep
+    shutil.rmtree(out, ignore_errors=True)
+    pids = client.run(os.getpid)
+
+    def interrupt_once_tasks_run():
+        deadline = time.monotonic() + 60
+        while len(running(out)) < len(pids) and time.monotonic() < deadline:
+            time.sleep(0.002)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    interrupter = threading.Thread(target=interrupt_once_tasks_run)
+    interrupter.start()
+    with pytest.raises(KeyboardInterrupt):
+        carom.sweep(plan, out, client=client)
+    interrupter.join()
+    stopped = running(out)
+    assert stopped, "no task was caught running"
+    # Every task the workers ran has let go of its folder, and none goes on.
+    import fcntl
+    for task in stopped:
+        with open(out / task / "task.lock") as f:
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    cli("sweep", plan, "-o", out, "-q")
+    assert_same_contents(contents(out), reference, "after Ctrl-C")

@@ -12,9 +12,10 @@
 namespace carom {
 
 std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
-                                  const SweepHooks& hooks) {
-  check_sweep_folder(plan, out_dir);
+                                  const SweepHooks& hooks, const std::string& report) {
+  check_sweep_folder(plan, out_dir, report);
   std::filesystem::create_directories(out_dir);
+  const HeldLock folder_lock = lock_sweep_folder(out_dir);
   std::vector<TaskResult> results = read_task_results(plan, out_dir);
   std::vector<std::size_t> waiting;
   for (std::size_t i = 0; i < results.size(); ++i) {
@@ -65,7 +66,7 @@ std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_
   };
 
   const auto begun = std::chrono::steady_clock::now();
-  const auto report = [&] {
+  const auto tell_progress = [&] {
     if (!hooks.progress) return;
     SweepProgress p;
     {
@@ -93,13 +94,14 @@ std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_
     while (working > 0) {
       changed.wait_for(lock, std::chrono::milliseconds(500));
       lock.unlock();
-      report();
+      tell_progress();
       lock.lock();
     }
   }
   for (std::thread& thread : pool) thread.join();
-  report();
+  tell_progress();
   write_sweep_tables(plan, out_dir, results);
+  write_sweep_report(plan, out_dir, results, report);
   return results;
 }
 

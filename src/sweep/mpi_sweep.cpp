@@ -4,8 +4,11 @@
 #include <mpi.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -13,7 +16,7 @@ namespace carom {
 
 namespace {
 
-constexpr int kAskTag = 1;     // a worker's request for a task: {last task, its status}
+constexpr int kAskTag = 1;     // a worker's request for a task: what came of its last (Report)
 constexpr int kAssignTag = 2;  // rank 0's answer: a task's index, or kNoMoreTasks
 constexpr int kNoMoreTasks = -1;
 // How often rank 0 looks for requests: it sleeps between looks, so that it takes no core from
@@ -50,16 +53,64 @@ void broadcast(std::string& text, int& go_on) {
   MPI_Bcast(text.data(), size, MPI_CHAR, 0, MPI_COMM_WORLD);
 }
 
-void hand_out(const SweepPlan& plan, const std::string& out_dir, int ranks,
-              const SweepHooks& hooks) {
-  const std::vector<TaskResult> before = read_task_results(plan, out_dir);
+// What a worker sends rank 0 when it asks for a task: the task it ran last (kNoMoreTasks before
+// its first) and its whole result, as run_task returned it. Rank 0 keeps these results, as
+// run_sweep keeps its threads', so that results.csv and the exit code are the same whatever ran
+// the tasks: a failure that never reached error.txt (a task folder that cannot be written)
+// included.
+struct Report {
+  int task = kNoMoreTasks;
+  TaskResult result;
+};
+
+std::string encode(const Report& report) {
+  nlohmann::json measures = nlohmann::json::array();
+  for (const auto& [name, value] : report.result.measures) {
+    // NaN (not measured) has no json number: null stands for it.
+    measures.push_back({name, std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value)});
+  }
+  return nlohmann::json{
+      {"task", report.task},          {"status", static_cast<int>(report.result.status)},
+      {"error", report.result.error}, {"dimension", report.result.dimension},
+      {"measures", measures},         {"wall_seconds", report.result.wall_seconds}}
+      .dump();
+}
+
+Report decode(const std::string& text) {
+  const nlohmann::json json = nlohmann::json::parse(text);
+  Report report;
+  report.task = json.at("task").get<int>();
+  report.result.status = static_cast<TaskStatus>(json.at("status").get<int>());
+  report.result.error = json.at("error").get<std::string>();
+  report.result.dimension = json.at("dimension").get<int>();
+  report.result.wall_seconds = json.at("wall_seconds").get<double>();
+  for (const nlohmann::json& measure : json.at("measures")) {
+    report.result.measures.emplace_back(
+        measure[0].get<std::string>(),
+        measure[1].is_null() ? std::nan("") : measure[1].get<double>());
+  }
+  return report;
+}
+
+// Rank 0: hands the tasks not yet done out to the ranks as they ask, until every rank has left;
+// returns every task's result (what its folder held before, or what its worker reported).
+std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_dir, int ranks,
+                                 const SweepHooks& hooks) {
+  std::vector<TaskResult> results = read_task_results(plan, out_dir);
   std::vector<int> waiting;
-  for (std::size_t i = 0; i < before.size(); ++i) {
-    if (before[i].status != TaskStatus::done) waiting.push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    if (results[i].status != TaskStatus::done) waiting.push_back(static_cast<int>(i));
   }
   SweepProgress progress;
-  progress.total = before.size();
-  progress.done = before.size() - waiting.size();
+  progress.total = results.size();
+  const auto count = [&] {
+    progress.done = progress.failed = 0;
+    for (const TaskResult& result : results) {
+      progress.done += result.status == TaskStatus::done ? 1 : 0;
+      progress.failed += result.status == TaskStatus::failed ? 1 : 0;
+    }
+  };
+  count();
   const auto begun = std::chrono::steady_clock::now();
   std::size_t next = 0;
   int workers = ranks - 1;
@@ -80,16 +131,21 @@ void hand_out(const SweepPlan& plan, const std::string& out_dir, int ranks,
       std::this_thread::sleep_for(kPollInterval);
       continue;
     }
-    int last[2];
-    MPI_Recv(last, 2, MPI_INT, status.MPI_SOURCE, kAskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-    if (last[0] >= 0) {
+    int size = 0;
+    MPI_Get_count(&status, MPI_CHAR, &size);
+    std::string text(static_cast<std::size_t>(size), '\0');
+    MPI_Recv(text.data(), size, MPI_CHAR, status.MPI_SOURCE, kAskTag, MPI_COMM_WORLD,
+             MPI_STATUS_IGNORE);
+    Report last = decode(text);
+    // A worker whose task was stopped (a signal) is leaving: it gets no other.
+    bool leaving = false;
+    if (last.task != kNoMoreTasks) {
       --progress.running;
-      if (last[1] == static_cast<int>(TaskStatus::done)) ++progress.done;
-      if (last[1] == static_cast<int>(TaskStatus::failed)) ++progress.failed;
+      leaving = last.result.status == TaskStatus::stopped;
+      results.at(static_cast<std::size_t>(last.task)) = std::move(last.result);
+      count();
     }
     int task = kNoMoreTasks;
-    // A worker whose task was stopped (a signal) is leaving: it gets no other.
-    const bool leaving = last[0] >= 0 && last[1] == static_cast<int>(TaskStatus::stopped);
     if (next < waiting.size() && !stopped(hooks) && !leaving) {
       task = waiting[next++];
       ++progress.running;
@@ -98,23 +154,23 @@ void hand_out(const SweepPlan& plan, const std::string& out_dir, int ranks,
     }
     MPI_Send(&task, 1, MPI_INT, status.MPI_SOURCE, kAssignTag, MPI_COMM_WORLD);
   }
+  return results;
 }
 
 void work(const SweepPlan& plan, const std::string& out_dir, const SweepHooks& hooks) {
-  int last[2] = {kNoMoreTasks, 0};
+  Report last;
   while (true) {
-    MPI_Send(last, 2, MPI_INT, 0, kAskTag, MPI_COMM_WORLD);
+    std::string text = encode(last);
+    MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kAskTag, MPI_COMM_WORLD);
     int task = kNoMoreTasks;
     MPI_Recv(&task, 1, MPI_INT, 0, kAssignTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
     if (task == kNoMoreTasks) return;
-    TaskResult result;
+    last.task = task;
     try {
-      result = run_task(plan, static_cast<std::size_t>(task), out_dir, {hooks.stop, nullptr});
+      last.result = run_task(plan, static_cast<std::size_t>(task), out_dir, {hooks.stop, nullptr});
     } catch (const std::exception& e) {
-      result = TaskResult::with(TaskStatus::failed, e.what());
+      last.result = TaskResult::with(TaskStatus::failed, e.what());
     }
-    last[0] = task;
-    last[1] = static_cast<int>(result.status);
   }
 }
 
@@ -130,7 +186,7 @@ std::string mpi_library_version() {
 }
 
 MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
-                              const SweepHooks& hooks) {
+                              const SweepHooks& hooks, const std::string& report) {
   MpiSession session;
   MpiSweepOutcome outcome;
   MPI_Comm_rank(MPI_COMM_WORLD, &outcome.rank);
@@ -147,15 +203,18 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
             launched, variable, mpi_library_version()));
       }
     }
-    outcome.results = run_sweep(plan, out_dir, jobs, hooks);
+    outcome.results = run_sweep(plan, out_dir, jobs, hooks, report);
     return outcome;
   }
   std::string text = plan.text();
   int go_on = 1;
+  // Rank 0 holds the sweep's lock from its checks to its last table, as run_sweep does.
+  std::optional<HeldLock> folder_lock;
   if (outcome.rank == 0) {
     try {
-      check_sweep_folder(plan, out_dir);
+      check_sweep_folder(plan, out_dir, report);
       std::filesystem::create_directories(out_dir);
+      folder_lock = lock_sweep_folder(out_dir);
     } catch (...) {
       go_on = 0;
       broadcast(text, go_on);
@@ -165,9 +224,9 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
   broadcast(text, go_on);
   if (go_on == 0) return outcome;
   if (outcome.rank == 0) {
-    hand_out(plan, out_dir, outcome.ranks, hooks);
-    outcome.results = read_task_results(plan, out_dir);
+    outcome.results = hand_out(plan, out_dir, outcome.ranks, hooks);
     write_sweep_tables(plan, out_dir, outcome.results);
+    write_sweep_report(plan, out_dir, outcome.results, report);
   } else {
     work(SweepPlan::parse(text, plan.name(), plan.folder()), out_dir, hooks);
   }

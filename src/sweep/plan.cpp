@@ -10,6 +10,7 @@
 #include <set>
 #include <sstream>
 
+#include "carom/atomic_file.hpp"
 #include "carom/names.hpp"
 #include "carom/simulation.hpp"
 #include "sweep/plan_keys.hpp"
@@ -114,12 +115,16 @@ class Reader {
                 node, where, info,
                 "takes a file name, without a folder: the file is written in each task's folder");
           }
-          for (const char* own :
-               {task_files::kCommands, task_files::kStart, task_files::kSummary, task_files::kLog,
-                task_files::kCheckpoint, task_files::kPacking, task_files::kError}) {
+          for (const char* own : task_files::kOwn) {
             if (file == own)
               refuse_value(node, where, info,
                            fmt::format("{} is a file the sweep writes itself", own));
+            if (AtomicFile::is_temporary_of(file, own)) {
+              refuse_value(node, where, info,
+                           fmt::format("{} is the name of a temporary file of the sweep's {}, "
+                                       "which a resumed task removes",
+                                       file, own));
+            }
           }
           return file;
         }

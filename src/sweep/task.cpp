@@ -1,15 +1,23 @@
 // One task of a sweep in its folder: what carom init and carom run (or compress) would do alone,
 // resumed from what an earlier attempt left.
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
+#include <thread>
+#include <variant>
 
 #include "carom/atomic_file.hpp"
 #include "carom/compress_run.hpp"
@@ -76,11 +84,33 @@ double number(const nlohmann::json& summary, const char* key) {
   return found != summary.end() && found->is_number() ? found->get<double>() : kNotMeasured;
 }
 
-// What a done task measured, from its summary (and a run's time series for the errors).
-TaskResult done_result(const std::vector<std::string>& names, const fs::path& folder) {
+// A compression's failure, as carom compress reports it (exit 1): jammed before its target.
+std::optional<std::string> compression_shortfall(const nlohmann::json& summary,
+                                                 const fs::path& folder) {
+  CompressionSummary outcome;
+  outcome.status = summary.value("status", "");
+  if (const auto target = summary.find("target"); target != summary.end() && target->is_number()) {
+    outcome.target = target->get<double>();
+  }
+  outcome.dimension = summary.value("dimension", 2);
+  outcome.packing_fraction = number(summary, "packing_fraction");
+  outcome.compressibility_factor = number(summary, "compressibility_factor");
+  return shortfall(outcome, (folder / task_files::kPacking).string());
+}
+
+// What a finished task measured, from its summary (and a run's time series for the errors):
+// done, or failed for a compression that jammed short of its target.
+TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
+  const std::vector<std::string> names = measure_names(plan);
   const nlohmann::json summary = nlohmann::json::parse(read_text(folder / task_files::kSummary));
   TaskResult result;
   result.status = TaskStatus::done;
+  if (plan.kind() == TaskKind::compress) {
+    if (std::optional<std::string> why = compression_shortfall(summary, folder)) {
+      result.status = TaskStatus::failed;
+      result.error = std::move(*why);
+    }
+  }
   result.dimension = summary.value("dimension", 0);
   result.wall_seconds = number(summary, "wall_seconds");
   for (const std::string& name : names) {
@@ -160,10 +190,16 @@ TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const T
   const CompressionResult result = carom::compress(
       read_start_system(spec.start.path, spec.compress_boundary), spec.compress, compression_hooks);
   if (result.summary.status == "interrupted") return TaskStatus::stopped;
+  const std::string packing_path = (folder / task_files::kPacking).string();
   {
-    AtomicFile packing((folder / task_files::kPacking).string());
+    AtomicFile packing(packing_path);
     write_start(packing.stream(), result.packing, Rule::elastic);
     packing.commit();
+  }
+  // Jammed short of its target, the task failed as its carom compress does, its packing and
+  // summary kept: the summary, written last, is what says so; error.txt, before it, tells why.
+  if (const std::optional<std::string> why = shortfall(result.summary, packing_path)) {
+    write_text(folder / task_files::kError, *why + '\n');
   }
   AtomicFile summary((folder / task_files::kSummary).string());
   write_json(summary.stream(), result.summary);
@@ -179,12 +215,186 @@ fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string
   return fs::path(out_dir) / plan.tasks()[index].name;
 }
 
-// The temporary files (AtomicFile's FILE.tmp.XXXXXX) of an attempt killed while it wrote.
+// The temporary files of an attempt killed while it wrote one of the files a task writes whole
+// (AtomicFile's FILE.tmp.XXXXXX): those and nothing else, so that a dump the plan names
+// "run.tmp.xyz" is the user's and stays.
 void remove_leftovers(const fs::path& folder) {
+  constexpr std::array kWrittenWhole = {task_files::kCommands, task_files::kStart,
+                                        task_files::kSummary,  task_files::kCheckpoint,
+                                        task_files::kPacking,  task_files::kError};
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    if (entry.path().filename().string().find(".tmp.") != std::string::npos) {
+    const std::string name = entry.path().filename().string();
+    if (std::any_of(kWrittenWhole.begin(), kWrittenWhole.end(), [&](const char* target) {
+          return AtomicFile::is_temporary_of(name, target);
+        })) {
       fs::remove(entry.path());
     }
+  }
+}
+
+// Refuses an out_dir that cannot be a writable folder: a file, under a file, or in a folder
+// that cannot be written.
+void check_folder_can_be_written(const std::string& out_dir) {
+  std::error_code error;
+  fs::path existing = fs::absolute(out_dir, error);
+  while (!fs::exists(existing, error) && existing.has_relative_path()) {
+    existing = existing.parent_path();
+  }
+  if (!fs::is_directory(existing, error)) {
+    throw RequestError(
+        fmt::format("cannot make the sweep's folder {} (-o): {} is a file, not a folder", out_dir,
+                    existing.string()));
+  }
+  if (::access(existing.c_str(), W_OK) != 0) {
+    throw RequestError(fmt::format("cannot write the sweep's folder {} (-o): {}: {}", out_dir,
+                                   existing.string(), std::strerror(errno)));
+  }
+}
+
+// A file a sweep reads or writes, and what it is in messages.
+struct SweepFile {
+  std::string what;
+  std::string path;
+};
+
+// The start a task reads with `file` (a .gsd's ":K" frame left out), if it reads one.
+std::optional<std::string> start_file(const SweepPlan& plan, const SweepTask& task) {
+  for (const PlanSetting& s : task.start) {
+    if (s.key != "file" || !std::holds_alternative<std::string>(s.value)) continue;
+    std::string path = (fs::path(plan.folder()) / std::get<std::string>(s.value)).string();
+    if (const auto colon = path.rfind(':'); colon != std::string::npos && !fs::exists(path) &&
+                                            path.substr(0, colon).ends_with(".gsd")) {
+      path.resize(colon);
+    }
+    return path;
+  }
+  return std::nullopt;
+}
+
+// The names of the files a task of `plan` may write in its folder: the sweep's own, and the dump
+// and event log the plan names.
+std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask& task,
+                                         bool reads_a_start_file) {
+  std::vector<std::string> names = {task_files::kCommands, task_files::kSummary, task_files::kError,
+                                    task_files::kLock};
+  if (!reads_a_start_file) names.emplace_back(task_files::kStart);
+  if (plan.kind() == TaskKind::compress) {
+    names.emplace_back(task_files::kPacking);
+    return names;
+  }
+  names.emplace_back(task_files::kLog);
+  names.emplace_back(task_files::kCheckpoint);
+  for (const PlanSetting& s : task.action) {
+    if ((s.key == "dump" || s.key == "events") && std::holds_alternative<std::string>(s.value)) {
+      names.push_back(std::get<std::string>(s.value));
+    }
+  }
+  return names;
+}
+
+// Refuses a sweep one of whose outputs is one of its inputs or another of its own files, however
+// the paths are spelled (./, .., symbolic or hard links: same_file, as carom run checks its
+// files): the report page must not be the plan, a start file, a table, a lock or any task's file
+// or folder, and no file the sweep writes (the tables, the locks, the tasks' files) may be the
+// plan or a start file. The page's folder must be writable; the tables and the page must not be
+// folders. `named_page`: the page is --html's, not the sweep folder's own.
+void check_apart(const SweepPlan& plan, const std::string& out_dir, const std::string& page,
+                 bool named_page) {
+  const fs::path dir(out_dir);
+  std::vector<SweepFile> inputs = {{"the plan", plan.name()}};
+  for (const SweepTask& task : plan.tasks()) {
+    if (std::optional<std::string> start = start_file(plan, task);
+        start && std::none_of(inputs.begin(), inputs.end(),
+                              [&](const SweepFile& f) { return f.path == *start; })) {
+      inputs.push_back({"the start file", *start});
+    }
+  }
+  const std::vector<SweepFile> tables = {{"results.csv", (dir / "results.csv").string()},
+                                         {"summary.csv", (dir / "summary.csv").string()},
+                                         {"the sweep's lock", (dir / kSweepLock).string()}};
+  // Named as carom run names its clashing files; the page given by --html is moved by it, any
+  // other file by another folder.
+  const SweepFile report{named_page ? "--html" : "the report page", page};
+  const auto refuse = [&](const SweepFile& output, const SweepFile& other) {
+    throw RequestError(fmt::format(
+        "{} and {} name the same file ({} and {}): the sweep would overwrite {}; give another {}",
+        output.what, other.what, output.path, other.path, other.what,
+        named_page && &output == &report ? "--html" : "-o"));
+  };
+  for (const std::string& path : {tables[0].path, tables[1].path, page}) {
+    if (fs::is_directory(path)) {
+      throw RequestError(fmt::format("cannot write {}: it is a folder", path));
+    }
+  }
+  // A page elsewhere than the sweep's folder (which is made if missing) must have a folder.
+  if (const fs::path page_folder = fs::path(page).parent_path();
+      !same_file(page_folder.empty() ? "." : page_folder.string(), out_dir)) {
+    check_writable(page);
+  }
+  // The few named files, pairwise.
+  for (const SweepFile& input : inputs) {
+    if (same_file(page, input.path)) refuse(report, input);
+    for (const SweepFile& table : tables) {
+      if (same_file(table.path, input.path)) refuse(table, input);
+    }
+  }
+  for (const SweepFile& table : tables) {
+    if (same_file(page, table.path)) refuse(report, table);
+  }
+  // The tasks' folders and files, up to 100,000 folders of them: one stat each, against the
+  // named files that exist (a hard link is the same device and inode whatever its name); against
+  // those that do not, only a path of the same name can be the same.
+  std::vector<SweepFile> named = inputs;
+  named.push_back(report);
+  const auto clash = [&](const SweepFile& own, const SweepFile& file) {
+    &file == &named.back() ? refuse(report, own) : refuse(own, file);
+  };
+  std::vector<std::pair<struct stat, const SweepFile*>> existing;
+  for (const SweepFile& file : named) {
+    struct stat info {};
+    if (::stat(file.path.c_str(), &info) == 0) existing.emplace_back(info, &file);
+  }
+  for (const SweepTask& task : plan.tasks()) {
+    const SweepFile folder{fmt::format("task {}'s folder", task.name), (dir / task.name).string()};
+    std::error_code error;
+    if (fs::exists(folder.path, error) && !fs::is_directory(folder.path, error)) {
+      throw RequestError(fmt::format("{} ({}) is a file", folder.what, folder.path));
+    }
+    if (fs::path(page).filename() == task.name && same_file(folder.path, page)) {
+      refuse(report, folder);
+    }
+    for (const std::string& name :
+         task_file_names(plan, task, start_file(plan, task).has_value())) {
+      const SweepFile own{fmt::format("task {}'s {}", task.name, name),
+                          (fs::path(folder.path) / name).string()};
+      struct stat info {};
+      if (::stat(own.path.c_str(), &info) == 0) {
+        for (const auto& [other, file] : existing) {
+          if (other.st_dev == info.st_dev && other.st_ino == info.st_ino) clash(own, *file);
+        }
+        continue;
+      }
+      for (const SweepFile& file : named) {
+        if (fs::path(file.path).filename() == fs::path(name).filename() &&
+            same_file(own.path, file.path)) {
+          clash(own, file);
+        }
+      }
+    }
+  }
+}
+
+// How often a task whose lock another holds looks again.
+constexpr auto kLockPoll = std::chrono::milliseconds(100);
+
+// The task's lock, once whoever holds it (a Dask worker of an earlier sweep, still running the
+// task) lets go: then the task goes on from what that one left, as after any attempt. Nothing
+// if `stop` is raised meanwhile.
+std::optional<HeldLock> wait_for_lock(const fs::path& path, const std::atomic<int>* stop) {
+  while (true) {
+    if (std::optional<HeldLock> lock = HeldLock::try_take(path.string())) return lock;
+    if (stop != nullptr && stop->load() != 0) return std::nullopt;
+    std::this_thread::sleep_for(kLockPoll);
   }
 }
 
@@ -219,7 +429,11 @@ std::vector<std::string> task_commands(const SweepPlan& plan, std::size_t index,
   return sweep::task_spec(plan, plan.tasks()[index], folder).commands;
 }
 
-void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir) {
+void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir,
+                        const std::string& report) {
+  check_folder_can_be_written(out_dir);
+  const std::string page = report.empty() ? (fs::path(out_dir) / kReportPage).string() : report;
+  check_apart(plan, out_dir, page, !report.empty());
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
     const fs::path folder = task_folder(plan, i, out_dir);
     const fs::path commands = folder / task_files::kCommands;
@@ -239,6 +453,8 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
   const fs::path folder = task_folder(plan, index, out_dir);
   const sweep::TaskSpec spec = sweep::task_spec(plan, plan.tasks()[index], folder.string());
   fs::create_directories(folder);
+  const std::optional<HeldLock> lock = wait_for_lock(folder / task_files::kLock, hooks.stop);
+  if (!lock) return TaskResult::with(TaskStatus::stopped);
   const fs::path commands = folder / task_files::kCommands;
   if (!fs::exists(commands)) {
     write_text(commands, commands_text(spec));
@@ -246,14 +462,14 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
     check_sweep_folder(plan, out_dir);  // throws, saying what differs
   }
   const fs::path error = folder / task_files::kError;
-  if (fs::exists(folder / task_files::kSummary)) return done_result(measure_names(plan), folder);
+  if (fs::exists(folder / task_files::kSummary)) return finished_result(plan, folder);
   fs::remove(error);
   remove_leftovers(folder);
   try {
     const TaskStatus status =
         plan.kind() == TaskKind::run ? run(spec, folder, hooks) : compress(spec, folder, hooks);
     if (status == TaskStatus::stopped) return TaskResult::with(TaskStatus::stopped);
-    return done_result(measure_names(plan), folder);
+    return finished_result(plan, folder);
   } catch (const std::exception& e) {
     // Whatever the task could not do is its own failure: the sweep goes on.
     TaskResult failed = TaskResult::with(TaskStatus::failed, e.what());
@@ -267,7 +483,7 @@ std::vector<TaskResult> read_task_results(const SweepPlan& plan, const std::stri
   for (std::size_t i = 0; i < plan.tasks().size(); ++i) {
     const fs::path folder = task_folder(plan, i, out_dir);
     if (fs::exists(folder / task_files::kSummary)) {
-      results.push_back(done_result(measure_names(plan), folder));
+      results.push_back(finished_result(plan, folder));
     } else if (fs::exists(folder / task_files::kError)) {
       std::string error = read_text(folder / task_files::kError);
       while (!error.empty() && error.back() == '\n') error.pop_back();
