@@ -127,8 +127,8 @@ TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
   expect_refused_when_named(outcomes, "bad-");
 }
 
-// The GSD readers: carom's own dumps are read and run, and analysed; truncated and corrupt files are
-// refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
+// The GSD readers: carom's own dumps are read and run, and analysed; truncated and corrupt files
+// are refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
 TEST(FuzzReplay, GsdCorpusAndRegressions) {
   const auto outcomes = replay_all<carom::fuzz::GsdOutcome>("gsd", carom::fuzz::gsd);
   ASSERT_GE(outcomes.size(), 4u);
@@ -152,9 +152,9 @@ TEST(FuzzReplay, PlanCorpusAndRegressions) {
   const auto outcomes = replay_all<carom::fuzz::PlanOutcome>("plan", carom::fuzz::plan);
   ASSERT_GE(outcomes.size(), 8u);
   for (const auto& [name, o] : outcomes) EXPECT_EQ(o.violations, 0) << name;
-  for (const char* valid : {"eos.toml", "jamming.toml", "file-start.toml", "many-keys.toml",
-                            "sheared.toml", "near-equal-axis-values.toml",
-                            "same-folder-names.toml"}) {
+  for (const char* valid :
+       {"eos.toml", "jamming.toml", "file-start.toml", "many-keys.toml", "sheared.toml",
+        "near-equal-axis-values.toml", "same-folder-names.toml"}) {
     ASSERT_TRUE(outcomes.count(valid)) << valid;
     EXPECT_EQ(outcomes.at(valid).accepted, 1) << valid;
     EXPECT_GT(outcomes.at(valid).tasks, 0u) << valid;

@@ -7,9 +7,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <set>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 namespace carom {
@@ -473,8 +473,7 @@ TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {
   std::ofstream(folder / "gas.txt") << "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
   // A start file and no kT: the seed would seed nothing (carom run refuses --seed without --kT).
   const std::string no_draw = refusal_in(
-      "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 1\n[sweep]\nseed = [1, 2, 3]\n",
-      folder / "");
+      "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 1\n[sweep]\nseed = [1, 2, 3]\n", folder / "");
   EXPECT_EQ(no_draw.rfind("plan.toml:6: [sweep] seed", 0), 0u) << no_draw;
   EXPECT_NE(no_draw.find("kT"), std::string::npos) << no_draw;
   // A lattice start (phi 0.45) whose velocities the run draws again: the task's seed draws them.
@@ -550,9 +549,10 @@ TEST(SweepTables, AHundredThousandStatePointsAreTabledQuickly) {
   const Folder folder;
   std::string kT = "[";
   for (int i = 1; i <= 50'000; ++i) kT += std::to_string(i) + (i < 50'000 ? ", " : "]");
-  const SweepPlan plan = parse("[start]\nn = 16\nboundary = \"periodic\"\n[run]\nend_time = 1\n"
-                               "[sweep]\nphi = [0.2, 0.3]\nkT = " +
-                               kT + "\n");
+  const SweepPlan plan = parse(
+      "[start]\nn = 16\nboundary = \"periodic\"\n[run]\nend_time = 1\n"
+      "[sweep]\nphi = [0.2, 0.3]\nkT = " +
+      kT + "\n");
   ASSERT_EQ(plan.tasks().size(), 100'000u);
   std::vector<TaskResult> results(plan.tasks().size(), TaskResult::with(TaskStatus::done));
   for (std::size_t i = 0; i < results.size(); ++i) {

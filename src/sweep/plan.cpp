@@ -359,8 +359,7 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   if (const toml::node* file = start->get("file"); file != nullptr && file->is_string()) {
     // Read now, once: a start no task could read is refused before any runs, and its boundary
     // and rule are what the tasks' checks take.
-    const std::string path =
-        (std::filesystem::path(folder) / *file->value<std::string>()).string();
+    const std::string path = (std::filesystem::path(folder) / *file->value<std::string>()).string();
     try {
       std::visit(
           [&](const auto& input) {

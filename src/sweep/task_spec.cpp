@@ -90,9 +90,9 @@ const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std:
     for (std::size_t at = message.find(option); at != std::string::npos;
          at = message.find(option, at + 1)) {
       const std::size_t end = at + option.size();
-      const bool whole = end == message.size() ||
-                         !(std::isalnum(static_cast<unsigned char>(message[end])) ||
-                           message[end] == '-');
+      const bool whole =
+          end == message.size() ||
+          !(std::isalnum(static_cast<unsigned char>(message[end])) || message[end] == '-');
       if (whole && at < first_at) {
         first_named = &s;
         first_at = at;
@@ -237,8 +237,8 @@ std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTas
       "random (random = true, or polydispersity)",
       o.placement == Placement::lattice
           ? std::string("lattice = true")
-          : fmt::format("phi above {}", random_placement_limit(
-                                            static_cast<std::size_t>(spec.dimension))),
+          : fmt::format("phi above {}",
+                        random_placement_limit(static_cast<std::size_t>(spec.dimension))),
       value_text(own_run_seed->value));
 }
 
@@ -306,8 +306,7 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
   spec.kind = plan.kind();
   for (const PlanSetting& s : task.start) {
     if (s.key == "file") {
-      spec.start_file =
-          start_file.value_or((fs::path(plan.folder()) / as_text(s.value)).string());
+      spec.start_file = start_file.value_or((fs::path(plan.folder()) / as_text(s.value)).string());
     }
   }
   const std::string_view section = spec.kind == TaskKind::run ? "run" : "compress";
@@ -332,10 +331,10 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
       check_run_spec(spec.run);
       // What the run checks of its start's box, before any particle is made: the boundary and
       // rule are the run's, else what the start records (carom init's: its boundary, elastic).
-      const StartRecord record =
-          spec.start_file ? plan.start_file_record()
-                          : StartRecord{spec.initial.boundary, Rule::elastic};
-      const Boundary boundary = s.boundary.value_or(*record.boundary);
+      const StartRecord record = spec.start_file
+                                     ? plan.start_file_record()
+                                     : StartRecord{spec.initial.boundary, Rule::elastic};
+      const Boundary boundary = s.boundary.value_or(record.boundary.value_or(Boundary::walls));
       const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));
       const bool periodic = boundary == Boundary::periodic;
       check_shear_box(s.shear, periodic, rule);

@@ -19,8 +19,8 @@
 namespace carom::fuzz {
 
 struct PlanOutcome {
-  int refused = 0;     // PlanError: refused with a message naming the plan's line
-  int accepted = 0;    // read, its tasks listed and tabled
+  int refused = 0;   // PlanError: refused with a message naming the plan's line
+  int accepted = 0;  // read, its tasks listed and tabled
   std::size_t tasks = 0;
   int violations = 0;  // another exception, or a message that names no line: a bug
 };
@@ -28,8 +28,8 @@ struct PlanOutcome {
 // A scratch folder holding a start file (`file = "start.txt"` plans read it), made once.
 inline const std::filesystem::path& plan_folder() {
   static const std::filesystem::path folder = [] {
-    const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                       ("carom-fuzz-plan-" + std::to_string(::getpid()));
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / ("carom-fuzz-plan-" + std::to_string(::getpid()));
     std::filesystem::create_directories(path);
     std::ofstream(path / "start.txt") << "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
     return path;
