@@ -522,6 +522,13 @@ TEST(SweepPlan, WhatTheTasksCommandsWouldRefuseThePlanRefuses) {
       {start + "box = []\n[run]\nend_time = 1\n", "plan.toml:4: [start] box: takes a list of"},
       {start + "[run]\nend_time = 1\ndump = \"a\\rb.xyz\"\nevery = 0.5\n",
        "plan.toml:6: [run] dump: takes a file name"},
+      // Options carom init's and compress's command lines refuse together.
+      {start + "lattice = true\nrandom = true\n[run]\nend_time = 1\n",
+       "plan.toml:5: [start] random = true: --random excludes --lattice"},
+      {"[start]\nn = 16\nphi = 0.3\nbox = [20, 20]\naspect = 2\n[run]\nend_time = 1\n",
+       "plan.toml:5: [start] aspect = 2: --aspect excludes --box"},
+      {start + "[compress]\nphi = 0.5\n[sweep]\njam = [true, false]\n",
+       "plan.toml:7: [sweep] jam = true (task jam=true): --jam excludes --phi"},
   };
   for (const auto& [text, expected] : cases) {
     const std::string said = refusal(text);

@@ -112,6 +112,21 @@ const PlanSetting* find_setting(const std::vector<PlanSetting>& settings, std::s
   return found == settings.end() ? nullptr : &*found;
 }
 
+// RequestError "--KEY excludes --OTHER" when both are given (a flag: given as true), as carom's
+// command line refuses them.
+void refuse_together(const std::vector<PlanSetting>& settings, std::string_view key,
+                     std::string_view other) {
+  const auto given = [&](std::string_view name) {
+    const PlanSetting* s = find_setting(settings, name);
+    return s != nullptr && !(std::holds_alternative<bool>(s->value) && !as_flag(s->value));
+  };
+  if (given(key) && given(other)) {
+    std::string message = fmt::format("--{} excludes --{}", key, other);
+    for (char& c : message) c = c == '_' ? '-' : c;
+    throw RequestError(message);
+  }
+}
+
 void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
   InitialOptions& o = spec.initial;
   for (const PlanSetting& s : settings) {
@@ -132,6 +147,10 @@ void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
     if (s.key == "lattice" && as_flag(v)) o.placement = Placement::lattice;
     if (s.key == "random" && as_flag(v)) o.placement = Placement::random;
   }
+  // What carom init's command line refuses as options that exclude each other (CLI11's words).
+  refuse_together(settings, "random", "lattice");
+  refuse_together(settings, "aspect", "box");
+  refuse_together(settings, "radius", "box");
 }
 
 void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
@@ -199,6 +218,7 @@ void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) 
     if (s.key == "engine") c.settings.engine = as_choice<EngineKind>(v);
     if (s.key == "unit_diameter") c.unit_diameter = as_flag(v);
   }
+  refuse_together(settings, "jam", "phi");
   if (jam) c.settings.target.reset();
 }
 
