@@ -103,7 +103,7 @@ fuzz-gsd: fuzz-build
 
 fuzz-plan: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus-plan
-	cd $(BUILD)-fuzz && ./carom_fuzz_plan $(FUZZ_FLAGS) -max_len=4096 \
+	cd $(BUILD)-fuzz && ./carom_fuzz_plan $(FUZZ_FLAGS) -max_len=4096 -dict=../tests/fuzz/plan/plan.dict \
 	  corpus-plan ../tests/fuzz/plan/corpus
 
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
