@@ -424,7 +424,7 @@ TEST(SweepPlan, DeepNestingIsRefusedBeforeTheTomlParserRecurses) {
 
 // Item 5: every task has a folder of its own, whatever its values' characters or length.
 TEST(SweepPlan, TaskFoldersAreDistinctAndFitAFileName) {
-  const std::string long_name = std::string(296, 'a') + ".xyz";
+  const std::string long_name = std::string(246, 'a') + ".xyz";
   const SweepPlan plan = parse(
       "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\nevery = 0.5\n[sweep]\ndump = [\"a b.xyz\", "
       "\"a_b.xyz\", \"" +
@@ -438,6 +438,13 @@ TEST(SweepPlan, TaskFoldersAreDistinctAndFitAFileName) {
   EXPECT_EQ(names.size(), plan.tasks().size());
   // Names that need no change keep it (folders of earlier sweeps are found again).
   EXPECT_EQ(plan.tasks()[1].name, "dump=a_b.xyz");
+  // A file name no file system takes (over 255 bytes) is refused, not failed in every task.
+  const std::string too_long =
+      refusal("[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\nevery = 0.5\ndump = \"" +
+              std::string(296, 'a') + ".xyz\"\n");
+  EXPECT_EQ(too_long.rfind("plan.toml:7: [run] dump: takes a file name of at most 255 bytes", 0),
+            0u)
+      << too_long;
 }
 
 // Item 9: a sweep folder spelled another way (./out, an absolute path, out/) is the same sweep.

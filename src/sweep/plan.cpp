@@ -45,6 +45,9 @@ std::string choices(std::string_view key) {
   return names_list<EngineKind>();
 }
 
+// The longest file name (of one folder's entry) that file systems take.
+constexpr std::size_t kLongestFileName = 255;
+
 class Reader {
  public:
   explicit Reader(const std::string& name) : name_(name) {}
@@ -131,6 +134,12 @@ class Reader {
             refuse_value(
                 node, where, info,
                 "takes a file name, without a folder: the file is written in each task's folder");
+          }
+          if (file.size() > kLongestFileName) {
+            refuse_value(node, where, info,
+                         fmt::format("takes a file name of at most {} bytes (what file systems "
+                                     "take), not {}",
+                                     kLongestFileName, file.size()));
           }
           for (const char* own :
                {task_files::kCommands, task_files::kStart, task_files::kSummary, task_files::kLog,
@@ -239,7 +248,7 @@ void check_nesting(std::string_view text, const Reader& reader) {
 
 constexpr std::size_t kMostTasks = 100'000;
 
-// A task folder's name is at most this long, well inside every file system's 255 bytes.
+// A task folder's name is at most this long, well inside kLongestFileName.
 constexpr std::size_t kLongestFolderName = 200;
 
 // FNV-1a, 64 bits: the same on every machine, so that a task's folder is found again.
