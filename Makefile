@@ -10,7 +10,7 @@ PYTHON ?= /usr/bin/python3
 # /usr/local/lib/python3.X/dist-packages), else the user's own.
 PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps deps-run build build-run demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd bench clean format python-install python-uninstall
+.PHONY: all deps deps-run build build-run demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd fuzz-plan bench clean format python-install python-uninstall
 
 all: build
 
@@ -66,9 +66,10 @@ test-sanitize: deps
 # `make fuzz` fuzzes the classic input reader (and a few events of both engines on what it
 # accepts), `make fuzz-checkpoint` the checkpoint reader (resuming what it accepts for a few
 # events under the invariant check), `make fuzz-xyz` carom view's extended-XYZ reader (and the
-# page made of what it reads). New crashes land in build-fuzz/; copy them into the reader's
+# page made of what it reads), `make fuzz-plan` the sweep's plan reader (and the commands, tables
+# and report of what it accepts). New crashes land in build-fuzz/; copy them into the reader's
 # regressions folder (tests/fuzz/regressions, tests/fuzz/checkpoint/regressions,
-# tests/fuzz/xyz/regressions), which `make test` replays.
+# tests/fuzz/xyz/regressions, tests/fuzz/plan/regressions), which `make test` replays.
 FUZZ_SECONDS ?= 300
 FUZZ_FLAGS = -max_total_time=$(FUZZ_SECONDS) -timeout=10 -rss_limit_mb=2048
 fuzz-build: deps
@@ -77,7 +78,8 @@ fuzz-build: deps
 	  -DCMAKE_CXX_FLAGS="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=all" \
 	  -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" > $(BUILD)-fuzz.configure.log 2>&1 \
 	  || { cat $(BUILD)-fuzz.configure.log; exit 1; }
-	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input carom_fuzz_checkpoint carom_fuzz_xyz carom_fuzz_gsd
+	@cmake --build $(BUILD)-fuzz -j $(JOBS) --target carom_fuzz_classic_input carom_fuzz_checkpoint carom_fuzz_xyz carom_fuzz_gsd \
+	  carom_fuzz_plan
 
 fuzz: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus
@@ -98,6 +100,11 @@ fuzz-gsd: fuzz-build
 	mkdir -p $(BUILD)-fuzz/corpus-gsd
 	cd $(BUILD)-fuzz && ./carom_fuzz_gsd $(FUZZ_FLAGS) -max_len=16384 \
 	  corpus-gsd ../tests/fuzz/gsd/corpus
+
+fuzz-plan: fuzz-build
+	mkdir -p $(BUILD)-fuzz/corpus-plan
+	cd $(BUILD)-fuzz && ./carom_fuzz_plan $(FUZZ_FLAGS) -max_len=4096 -dict=../tests/fuzz/plan/plan.dict \
+	  corpus-plan ../tests/fuzz/plan/corpus
 
 # Collisions per second and bytes per disk, N = 10^3..10^6 (about 5 minutes on 2 cores).
 bench: build

@@ -24,7 +24,9 @@ constexpr const char* kPlanHelp = R"(A plan is a TOML file:
   or [compress]  carom compress's: phi or jam = true, rate, ...
   [sweep]     axes: lists of values of any of those keys; every combination is a task
 Option names lose their dashes and write '-' as '_' (--log-every is log_every). A swept key that
-is an option of carom init goes to the start, else to the run. Each task runs in DIR/<task>/ (its
+is an option of carom init goes to the start, else to the run. A task's seed also seeds carom
+run's draws (kT, Andersen's) when [run] has no seed of its own; a plan whose swept seed would
+leave its replicas one run is refused. Each task runs in DIR/<task>/ (its
 name is its swept values: phi=0.3,seed=1), exactly as the commands of --dry-run would alone, and
 keeps there its start, summary.json, log.csv (a row every log_every, by default a 200th of the
 measured time), its checkpoint (every checkpoint_every, by default "600s") and any dump.

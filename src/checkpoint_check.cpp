@@ -33,7 +33,7 @@ struct Problem {
 // collision missed before the checkpoint's time.
 template <std::size_t D>
 void validate(const Checkpoint<D>& c, int format) {
-  const auto fail = [](const std::string& problem) { throw Problem(problem); };
+  const auto fail = [](const std::string& problem) { throw Problem{problem}; };
   try {
     check_settings(c.settings);
   } catch (const std::invalid_argument& e) {

@@ -239,6 +239,28 @@ void check_run_spec(const RunSpec& spec) {
   check_distinct(output_files(spec));
 }
 
+void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared) {
+  check_latest_time(spec.end_time);
+  if (!spec.dump.empty() && (spec.end_time - now) / spec.dump_every > kMostRows) {
+    throw RequestError(fmt::format("--every {} would write more than 10^7 frames up to {}",
+                                   spec.dump_every, spec.end_time));
+  }
+  if (!spec.log.empty() && (spec.end_time - now) / spec.log_every > kMostRows) {
+    throw RequestError(fmt::format("--log-every {} would write more than 10^7 rows up to {}",
+                                   spec.log_every, spec.end_time));
+  }
+  if (spec.transport && !periodic) {
+    throw RequestError(
+        "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
+        "the coefficients come from");
+  }
+  if (spec.transport && sheared) {
+    throw RequestError(
+        "--transport measures the coefficients of a fluid at rest (Einstein-Helfand); a sheared "
+        "run gives its viscosity directly, in the summary's \"shear_viscosity\"");
+  }
+}
+
 struct Runner::State {
   explicit State(Start s) : start(std::move(s)), records(start.records) {}
   Start start;
@@ -290,25 +312,8 @@ void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
 
   simulation.check_target(spec.end_time);
   const double now = simulation.time();
-  if (!spec.dump.empty() && (spec.end_time - now) / spec.dump_every > kMostRows) {
-    throw RequestError(fmt::format("--every {} would write more than 10^7 frames up to {}",
-                                   spec.dump_every, spec.end_time));
-  }
-  if (!spec.log.empty() && (spec.end_time - now) / spec.log_every > kMostRows) {
-    throw RequestError(fmt::format("--log-every {} would write more than 10^7 rows up to {}",
-                                   spec.log_every, spec.end_time));
-  }
+  check_run_in_box(spec, now, simulation.state().box.periodic(), simulation.state().box.sheared());
   check_outputs_fit(simulation, spec);
-  if (spec.transport && !simulation.state().box.periodic()) {
-    throw RequestError(
-        "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
-        "the coefficients come from");
-  }
-  if (spec.transport && simulation.state().box.sheared()) {
-    throw RequestError(
-        "--transport measures the coefficients of a fluid at rest (Einstein-Helfand); a sheared "
-        "run gives its viscosity directly, in the summary's \"shear_viscosity\"");
-  }
   if (spec.measure_from) {
     const double from = *spec.measure_from;
     if (from < now && start.resumed) {

@@ -90,16 +90,22 @@ Simulation<D>::Simulation(Simulation&&) noexcept = default;
 template <std::size_t D>
 Simulation<D>& Simulation<D>::operator=(Simulation&&) noexcept = default;
 
+void check_latest_time(double t) {
+  constexpr double latest = Simulation<2>::kLatestTime;
+  static_assert(latest == Simulation<3>::kLatestTime);
+  if (t > latest) {
+    throw RunLengthError(fmt::format(
+        "{} is beyond {}, where a double resolves time too coarsely; rescale the time unit", t,
+        latest));
+  }
+}
+
 template <std::size_t D>
 void Simulation<D>::check_target(double t) const {
   if (!(t >= time_)) {
     throw RunLengthError(fmt::format("{} is before the run's current time {}", t, time_));
   }
-  if (t > kLatestTime) {
-    throw RunLengthError(fmt::format(
-        "{} is beyond {}, where a double resolves time too coarsely; rescale the time unit", t,
-        kLatestTime));
-  }
+  check_latest_time(t);
   const double crossings = most_crossings(state(), t - time_);
   if (crossings > kMostCrossings) {
     throw RunLengthError(fmt::format(

@@ -58,13 +58,13 @@ System<D> system_from(const ParticleArrays& a) {
   return system;
 }
 
-void require_dimension(int dimension) {
+}  // namespace
+
+void require_dimension(std::int64_t dimension) {
   if (dimension != 2 && dimension != 3) {
     throw RequestError(fmt::format("dim must be 2 (disks) or 3 (spheres), got {}", dimension));
   }
 }
-
-}  // namespace
 
 AnyClassicInput read_any_start_file(const std::string& spec, std::optional<Boundary> boundary) {
   // FILE.gsd or FILE.gsd:K, the ending in any case.
@@ -154,20 +154,25 @@ ShearRequest shear_request(std::optional<double> rate, bool profile) {
   return {*rate, profile};
 }
 
-namespace {
-
-// Shears the start's box as asked (nothing for rate 0). RequestError for a box with walls or a
-// rule that is not elastic; the profile goes on top of the velocities drawn or read.
-template <std::size_t D>
-void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
+void check_shear_box(const ShearRequest& shear, bool periodic, Rule rule) {
   if (shear.rate == 0.0) return;
-  if (!system.box.periodic()) {
+  if (!periodic) {
     throw RequestError(
         "--shear needs a periodic box (--boundary periodic): walls cannot slide past each other");
   }
   if (rule != Rule::elastic) {
     throw RequestError("--shear needs --rule elastic: the swap rule carries no stress");
   }
+}
+
+namespace {
+
+// Shears the start's box as asked (nothing for rate 0). RequestError for a box with walls or a
+// rule that is not elastic; the profile goes on top of the velocities drawn or read.
+template <std::size_t D>
+void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
+  check_shear_box(shear, system.box.periodic(), rule);
+  if (shear.rate == 0.0) return;
   system.box.shear_rate = shear.rate;
   system.box.shear_offset = 0.0;
   if (!shear.profile) return;

@@ -1869,3 +1869,16 @@ TEST_F(Cli, SweepWritesItsTablesAndAnotherPlansFolderIsRefused) {
   EXPECT_NE(refused.err.find("holds the files of another task"), std::string::npos) << refused.err;
   EXPECT_EQ(read_file(dir_ / "out/results.csv"), results);
 }
+
+// Issue 36, item 24: a plan nested 100,000 deep is refused (exit 2, the plan's line), not a crash
+// of the TOML parser, and nothing is written.
+TEST_F(Cli, SweepRefusesADeeplyNestedPlanBeforeParsingIt) {
+  std::string deep = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[sweep]\nx";
+  for (int i = 0; i < 100'000; ++i) deep += ".x";
+  std::ofstream(dir_ / "deep.toml") << deep << " = 1\n";
+  const Result refused =
+      carom({"sweep", (dir_ / "deep.toml").string(), "-o", (dir_ / "out").string()});
+  EXPECT_EQ(refused.exit_code, 2) << refused.err;
+  EXPECT_NE(refused.err.find("deep.toml:7: "), std::string::npos) << refused.err;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}

@@ -10,6 +10,7 @@
 
 #include "fuzz/fuzz_checkpoint.hpp"
 #include "fuzz/fuzz_classic_input.hpp"
+#include "fuzz/fuzz_plan.hpp"
 
 namespace {
 
@@ -126,8 +127,8 @@ TEST(FuzzReplay, TrajectoryCorpusAndRegressions) {
   expect_refused_when_named(outcomes, "bad-");
 }
 
-// The GSD readers: carom's own dumps are read and run, and analysed; truncated and corrupt files are
-// refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
+// The GSD readers: carom's own dumps are read and run, and analysed; truncated and corrupt files
+// are refused with a message (a crash or a sanitizer report fails this replay under test-sanitize).
 TEST(FuzzReplay, GsdCorpusAndRegressions) {
   const auto outcomes = replay_all<carom::fuzz::GsdOutcome>("gsd", carom::fuzz::gsd);
   ASSERT_GE(outcomes.size(), 4u);
@@ -141,6 +142,27 @@ TEST(FuzzReplay, GsdCorpusAndRegressions) {
   // gsd.hoomd's own file of one disk at the centre, position left at the schema's default.
   ASSERT_TRUE(outcomes.count("default-position.gsd"));
   EXPECT_EQ(outcomes.at("default-position.gsd").started, 1);
+  expect_refused_when_named(outcomes, "bad-");
+}
+
+// The plan reader (and the tables and report of what it accepts): the documentation's plans and a
+// few more are read; plans nested 100,000 deep, and every plan named bad-..., are refused with a
+// message naming the line; none breaks anything.
+TEST(FuzzReplay, PlanCorpusAndRegressions) {
+  const auto outcomes = replay_all<carom::fuzz::PlanOutcome>("plan", carom::fuzz::plan);
+  ASSERT_GE(outcomes.size(), 8u);
+  for (const auto& [name, o] : outcomes) EXPECT_EQ(o.violations, 0) << name;
+  for (const char* valid :
+       {"eos.toml", "jamming.toml", "file-start.toml", "many-keys.toml", "sheared.toml",
+        "near-equal-axis-values.toml", "same-folder-names.toml"}) {
+    ASSERT_TRUE(outcomes.count(valid)) << valid;
+    EXPECT_EQ(outcomes.at(valid).accepted, 1) << valid;
+    EXPECT_GT(outcomes.at(valid).tasks, 0u) << valid;
+  }
+  for (const char* deep : {"deep-dotted-key.toml", "deep-table-header.toml"}) {
+    ASSERT_TRUE(outcomes.count(deep)) << deep;
+    EXPECT_EQ(outcomes.at(deep).refused, 1) << deep;
+  }
   expect_refused_when_named(outcomes, "bad-");
 }
 

@@ -75,6 +75,16 @@ TEST(SweepReport, TheReferenceIsTheDimensionsAndOnlyAgainstPhi) {
   EXPECT_NE(against_rule.find("<td>elastic</td>"), std::string::npos);
 }
 
+// Issue 36, item 12: axis values a rounding apart (0.3 and 0.1 + 0.2) draw a chart, in bounded
+// time and memory (the tick loop advanced by less than a double resolves, forever).
+TEST(SweepReport, NearEqualAxisValuesAreDrawnInBoundedTime) {
+  for (const char* axis : {"phi = [0.3, 0.30000000000000004]", "phi = [0.1, 0.1000000000001]"}) {
+    const std::string html = page(plan_text(2, axis), 2);
+    EXPECT_EQ(count(html, "<svg"), 2u) << axis;
+    EXPECT_LT(count(html, "<line"), 100u) << axis;
+  }
+}
+
 TEST(EquationOfState, HendersonAndKolafaLabikMalijevskyAtKnownPackings) {
   EXPECT_NEAR(henderson_z(0.5), 4.1035, 5e-5);
   EXPECT_NEAR(henderson_z(0.3), 2.0628, 5e-5);

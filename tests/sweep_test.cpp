@@ -7,9 +7,11 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -42,6 +44,16 @@ SweepPlan parse(const std::string& text) {
 std::string refusal(const std::string& text) {
   try {
     parse(text);
+  } catch (const PlanError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The message of the PlanError `text` raises, read as a plan in `folder` ("" if it parses).
+std::string refusal_in(const std::string& text, const std::string& folder) {
+  try {
+    SweepPlan::parse(text, "plan.toml", folder);
   } catch (const PlanError& e) {
     return e.what();
   }
@@ -124,16 +136,18 @@ rate = [0.1, 0.01]
 }
 
 TEST(SweepPlan, AStartFromAFileIsReadFromThePlansFolder) {
-  const SweepPlan plan = SweepPlan::parse(R"([start]
-file = "gas.txt"
-[run]
-end_time = 5
-kT = 2
-)",
-                                          "studies/plan.toml", "studies");
+  const Folder folder;
+  const std::string text = "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 5\nkT = 2\n";
+  // Read with the plan: a start no task could read is refused before any runs.
+  EXPECT_EQ(refusal_in(text, folder / "studies").rfind("plan.toml:2: [start] file: ", 0), 0u)
+      << refusal_in(text, folder / "studies");
+  fs::create_directories(folder / "studies");
+  std::ofstream(folder / "studies/gas.txt") << "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
+  const SweepPlan plan = SweepPlan::parse(text, "studies/plan.toml", folder / "studies");
   const std::vector<std::string> commands = task_commands(plan, 0, "d/task");
   ASSERT_EQ(commands.size(), 1u);  // no carom init
-  EXPECT_EQ(commands[0].rfind("carom run studies/gas.txt 5 --kT 2 ", 0), 0u) << commands[0];
+  EXPECT_EQ(commands[0].rfind("carom run " + folder / "studies/gas.txt" + " 5 --kT 2 ", 0), 0u)
+      << commands[0];
 }
 
 TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
@@ -497,6 +511,190 @@ TEST(SweepTables, ResultsKeepFullPrecisionAndSummariesAverageOverSeeds) {
   // own error stands.
   EXPECT_NE(summary.find("\n0.2,2,2,1.5,0.5,1,0,"), std::string::npos) << summary;
   EXPECT_NE(summary.find("\n0.3,2,1,0.30000000000000004,0.25,1,,"), std::string::npos) << summary;
+}
+
+// Issue 36, item 24: a plan nested deeper than any plan needs (a dotted key or a table header of
+// thousands of levels) is refused before the TOML parser recurses into it.
+TEST(SweepPlan, DeepNestingIsRefusedBeforeTheTomlParserRecurses) {
+  std::string dotted = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[sweep]\nx";
+  for (int i = 0; i < 100'000; ++i) dotted += ".x";
+  dotted += " = 1\n";
+  std::string header = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[x";
+  for (int i = 0; i < 50'000; ++i) header += ".x";
+  header += "]\n";
+  std::string arrays = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[sweep]\nphi = ";
+  arrays += std::string(100'000, '[');
+  for (const std::string& text : {dotted, header, arrays}) {
+    const std::string why = refusal(text);
+    EXPECT_EQ(why.rfind(text == header ? "plan.toml:6: " : "plan.toml:7: ", 0), 0u) << why;
+    EXPECT_NE(why.find("nest"), std::string::npos) << why;
+  }
+  // What a plan does nest (an inline table in a list, quoted keys with dots) is read as before.
+  EXPECT_NE(refusal("[start]\nn = 16\nphi = 0.3\n\"a.b.c\" = 1\n[run]\nend_time = 1\n")
+                .find("[start] a.b.c: not an option"),
+            std::string::npos);
+}
+
+// Item 5: every task has a folder of its own, whatever its values' characters or length.
+TEST(SweepPlan, TaskFoldersAreDistinctAndFitAFileName) {
+  const std::string long_name = std::string(246, 'a') + ".xyz";
+  const SweepPlan plan = parse(
+      "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\nevery = 0.5\n[sweep]\ndump = [\"a b.xyz\", "
+      "\"a_b.xyz\", \"" +
+      long_name + "\", \"" + long_name.substr(1) + "\"]\n");
+  std::set<std::string> names;
+  for (const SweepTask& task : plan.tasks()) {
+    names.insert(task.name);
+    EXPECT_LE(task.name.size(), 200u) << task.name;
+    EXPECT_EQ(task.name.find_first_of("/ \\"), std::string::npos) << task.name;
+  }
+  EXPECT_EQ(names.size(), plan.tasks().size());
+  // Names that need no change keep it (folders of earlier sweeps are found again).
+  EXPECT_EQ(plan.tasks()[1].name, "dump=a_b.xyz");
+  // A file name no file system takes (over 255 bytes) is refused, not failed in every task.
+  const std::string too_long =
+      refusal("[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\nevery = 0.5\ndump = \"" +
+              std::string(296, 'a') + ".xyz\"\n");
+  EXPECT_EQ(too_long.rfind("plan.toml:7: [run] dump: takes a file name of at most 255 bytes", 0),
+            0u)
+      << too_long;
+}
+
+// Item 9: a sweep folder spelled another way (./out, an absolute path, out/) is the same sweep.
+TEST(SweepTask, AFolderSpelledAnotherWayHoldsTheSameTasks) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  ASSERT_EQ(run_task(plan, 0, folder / "out").status, TaskStatus::done);
+  const fs::path out = folder / "out";
+  for (const fs::path& spelled : {out / ".", out.parent_path() / "." / "out",
+                                  out.parent_path() / ".." / out.parent_path().filename() / "out",
+                                  fs::path(folder / "out/")}) {
+    EXPECT_NO_THROW(check_sweep_folder(plan, spelled.string())) << spelled;
+    EXPECT_EQ(run_task(plan, 0, spelled.string()).status, TaskStatus::done) << spelled;
+  }
+  // A start file named through another spelling of the plan's folder: the same task too.
+  fs::create_directories(folder / "study");
+  std::ofstream(folder / "study/gas.txt") << "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
+  const std::string text = "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 1\nkT = 1\n";
+  const SweepPlan here = SweepPlan::parse(text, "plan.toml", folder / "study");
+  ASSERT_EQ(run_task(here, 0, folder / "files").status, TaskStatus::done);
+  const SweepPlan there = SweepPlan::parse(text, "plan.toml", folder / "study/../study/.");
+  EXPECT_NO_THROW(check_sweep_folder(there, folder / "files"));
+  // Another task is still refused.
+  std::string changed = kSmallPlan;
+  changed.replace(changed.find("end_time = 2"), 12, "end_time = 3");
+  EXPECT_THROW(check_sweep_folder(parse(changed), (out / ".").string()), RequestError);
+}
+
+// Item 3: a swept seed reaches every random draw of its tasks, or the plan is refused; the tasks
+// of a state point are never copies of one run.
+TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {
+  const Folder folder;
+  std::ofstream(folder / "gas.txt") << "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
+  // A start file and no kT: the seed would seed nothing (carom run refuses --seed without --kT).
+  const std::string no_draw = refusal_in(
+      "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 1\n[sweep]\nseed = [1, 2, 3]\n", folder / "");
+  EXPECT_EQ(no_draw.rfind("plan.toml:6: [sweep] seed", 0), 0u) << no_draw;
+  EXPECT_NE(no_draw.find("kT"), std::string::npos) << no_draw;
+  // A lattice start (phi 0.45) whose velocities the run draws again: the task's seed draws them.
+  const std::string lattice =
+      "[start]\nn = 16\nphi = 0.45\nboundary = \"periodic\"\n[run]\nend_time = 2\nkT = 1\n"
+      "thermostat = \"rescale\"\nthermostat_every = 0.5\n[sweep]\nseed = [1, 2]\n";
+  const SweepPlan plan = parse(lattice);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const std::string run = task_commands(plan, i, "d").back();
+    EXPECT_NE(run.find(" --seed " + std::to_string(i + 1) + " "), std::string::npos) << run;
+  }
+  const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
+  ASSERT_EQ(results[0].status, TaskStatus::done) << results[0].error;
+  ASSERT_EQ(results[1].status, TaskStatus::done) << results[1].error;
+  EXPECT_NE(results[0].measure("Z"), results[1].measure("Z"));
+  // A seed of the run's own fixed beside the swept one: the lattice tasks would be one run.
+  std::string fixed = lattice;
+  fixed.replace(fixed.find("kT = 1\n"), 7, "kT = 1\nseed = 5\n");
+  const std::string copies = refusal(fixed);
+  EXPECT_EQ(copies.rfind("plan.toml:12: [sweep] seed", 0), 0u) << copies;
+  EXPECT_NE(copies.find("the same run"), std::string::npos) << copies;
+  // Random placement, or radii drawn at random, keep the seed's mark: accepted.
+  std::string random = fixed;
+  random.replace(random.find("phi = 0.45"), 10, "phi = 0.3");
+  EXPECT_EQ(refusal(random), "");
+}
+
+// Item 17: a plan is valid exactly when each task's commands are: what carom init and carom run
+// would refuse, the plan refuses, naming its line and key.
+TEST(SweepPlan, WhatTheTasksCommandsWouldRefuseThePlanRefuses) {
+  const std::string start = "[start]\nn = 16\nphi = 0.3\n";
+  const std::string periodic = start + "boundary = \"periodic\"\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {start + "[run]\nend_time = 1\ntransport = true\n",
+       "plan.toml:6: [run] transport = true: --transport needs a periodic box"},
+      {start + "[run]\nend_time = 1\n[sweep]\nshear = [0.5]\n",
+       "plan.toml:7: [sweep] shear = 0.5 (task shear=0.5): --shear needs a periodic box"},
+      {periodic + "[run]\nend_time = 1\nrule = \"swap\"\nshear = 0.5\n",
+       "plan.toml:8: [run] shear = 0.5: --shear needs --rule elastic"},
+      {start + "[run]\nend_time = 100\ndump = \"a.xyz\"\nevery = 1e-9\n",
+       "plan.toml:7: [run] every = 1e-09: --every 1e-09 would write more than 10^7 frames"},
+      {start + "[run]\nend_time = 1e300\n",
+       "plan.toml:5: [run] end_time = 1e+300: 1e+300 is beyond"},
+      {start + "dim = 4294967298\n[run]\nend_time = 1\n",
+       "plan.toml:4: [start] dim = 4294967298: dim must be 2 (disks) or 3 (spheres)"},
+      {start + "box = []\n[run]\nend_time = 1\n", "plan.toml:4: [start] box: takes a list of"},
+      {start + "[run]\nend_time = 1\ndump = \"a\\rb.xyz\"\nevery = 0.5\n",
+       "plan.toml:6: [run] dump: takes a file name"},
+      // Options carom init's and compress's command lines refuse together.
+      {start + "lattice = true\nrandom = true\n[run]\nend_time = 1\n",
+       "plan.toml:5: [start] random = true: --random excludes --lattice"},
+      {"[start]\nn = 16\nphi = 0.3\nbox = [20, 20]\naspect = 2\n[run]\nend_time = 1\n",
+       "plan.toml:5: [start] aspect = 2: --aspect excludes --box"},
+      {start + "[compress]\nphi = 0.5\n[sweep]\njam = [true, false]\n",
+       "plan.toml:7: [sweep] jam = true (task jam=true): --jam excludes --phi"},
+  };
+  for (const auto& [text, expected] : cases) {
+    const std::string said = refusal(text);
+    EXPECT_EQ(said.rfind(expected, 0), 0u) << "plan:\n" << text << "said: " << said;
+  }
+}
+
+// Item 19: results.csv keeps a row a line whatever a value or an error holds.
+TEST(SweepTables, LineBreaksInAnErrorStayInsideItsRow) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  std::vector<TaskResult> results(4, TaskResult::with(TaskStatus::pending));
+  results[1] = TaskResult::with(TaskStatus::failed, "first\rsecond\nthird, \"fourth\"");
+  write_sweep_tables(plan, folder / "", results);
+  const std::string table = read(folder / "results.csv");
+  EXPECT_EQ(table.find('\r'), std::string::npos);
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5);
+  EXPECT_NE(table.find(",\"first second third, \"\"fourth\"\"\"\n"), std::string::npos) << table;
+}
+
+// Item 23: a sweep of 100,000 state points is tabled and reported (what a stopped sweep does
+// before it exits) in a second or so: the state points and the report's series are grouped by
+// hashing, not by a search of those seen so far (minutes).
+TEST(SweepTables, AHundredThousandStatePointsAreTabledQuickly) {
+  const Folder folder;
+  std::string kT = "[";
+  for (int i = 1; i <= 50'000; ++i) kT += std::to_string(i) + (i < 50'000 ? ", " : "]");
+  const SweepPlan plan = parse(
+      "[start]\nn = 16\nboundary = \"periodic\"\n[run]\nend_time = 1\n"
+      "[sweep]\nphi = [0.2, 0.3]\nkT = " +
+      kT + "\n");
+  ASSERT_EQ(plan.tasks().size(), 100'000u);
+  std::vector<TaskResult> results(plan.tasks().size(), TaskResult::with(TaskStatus::done));
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    results[i].dimension = 2;
+    results[i].measures = {{"Z", 1.0 + static_cast<double>(i % 7)}, {"Z_error", 0.1}};
+  }
+  const auto begun = std::chrono::steady_clock::now();
+  write_sweep_tables(plan, folder / "", results);
+  std::ostringstream page;
+  write_sweep_report(page, plan, results);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - begun).count();
+  EXPECT_LT(seconds, 20.0);
+  const std::string summary = read(folder / "summary.csv");
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 100'001);
 }
 
 }  // namespace

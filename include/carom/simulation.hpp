@@ -262,4 +262,8 @@ class Simulation {
   double thermostat_next_ = kNever;
 };
 
+// Throws RunLengthError for a time beyond Simulation's kLatestTime (which a double resolves too
+// coarsely): what check_target says of it, for a run whose particles are not made yet.
+void check_latest_time(double t);
+
 }  // namespace carom

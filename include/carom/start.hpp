@@ -35,6 +35,13 @@ struct ShearRequest {
 // or a profile without a rate.
 ShearRequest shear_request(std::optional<double> rate, bool profile);
 
+// RequestError, naming the options, for a shear (a rate other than 0) of a box with walls or under
+// a rule other than elastic: what a start made with `shear` refuses, checked before it is made.
+void check_shear_box(const ShearRequest& shear, bool periodic, Rule rule);
+
+// RequestError unless `dimension` is 2 (disks) or 3 (spheres).
+void require_dimension(std::int64_t dimension);
+
 // How to read a start file: carom run's FILE and options (carom.read's arguments).
 struct StartSpec {
   std::string path;                  // see read_any_start_file; "-" reads standard input

@@ -29,6 +29,7 @@
 #include <variant>
 #include <vector>
 
+#include "carom/classic_input.hpp"
 #include "carom/request.hpp"
 
 namespace carom {
@@ -76,12 +77,19 @@ class SweepPlan {
   // The swept keys, in the plan's order.
   const std::vector<std::string>& axes() const { return axes_; }
   const std::vector<SweepTask>& tasks() const { return tasks_; }
+  // The measures of results.csv (measure_names).
+  const std::vector<std::string>& measures() const { return measures_; }
+  // A start `file`'s boundary (its box's, as read) and the rule it records: what each task's
+  // checks take when [run] does not say (the file is read once, with the plan).
+  const StartRecord& start_file_record() const { return start_file_record_; }
 
  private:
   std::string name_, text_, folder_;
   TaskKind kind_ = TaskKind::run;
   std::vector<std::string> axes_;
   std::vector<SweepTask> tasks_;
+  std::vector<std::string> measures_;
+  StartRecord start_file_record_;
 };
 
 // The files of a task, in its folder.
@@ -166,8 +174,8 @@ struct TaskResult {
 };
 
 // The measures of the plan's tasks, in results.csv's order: a run's (with `transport = true`,
-// its transport coefficients too) or a compression's.
-std::vector<std::string> measure_names(const SweepPlan& plan);
+// its transport coefficients too; with `shear`, the shear's) or a compression's.
+const std::vector<std::string>& measure_names(const SweepPlan& plan);
 
 struct TaskHooks {
   const std::atomic<int>* stop = nullptr;  // nonzero stops the task (its checkpoint saved)

@@ -324,6 +324,9 @@ BAD_PLANS = {
                        "[start] colour"),
     "empty axis": (("phi = [0.3, 0.5]", "phi = []"), 11, "[sweep] phi"),
     "bad value in one task": (("phi = [0.3, 0.5]", "phi = [0.3, 2.0]"), 11, "[sweep] phi = 2"),
+    # Issue 36, item 24: a dotted key 100,000 deep crashed the TOML parser (and Python with it).
+    "deep nesting": (("seed = [1, 2]", "seed = [1, 2]\nx" + ".x" * 100_000 + " = 1"), 13,
+                     "nesting deeper than"),
 }
 
 

@@ -4,15 +4,18 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 #include "carom/atomic_file.hpp"
 #include "carom/names.hpp"
 #include "carom/simulation.hpp"
+#include "carom/start.hpp"
 #include "sweep/plan_keys.hpp"
 #include "sweep/task_spec.hpp"
 
@@ -43,6 +46,9 @@ std::string choices(std::string_view key) {
   return names_list<EngineKind>();
 }
 
+// The longest file name (of one folder's entry) that file systems take.
+constexpr std::size_t kLongestFileName = 255;
+
 class Reader {
  public:
   explicit Reader(const std::string& name) : name_(name) {}
@@ -54,6 +60,17 @@ class Reader {
   [[noreturn]] void refuse_value(const toml::node& node, std::string_view where,
                                  const KeyInfo& info, std::string_view takes) const {
     fail(line_of(node), fmt::format("[{}] {}: {}", where, info.key, takes));
+  }
+
+  // A file name is written into task.txt (a command a line) and results.csv (a row a line): a
+  // line break or another control character in it would break their lines.
+  void refuse_control_characters(const toml::node& node, std::string_view where,
+                                 const KeyInfo& info, const std::string& file) const {
+    if (std::any_of(file.begin(), file.end(),
+                    [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+      refuse_value(node, where, info,
+                   "takes a file name without line breaks, tabs or other control characters");
+    }
   }
 
   // The value of `node` for `info`, or a PlanError saying what the key takes.
@@ -83,9 +100,9 @@ class Reader {
             else
               refuse_value(node, where, info, "takes a list of numbers");
           }
-          return numbers;
+          if (!numbers.empty()) return numbers;
         }
-        refuse_value(node, where, info, "takes a list of numbers");
+        refuse_value(node, where, info, "takes a list of numbers, one a side of the box");
       }
       case ValueType::cadence:
         if (const auto* i = node.as_integer(); i != nullptr && i->get() > 0) return i->get();
@@ -105,15 +122,25 @@ class Reader {
         }
         refuse_value(node, where, info, "takes " + choices(info.key));
       case ValueType::text:
-        if (const auto* s = node.as_string(); s != nullptr && !s->get().empty()) return s->get();
+        if (const auto* s = node.as_string(); s != nullptr && !s->get().empty()) {
+          refuse_control_characters(node, where, info, s->get());
+          return s->get();
+        }
         refuse_value(node, where, info, "takes a file name");
       case ValueType::file_name:
         if (const auto* s = node.as_string()) {
           const std::string& file = s->get();
+          refuse_control_characters(node, where, info, file);
           if (file.empty() || file.find('/') != std::string::npos || file == "." || file == "..") {
             refuse_value(
                 node, where, info,
                 "takes a file name, without a folder: the file is written in each task's folder");
+          }
+          if (file.size() > kLongestFileName) {
+            refuse_value(node, where, info,
+                         fmt::format("takes a file name of at most {} bytes (what file systems "
+                                     "take), not {}",
+                                     kLongestFileName, file.size()));
           }
           for (const char* own : task_files::kOwn) {
             if (file == own)
@@ -148,7 +175,128 @@ std::vector<std::pair<std::string, const toml::node*>> in_order(const toml::tabl
   return keys;
 }
 
+// The deepest a plan may nest. A plan's keys are a section's (two parts) and its values lists of
+// numbers (one more level): anything much deeper is a mistake or an attack, and toml++ recurses
+// once for each part of a dotted key or table header, which 100,000 parts overflow the stack with.
+constexpr int kDeepestNesting = 32;
+
+// Refuses (PlanError, at its line) a text that nests deeper than kDeepestNesting anywhere: the
+// parts of the table header and of the key a value is under, plus the lists and inline tables
+// open around it. A lexical scan before toml++ sees the text, strings and comments skipped; it
+// counts a dot of any key as a level, so it errs towards counting too deep, never too shallow.
+void check_nesting(std::string_view text, const Reader& reader) {
+  struct Open {
+    char bracket;     // '[' a list, '{' an inline table
+    int outer_depth;  // the key depth where it opened
+  };
+  std::vector<Open> open;
+  int header_depth = 0;  // the parts of the last table header, less one
+  int key_depth = 0;     // the parts of the key being read (or read), less one, and the header's
+  bool in_key = true;    // at a key (or a header): its dots nest
+  bool in_header = false;
+  int line = 1;
+  const auto skip_string = [&](std::size_t& at) {
+    const char quote = text[at];
+    const bool multi_line = text.substr(at, 3) == std::string(3, quote);
+    const std::string_view end = multi_line ? text.substr(at, 3) : text.substr(at, 1);
+    for (at += end.size(); at < text.size(); ++at) {
+      if (text[at] == '\n') ++line;
+      if (quote == '"' && text[at] == '\\') {
+        ++at;
+      } else if (text.substr(at, end.size()) == end) {
+        at += end.size() - 1;
+        return;
+      }
+    }
+  };
+  for (std::size_t at = 0; at < text.size(); ++at) {
+    const char c = text[at];
+    if (c == '\n') {
+      ++line;
+      if (open.empty()) {
+        in_key = true;
+        in_header = false;
+        key_depth = header_depth;
+      }
+    } else if (c == '#') {
+      while (at + 1 < text.size() && text[at + 1] != '\n') ++at;
+    } else if (c == '"' || c == '\'') {
+      skip_string(at);
+    } else if (c == '[' && open.empty() && in_key) {
+      // A table header, [a.b] or [[a.b]]: its parts nest the keys under it.
+      if (!in_header) header_depth = key_depth = 0;
+      in_header = true;
+    } else if (c == ']' && in_header) {
+      header_depth = key_depth;
+    } else if (c == '.' && in_key) {
+      ++key_depth;
+    } else if (c == '=' && in_key) {
+      in_key = false;
+    } else if (c == '[' || c == '{') {
+      open.push_back({c, key_depth});
+      in_key = c == '{';
+    } else if ((c == ']' || c == '}') && !open.empty()) {
+      key_depth = open.back().outer_depth;
+      open.pop_back();
+      in_key = false;
+    } else if (c == ',' && !open.empty() && open.back().bracket == '{') {
+      key_depth = open.back().outer_depth;
+      in_key = true;
+    }
+    if (static_cast<int>(open.size()) + key_depth + 1 > kDeepestNesting) {
+      reader.fail(line, fmt::format("nesting deeper than {} (a dotted key, table header or list "
+                                    "this deep): a plan's keys and lists nest 3 deep at most",
+                                    kDeepestNesting));
+    }
+  }
+}
+
 constexpr std::size_t kMostTasks = 100'000;
+
+// A task folder's name is at most this long, well inside kLongestFileName.
+constexpr std::size_t kLongestFolderName = 200;
+
+// FNV-1a, 64 bits: the same on every machine, so that a task's folder is found again.
+std::uint64_t fnv1a(std::string_view bytes) {
+  std::uint64_t hash = 0xcbf29ce484222325ULL;
+  for (const char c : bytes) {
+    hash ^= static_cast<unsigned char>(c);
+    hash *= 0x100000001b3ULL;
+  }
+  return hash;
+}
+
+// Whether a character is kept as it is in a folder's name: ',' and '=' part the point's keys and
+// values, and '~' marks a hashed name, so a value holding them (a file name) is not kept as is.
+bool kept_in_folder_name(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '+' ||
+         c == '-';
+}
+
+// The folder of a task at `point` ("phi=0.3,seed=1"; a list's numbers joined by '_'; "task" when
+// nothing is swept). Distinct points have distinct folders: a name that would lose a character
+// (a file name's space, slash or non-ASCII byte becomes '_') or be longer than
+// kLongestFolderName keeps a readable start and ends in '~' and a hash of the whole point.
+std::string folder_name(const std::vector<std::pair<std::string, std::string>>& point,
+                        const std::vector<const PlanValue*>& values) {
+  if (point.empty()) return "task";
+  std::string name, whole;
+  bool lossless = true;
+  for (std::size_t a = 0; a < point.size(); ++a) {
+    const auto& [key, text] = point[a];
+    name += fmt::format("{}{}=", a == 0 ? "" : ",", key);
+    whole += fmt::format("{}={}{}", key, text, '\0');
+    const bool numbers = std::holds_alternative<std::vector<double>>(*values[a]);
+    for (const char c : text) {
+      const bool kept = kept_in_folder_name(c) || (numbers && c == ' ');
+      lossless = lossless && kept;
+      name += kept_in_folder_name(c) ? c : '_';
+    }
+  }
+  if (lossless && name.size() <= kLongestFolderName) return name;
+  const std::string hash = fmt::format("~{:016x}", fnv1a(whole));
+  return name.substr(0, kLongestFolderName - hash.size()) + hash;
+}
 
 struct Axis {
   std::string key;
@@ -171,6 +319,7 @@ SweepPlan SweepPlan::read(const std::string& path) {
 SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
                            const std::string& folder) {
   const Reader reader(name);
+  check_nesting(text, reader);
   toml::table root;
   try {
     root = toml::parse(text, name);
@@ -220,6 +369,20 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
                       : fmt::format("[start] {}: not an option of carom init", key));
     }
     fixed_start.push_back({key, reader.value(*info, *node, "start"), line_of(*node)});
+  }
+  if (const toml::node* file = start->get("file"); file != nullptr && file->is_string()) {
+    // Read now, once: a start no task could read is refused before any runs, and its boundary
+    // and rule are what the tasks' checks take.
+    const std::string path = (std::filesystem::path(folder) / *file->value<std::string>()).string();
+    try {
+      std::visit(
+          [&](const auto& input) {
+            plan.start_file_record_ = {input.system.box.boundary, input.record.rule};
+          },
+          read_any_start_file(path));
+    } catch (const std::exception& e) {  // InputError, or a file that cannot be opened
+      reader.fail(line_of(*file), fmt::format("[start] file: {}", e.what()));
+    }
   }
   for (const auto& [key, node] : in_order(action)) {
     const std::optional<KeyInfo> info = find_key(action_section, key);
@@ -305,25 +468,46 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
                             count, kMostTasks));
   }
 
+  const auto seed_axis =
+      std::find_if(axes.begin(), axes.end(), [](const Axis& a) { return a.key == "seed"; });
+  const int seed_line = seed_axis == axes.end() ? 0 : seed_axis->line;
+
   // The Cartesian product, the first axis outermost.
   std::vector<std::size_t> at(axes.size(), 0);
+  std::unordered_map<std::string, std::size_t> task_of_folder;
   while (true) {
     SweepTask task{"", {}, fixed_start, fixed_action};
+    std::vector<const PlanValue*> values;
     for (std::size_t a = 0; a < axes.size(); ++a) {
       const PlanValue& value = axes[a].values[at[a]];
       const PlanSetting setting{axes[a].key, value, axes[a].line, true};
       (axes[a].in_start ? task.start : task.action).push_back(setting);
       task.point.emplace_back(axes[a].key, sweep::value_text(value));
-      task.name += fmt::format("{}{}={}", a == 0 ? "" : ",", axes[a].key, sweep::value_text(value));
+      values.push_back(&value);
     }
-    if (task.name.empty()) task.name = "task";
-    for (char& c : task.name) c = c == '/' || c == ' ' ? '_' : c;
-    sweep::task_spec(plan, task, "DIR");  // refuses what the task's run would refuse
+    task.name = folder_name(task.point, values);
+    if (const auto [named, added] = task_of_folder.emplace(task.name, plan.tasks_.size()); !added) {
+      // Two points whose hashes agree (about one chance in 10^9 for 100,000 tasks): refused rather
+      // than run in one folder.
+      const auto described = [](const SweepTask& t) {
+        std::string text;
+        for (const auto& [key, value] : t.point) text += fmt::format(" {} = {}", key, value);
+        return text;
+      };
+      reader.fail(axes.front().line,
+                  fmt::format("[sweep] the tasks{} and{} would share the folder {}: change a value",
+                              described(plan.tasks_[named->second]), described(task), task.name));
+    }
+    // Refuses what the task's commands would refuse, and a swept seed they would not use.
+    if (const auto idle = sweep::task_spec(plan, task, "DIR").idle_seed) {
+      reader.fail(seed_line, fmt::format("[sweep] seed (task {}): {}", task.name, *idle));
+    }
     plan.tasks_.push_back(std::move(task));
     std::size_t a = axes.size();
     while (a > 0 && ++at[a - 1] == axes[a - 1].values.size()) at[--a] = 0;
     if (a == 0) break;
   }
+  plan.measures_ = sweep::measures_of(plan);
   return plan;
 }
 

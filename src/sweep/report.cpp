@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <optional>
+#include <unordered_map>
 
 #include "carom/equation_of_state.hpp"
 #include "carom/sweep.hpp"
@@ -81,17 +82,24 @@ std::string reference_name(int dimension) {
   return dimension == 2 ? "Henderson (hard disks)" : "Kolafa-Labik-Malijevsky (hard spheres)";
 }
 
-// Round tick values covering [low, high].
+// Round tick values covering [low, high]: about five, never more than kMostTicks. Counted by
+// index, not by adding steps: a step below what a double resolves at `low` (axis values a
+// rounding apart, 0.3 and 0.1 + 0.2) leaves a sum where it was, and the loop never ended.
 std::vector<double> ticks(double low, double high) {
+  constexpr double kMostTicks = 12;
   const double span = high - low;
+  if (!(span > 0.0) || !std::isfinite(span)) return {};
   const double raw = span / 5.0;
   const double magnitude = std::pow(10.0, std::floor(std::log10(raw)));
   double step = magnitude;
   for (double factor : {2.0, 5.0, 10.0}) {
     if (raw > step) step = magnitude * factor;
   }
+  const double first = std::ceil(low / step), last = std::floor(high / step + 1e-9);
+  if (!(last - first >= 0.0 && last - first <= kMostTicks)) return {low, high};
   std::vector<double> values;
-  for (double t = std::ceil(low / step) * step; t <= high + step * 1e-9; t += step) {
+  for (int i = 0; i <= static_cast<int>(last - first); ++i) {
+    const double t = (first + i) * step;
     values.push_back(std::abs(t) < step * 1e-9 ? 0.0 : t);
   }
   return values;
@@ -106,6 +114,7 @@ std::string chart(const StatePoints& s, std::size_t axis, std::size_t measure,
                   std::optional<int> reference) {
   constexpr double kWidth = 560, kHeight = 340, kLeft = 70, kRight = 20, kTop = 20, kBottom = 50;
   std::vector<std::string> series;
+  std::unordered_map<std::string, std::size_t> index_of_series;  // hashed: 100,000 points
   std::vector<std::size_t> series_of;
   double x_low = INFINITY, x_high = -INFINITY, y_low = INFINITY, y_high = -INFINITY;
   for (const sweep::StatePoint& p : s.points) {
@@ -114,9 +123,9 @@ std::string chart(const StatePoints& s, std::size_t axis, std::size_t measure,
       if (a != axis)
         name += fmt::format("{}{} = {}", name.empty() ? "" : ", ", s.axes[a], p.values[a]);
     }
-    const auto found = std::find(series.begin(), series.end(), name);
-    series_of.push_back(static_cast<std::size_t>(found - series.begin()));
-    if (found == series.end()) series.push_back(name);
+    const auto [found, added] = index_of_series.emplace(name, series.size());
+    series_of.push_back(found->second);
+    if (added) series.push_back(std::move(name));
     const double x = *number(p.values[axis]);
     x_low = std::min(x_low, x);
     x_high = std::max(x_high, x);

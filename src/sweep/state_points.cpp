@@ -1,6 +1,9 @@
 #include "sweep/state_points.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <unordered_map>
 
 namespace carom::sweep {
 
@@ -48,13 +51,21 @@ StatePoints state_points(const SweepPlan& plan, const std::vector<TaskResult>& r
     if (!is_error(name)) s.measures.push_back(name);
   }
   std::vector<std::vector<const TaskResult*>> done;
+  // Each state point's index, by its values (hashed: 100,000 state points are grouped in
+  // milliseconds, where a search of those seen so far took minutes).
+  std::unordered_map<std::string, std::size_t> point_of;
   for (std::size_t i = 0; i < results.size(); ++i) {
     std::vector<std::string> values;
-    for (std::size_t a : kept) values.push_back(plan.tasks()[i].point[a].second);
-    std::size_t p = 0;
-    while (p < s.points.size() && s.points[p].values != values) ++p;
-    if (p == s.points.size()) {
-      s.points.push_back({values, 0, 0, {}});
+    std::string key;
+    for (std::size_t a : kept) {
+      const std::string& value = plan.tasks()[i].point[a].second;
+      key += fmt::format("{}:{}", value.size(), value);  // sized, so no two lists join alike
+      values.push_back(value);
+    }
+    const auto [found, added] = point_of.emplace(std::move(key), s.points.size());
+    const std::size_t p = found->second;
+    if (added) {
+      s.points.push_back({std::move(values), 0, 0, {}});
       done.emplace_back();
     }
     ++s.points[p].tasks;

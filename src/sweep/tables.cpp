@@ -19,16 +19,20 @@ std::string field(double value) {
   return std::isfinite(value) ? fmt::format("{}", value) : "";
 }
 
+// A csv field: quoted when it holds a comma, a quote or a line break, each line break (\n or \r,
+// which readers also split rows at) written as a space, so that a row is always one line.
 std::string quoted(const std::string& text) {
-  if (text.find_first_of(",\"\n") == std::string::npos) return text;
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
   std::string q = "\"";
-  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  for (char c : text) {
+    q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' || c == '\r' ? ' ' : c);
+  }
   return q + "\"";
 }
 
 void write_results(std::ostream& out, const SweepPlan& plan,
                    const std::vector<TaskResult>& results) {
-  const std::vector<std::string> measures = measure_names(plan);
+  const std::vector<std::string>& measures = measure_names(plan);
   for (const std::string& axis : plan.axes()) out << axis << ',';
   out << "status";
   for (const std::string& name : measures) out << ',' << name;

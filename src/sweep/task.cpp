@@ -53,6 +53,61 @@ std::string commands_text(const sweep::TaskSpec& spec) {
   return text;
 }
 
+// The words of a command as a shell reads those task_spec writes (plain, or in single quotes with
+// ' written '\'').
+std::vector<std::string> shell_words(std::string_view command) {
+  std::vector<std::string> words;
+  std::string word;
+  bool quoted = false, in_word = false;
+  for (std::size_t i = 0; i < command.size(); ++i) {
+    const char c = command[i];
+    if (quoted) {
+      if (c == '\'') {
+        quoted = false;
+      } else {
+        word += c;
+      }
+    } else if (c == '\'') {
+      quoted = in_word = true;
+    } else if (c == '\\' && i + 1 < command.size()) {
+      word += command[++i];
+      in_word = true;
+    } else if (c == ' ') {
+      if (in_word) words.push_back(std::move(word));
+      word.clear();
+      in_word = false;
+    } else {
+      word += c;
+      in_word = true;
+    }
+  }
+  if (in_word) words.push_back(std::move(word));
+  return words;
+}
+
+// Whether `written` (a task.txt) holds the commands of `task`, however its folder and the plan's
+// were spelled when it was written (out, ./out, /home/me/out): the task's commands made again with
+// the folder and the start file that the written ones name are the same text.
+bool holds_task(const std::string& written, const SweepPlan& plan, const SweepTask& task) {
+  std::string last_line = written.substr(0, written.empty() ? 0 : written.size() - 1);
+  last_line = last_line.substr(last_line.rfind('\n') + 1);
+  const std::vector<std::string> words = shell_words(last_line);
+  // Every task's last command names its summary, FOLDER/summary.json, after --summary; a start
+  // file's task reads it as its first argument: carom run FILE ... or carom compress FILE ....
+  const auto summary = std::find(words.begin(), words.end(), "--summary");
+  if (summary == words.end() || summary + 1 == words.end() || words.size() < 3) return false;
+  const fs::path folder = fs::path(*(summary + 1)).parent_path();
+  const bool from_file = std::any_of(task.start.begin(), task.start.end(),
+                                     [](const PlanSetting& s) { return s.key == "file"; });
+  try {
+    return written == commands_text(sweep::task_spec(
+                          plan, task, folder.string(),
+                          from_file ? std::optional<std::string>(words[2]) : std::nullopt));
+  } catch (const PlanError&) {
+    return false;  // a folder spelled as no task's could be
+  }
+}
+
 // The named columns of the last row of a run's time series (its running means and errors).
 double last_logged(const fs::path& log, const std::string& column) {
   std::ifstream in(log);
@@ -400,7 +455,11 @@ std::optional<HeldLock> wait_for_lock(const fs::path& path, const std::atomic<in
 
 }  // namespace
 
-std::vector<std::string> measure_names(const SweepPlan& plan) {
+const std::vector<std::string>& measure_names(const SweepPlan& plan) {
+  return plan.measures();
+}
+
+std::vector<std::string> sweep::measures_of(const SweepPlan& plan) {
   if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
   std::vector<std::string> names = {
       "Z",           "Z_error",        "pressure",        "pressure_error",
@@ -438,8 +497,7 @@ void check_sweep_folder(const SweepPlan& plan, const std::string& out_dir,
     const fs::path folder = task_folder(plan, i, out_dir);
     const fs::path commands = folder / task_files::kCommands;
     if (!fs::exists(commands)) continue;
-    const sweep::TaskSpec spec = sweep::task_spec(plan, plan.tasks()[i], folder.string());
-    if (read_text(commands) != commands_text(spec)) {
+    if (!holds_task(read_text(commands), plan, plan.tasks()[i])) {
       throw RequestError(fmt::format(
           "{} holds the files of another task (its {} differs from what {} now makes it: the "
           "plan changed); give another -o, or remove the folder to run the task again",
@@ -458,7 +516,7 @@ TaskResult run_task(const SweepPlan& plan, std::size_t index, const std::string&
   const fs::path commands = folder / task_files::kCommands;
   if (!fs::exists(commands)) {
     write_text(commands, commands_text(spec));
-  } else if (read_text(commands) != commands_text(spec)) {
+  } else if (!holds_task(read_text(commands), plan, plan.tasks()[index])) {
     check_sweep_folder(plan, out_dir);  // throws, saying what differs
   }
   const fs::path error = folder / task_files::kError;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
@@ -76,25 +77,64 @@ bool has_word(const std::string& text, const std::string& word) {
   return false;
 }
 
-// The setting a library message is about: the one whose option it names ("--phi 0.95 is above
-// ..."), else whose key it names ("the restitution must be ..."), else the first.
+// The setting a library message is about: the one whose option it names first ("--shear needs
+// --rule elastic" is about --shear), else whose key it names ("the restitution must be ..."),
+// else the first.
 const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std::string& message) {
+  const PlanSetting* first_named = nullptr;
+  std::size_t first_at = std::string::npos;
   for (const PlanSetting& s : settings) {
     std::string option = "--" + s.key;
     for (char& c : option) c = c == '_' ? '-' : c;
-    if (message.find(option) != std::string::npos) return s;
+    // "--every" is not named by "--every-thing": the option ends where a word does.
+    for (std::size_t at = message.find(option); at != std::string::npos;
+         at = message.find(option, at + 1)) {
+      const std::size_t end = at + option.size();
+      const bool whole =
+          end == message.size() ||
+          !(std::isalnum(static_cast<unsigned char>(message[end])) || message[end] == '-');
+      if (whole && at < first_at) {
+        first_named = &s;
+        first_at = at;
+      }
+    }
   }
+  if (first_named != nullptr) return *first_named;
   for (const PlanSetting& s : settings) {
     if (has_word(message, s.key)) return s;
   }
   return settings.front();
 }
 
+const PlanSetting* find_setting(const std::vector<PlanSetting>& settings, std::string_view key) {
+  const auto found = std::find_if(settings.begin(), settings.end(),
+                                  [&](const PlanSetting& s) { return s.key == key; });
+  return found == settings.end() ? nullptr : &*found;
+}
+
+// RequestError "--KEY excludes --OTHER" when both are given (a flag: given as true), as carom's
+// command line refuses them.
+void refuse_together(const std::vector<PlanSetting>& settings, std::string_view key,
+                     std::string_view other) {
+  const auto given = [&](std::string_view name) {
+    const PlanSetting* s = find_setting(settings, name);
+    return s != nullptr && !(std::holds_alternative<bool>(s->value) && !as_flag(s->value));
+  };
+  if (given(key) && given(other)) {
+    std::string message = fmt::format("--{} excludes --{}", key, other);
+    for (char& c : message) c = c == '_' ? '-' : c;
+    throw RequestError(message);
+  }
+}
+
 void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
   InitialOptions& o = spec.initial;
   for (const PlanSetting& s : settings) {
     const PlanValue& v = s.value;
-    if (s.key == "dim") spec.dimension = static_cast<int>(as_integer(v));
+    if (s.key == "dim") {
+      require_dimension(std::get<std::int64_t>(v));  // before it is narrowed to an int
+      spec.dimension = static_cast<int>(as_integer(v));
+    }
     if (s.key == "n") o.n = as_integer(v);
     if (s.key == "phi") o.packing_fraction = as_number(v);
     if (s.key == "box") o.box = std::get<std::vector<double>>(v);
@@ -107,6 +147,10 @@ void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
     if (s.key == "lattice" && as_flag(v)) o.placement = Placement::lattice;
     if (s.key == "random" && as_flag(v)) o.placement = Placement::random;
   }
+  // What carom init's command line refuses as options that exclude each other (CLI11's words).
+  refuse_together(settings, "random", "lattice");
+  refuse_together(settings, "aspect", "box");
+  refuse_together(settings, "radius", "box");
 }
 
 void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
@@ -142,6 +186,11 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "shear") shear = as_number(v);
     if (s.key == "velocity_profile") velocity_profile = as_flag(v);
   }
+  if (find_setting(settings, "seed") != nullptr && !start.temperature) {
+    throw RequestError(
+        "--seed needs --kT T: it seeds the velocities --kT draws (and Andersen's resets), and "
+        "without them it would seed nothing");
+  }
   start.shear = shear_request(shear, velocity_profile);
   start.thermostat = thermostat_request(thermostat, start.temperature, thermostat_every,
                                         thermostat_rate, start.seed);
@@ -169,11 +218,53 @@ void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) 
     if (s.key == "engine") c.settings.engine = as_choice<EngineKind>(v);
     if (s.key == "unit_diameter") c.unit_diameter = as_flag(v);
   }
+  refuse_together(settings, "jam", "phi");
   if (jam) c.settings.target.reset();
 }
 
-// The two commands, with the sweep's own files added as carom run's options.
-void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& folder) {
+// The run's settings, and the task's seed when the run draws random numbers (new velocities at
+// kT, Andersen's resets) without a seed of its own and carom init's start has one: a seed, set or
+// swept, then seeds every draw of its task, not only carom init's.
+std::vector<PlanSetting> action_settings(const SweepPlan& plan, const SweepTask& task) {
+  std::vector<PlanSetting> settings = task.action;
+  const PlanSetting* seed = find_setting(task.start, "seed");
+  if (plan.kind() == TaskKind::run && seed != nullptr && find_setting(settings, "kT") != nullptr &&
+      find_setting(settings, "seed") == nullptr) {
+    settings.push_back(*seed);
+  }
+  return settings;
+}
+
+// Why a swept seed of carom init's would leave the tasks of a state point one run, or nullopt:
+// when it draws neither the placement (a lattice) nor the radii (equal), and the run draws every
+// velocity again with a seed of its own.
+std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTask& task) {
+  const PlanSetting* seed = find_setting(task.start, "seed");
+  if (seed == nullptr || !seed->swept || spec.kind != TaskKind::run || !spec.start.temperature) {
+    return std::nullopt;
+  }
+  const PlanSetting* own_run_seed = find_setting(task.action, "seed");
+  const InitialOptions& o = spec.initial;
+  const bool random_placement =
+      o.placement == Placement::random ||
+      (o.placement == Placement::automatic &&
+       o.packing_fraction <= random_placement_limit(static_cast<std::size_t>(spec.dimension)));
+  if (own_run_seed == nullptr || random_placement || o.polydispersity > 0.0) return std::nullopt;
+  return fmt::format(
+      "carom init places every particle on a lattice ({}) with one radius, and [run] kT draws "
+      "every velocity again with [run] seed = {}: the tasks of a state point would be the same "
+      "run. Remove [run] seed (the swept seed then draws the velocities), or make the start "
+      "random (random = true, or polydispersity)",
+      o.placement == Placement::lattice
+          ? std::string("lattice = true")
+          : fmt::format("phi above {}",
+                        random_placement_limit(static_cast<std::size_t>(spec.dimension))),
+      value_text(own_run_seed->value));
+}
+
+// The commands, with the sweep's own files added as carom run's options.
+void write_commands(TaskSpec& spec, const SweepTask& task, const std::vector<PlanSetting>& action,
+                    const std::string& folder) {
   const std::string start_path =
       spec.start_file ? *spec.start_file : in_folder(folder, task_files::kStart);
   if (!spec.start_file) {
@@ -183,7 +274,7 @@ void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& fo
   }
   if (spec.kind == TaskKind::compress) {
     std::string compress = "carom compress " + shell_word(start_path);
-    for (const PlanSetting& s : task.action) append_option(compress, s);
+    for (const PlanSetting& s : action) append_option(compress, s);
     spec.commands.push_back(compress + " -o " +
                             shell_word(in_folder(folder, task_files::kPacking)) + " --summary " +
                             shell_word(in_folder(folder, task_files::kSummary)) + " -q");
@@ -191,7 +282,7 @@ void write_commands(TaskSpec& spec, const SweepTask& task, const std::string& fo
   }
   const RunSpec& run = spec.run;
   std::string command = "carom run " + shell_word(start_path) + " " + value_text(run.end_time);
-  for (const PlanSetting& s : task.action) {
+  for (const PlanSetting& s : action) {
     if (s.key != "end_time" && s.key != "log_every" && s.key != "checkpoint_every") {
       append_option(command, s);
     }
@@ -229,38 +320,53 @@ PlanError setting_error(const SweepPlan& plan, const SweepTask* task, const Plan
                                setting.key, value_text(setting.value), which, why));
 }
 
-TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder) {
+TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder,
+                   const std::optional<std::string>& start_file) {
   TaskSpec spec;
   spec.kind = plan.kind();
   for (const PlanSetting& s : task.start) {
-    if (s.key == "file") spec.start_file = (fs::path(plan.folder()) / as_text(s.value)).string();
+    if (s.key == "file") {
+      spec.start_file = start_file.value_or((fs::path(plan.folder()) / as_text(s.value)).string());
+    }
   }
-  const std::string_view action = spec.kind == TaskKind::run ? "run" : "compress";
+  const std::string_view section = spec.kind == TaskKind::run ? "run" : "compress";
   if (!spec.start_file) {
-    init_options(spec, task.start);
     try {
+      init_options(spec, task.start);
       check_initial_options(static_cast<std::size_t>(spec.dimension), spec.initial);
-    } catch (const InitialError& e) {
+    } catch (const std::exception& e) {  // InitialError, or RequestError for the dimension
       throw setting_error(plan, &task, named_in(task.start, e.what()), "start", e.what());
     }
   }
+  const std::vector<PlanSetting> action = action_settings(plan, task);
   try {
     if (spec.kind == TaskKind::compress) {
-      compress_options(spec, task.action);
+      compress_options(spec, action);
     } else {
-      run_options(spec, task.action, folder);
+      run_options(spec, action, folder);
       const StartSpec& s = spec.start;
       check_settings(
           {{s.rule.value_or(s.restitution < 1.0 ? Rule::elastic : Rule::swap), s.restitution, s.tc},
            s.engine});
       check_run_spec(spec.run);
+      // What the run checks of its start's box, before any particle is made: the boundary and
+      // rule are the run's, else what the start records (carom init's: its boundary, elastic).
+      const StartRecord record = spec.start_file
+                                     ? plan.start_file_record()
+                                     : StartRecord{spec.initial.boundary, Rule::elastic};
+      const Boundary boundary = s.boundary.value_or(record.boundary.value_or(Boundary::walls));
+      const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));
+      const bool periodic = boundary == Boundary::periodic;
+      check_shear_box(s.shear, periodic, rule);
+      check_run_in_box(spec.run, 0.0, periodic, s.shear.rate != 0.0);
     }
   } catch (const std::invalid_argument& e) {
-    throw setting_error(plan, &task, named_in(task.action, e.what()), action, e.what());
+    throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());
   }
+  spec.idle_seed = why_seed_is_idle(spec, task);
   spec.start.path = spec.start_file.value_or(in_folder(folder, task_files::kStart));
   spec.compress.input = spec.start.path;
-  write_commands(spec, task, folder);
+  write_commands(spec, task, action, folder);
   return spec;
 }
 

@@ -29,11 +29,21 @@ struct TaskSpec {
   std::optional<Boundary> compress_boundary;
   // The commands: carom init's (empty with `file`), then carom run's or compress's.
   std::vector<std::string> commands;
+  // Why the task's swept seed seeds nothing its run keeps (the tasks of its state point would be
+  // one run), or nullopt.
+  std::optional<std::string> idle_seed;
 };
 
-// The task's description with its files in `folder`. Throws PlanError, naming the plan's line,
-// for options the library refuses (a packing fraction above close packing, a restitution of 2).
-TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder);
+// The task's description with its files in `folder` (and its start `file` at `start_file`, if
+// given, rather than in the plan's folder). Throws PlanError, naming the plan's line, for options
+// the library refuses (a packing fraction above close packing, a restitution of 2, a shear between
+// walls), checked as each command would before running.
+TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::string& folder,
+                   const std::optional<std::string>& start_file = std::nullopt);
+
+// The measures of the plan's tasks, in results.csv's order (what measure_names returns, worked out
+// once, from every task, when the plan is read).
+std::vector<std::string> measures_of(const SweepPlan& plan);
 
 // A PlanError for `setting` of `task`: "PLAN:LINE: [SECTION] KEY = VALUE (task NAME): WHY".
 PlanError setting_error(const SweepPlan& plan, const SweepTask* task, const PlanSetting& setting,
