@@ -72,6 +72,7 @@ void view_command(const ViewArguments& args) {
   // The page is created only once the frames are read (a stop meanwhile leaves nothing), but
   // where it goes is checked first.
   if (args.output != "-") check_writable(args.output);
+  check_files_apart({{"the input TRAJECTORY", args.trajectory}}, {{"-o", args.output}});
   const std::vector<Frame> frames = read_trajectory_frames(args.trajectory, chosen(args));
   if (frames.empty()) {
     throw UsageError(

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -1629,6 +1630,45 @@ TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
   const fs::path checkpoint = dir_ / "c.ckpt";
   ASSERT_EQ(carom({"run", input, "5", "--checkpoint", checkpoint}).exit_code, 0);
   EXPECT_EQ(carom({"run", "--resume", checkpoint, "10", "--checkpoint", checkpoint}).exit_code, 0);
+}
+
+// Regression: view, analyze and compress wrote over their own inputs (run refused the same):
+// every command refuses an output that is one of its inputs, however it is spelled.
+TEST_F(Cli, EveryCommandRefusesAnOutputThatIsItsInput) {
+  const fs::path start = dir_ / "gas.txt", movie = dir_ / "run.xyz", log = dir_ / "run.csv";
+  ASSERT_EQ(carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--dump", movie, "--every", "1", "--log", log,
+                   "--log-every", "1", "-q"})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--dump", dir_ / "run.gsd", "--every", "1", "-q"}).exit_code,
+            0);
+  fs::create_directories(dir_ / "sub");
+  fs::create_symlink(movie, dir_ / "link.xyz");
+  const std::string dotted = (dir_ / "sub" / ".." / "run.xyz").string();
+  const std::map<fs::path, std::string> before = {{start, read_file(start)},
+                                                  {movie, read_file(movie)},
+                                                  {log, read_file(log)},
+                                                  {dir_ / "run.gsd", read_file(dir_ / "run.gsd")}};
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"view", movie, "-o", movie},
+        {"view", movie, "-o", dotted},
+        {"view", dir_ / "link.xyz", "-o", movie},
+        {"analyze", movie, "--html", movie},
+        {"analyze", movie, "-o", dotted},
+        {"analyze", movie, "--log", log, "-o", log},
+        {"analyze", movie, "--log", log, "--html", (dir_ / "." / "run.csv").string()},
+        {"compress", start, "--phi", "0.4", "-o", start},
+        {"compress", start, "--phi", "0.4", "--summary", (dir_ / "sub" / ".." / "gas.txt")},
+        {"compress", (dir_ / "run.gsd:1").string(), "--phi", "0.4", "-o", dir_ / "run.gsd"},
+        {"run", (dir_ / "run.gsd:0").string(), "1", "--dump", dir_ / "run.gsd", "--every", "1"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_NE(r.err.find("name the same file"), std::string::npos) << r.err;
+  }
+  for (const auto& [path, text] : before) EXPECT_EQ(read_file(path), text) << path;
 }
 
 // Regressions: small promises of the output.
