@@ -1671,6 +1671,55 @@ TEST_F(Cli, EveryCommandRefusesAnOutputThatIsItsInput) {
   for (const auto& [path, text] : before) EXPECT_EQ(read_file(path), text) << path;
 }
 
+// Regression: a start file or folder whose name is not UTF-8 ran, then lost everything to
+// "invalid UTF-8 byte" (exit 1): no summary, checkpoint or output. Such a name is written into
+// JSON as \udcXX escapes, and read back as the same bytes: the resumed run names the same file.
+TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
+  const fs::path folder = dir_ / "dossier\xe9";
+  fs::create_directories(folder);
+  const fs::path start = folder / "caf\xe9.txt", checkpoint = folder / "c\xe9.ckpt",
+                 summary = folder / "s.json", movie = folder / "m\xe9.xyz";
+  ASSERT_EQ(carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const Result ran = carom({"run", start, "2", "--summary", summary, "--checkpoint", checkpoint,
+                            "--dump", movie, "--every", "1", "-o", folder / "end.txt", "-q"});
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  // The value of a string field as written (nlohmann::json refuses lone surrogate escapes).
+  const auto written = [&](const fs::path& json, const std::string& key) {
+    const std::string text = read_file(json), opening = "\"" + key + "\": \"";
+    const std::size_t from = text.find(opening) + opening.size();
+    return text.substr(from, text.find('"', from) - from);
+  };
+  EXPECT_NE(read_file(summary).find("dossier\\udce9/caf\\udce9.txt"), std::string::npos)
+      << read_file(summary);
+  EXPECT_NE(read_file(checkpoint).find("dossier\\udce9/caf\\udce9.txt"), std::string::npos);
+  EXPECT_TRUE(fs::exists(folder / "end.txt"));
+  // The checkpoint names its start file, read back as the same bytes: the resumed run's summary
+  // says so.
+  const Result resumed = carom({"run", "--resume", checkpoint, "4", "--checkpoint", checkpoint,
+                                "--summary", summary, "--format", "json", "-q"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("dossier\\udce9/caf\\udce9.txt"), std::string::npos) << resumed.out;
+  EXPECT_EQ(written(summary, "input"), written(checkpoint, "source"));
+  EXPECT_EQ(written(summary, "input"), (dir_ / "dossier\\udce9" / "caf\\udce9.txt").string());
+  // The other commands that write names: analyze (json and page), compress's summary.
+  const Result analysed = carom({"analyze", movie, "-o", folder / "a.json", "--html",
+                                 folder / "a.html"});
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_NE(read_file(folder / "a.json").find("m\\udce9.xyz"), std::string::npos);
+  const Result compressed = carom({"compress", start, "--phi", "0.35", "-o", folder / "d.txt",
+                                   "--summary", folder / "d.json", "-q"});
+  ASSERT_EQ(compressed.exit_code, 0) << compressed.err;
+  EXPECT_NE(read_file(folder / "d.json").find("caf\\udce9.txt"), std::string::npos);
+  // A sweep into such a folder: its tasks' summaries are read back for the tables.
+  std::ofstream(dir_ / "plan.toml") << "[start]\nn = 16\nboundary = \"periodic\"\n[run]\n"
+                                       "end_time = 1\nrule = \"elastic\"\n[sweep]\nphi = [0.2]\n";
+  const Result swept = carom({"sweep", dir_ / "plan.toml", "-o", folder / "sweep", "-q"});
+  EXPECT_EQ(swept.exit_code, 0) << swept.err;
+  EXPECT_NE(read_file(folder / "sweep" / "results.csv").find("done"), std::string::npos);
+}
+
 // Regressions: small promises of the output.
 TEST_F(Cli, EdgesOfTheOutputKeepTheirPromises) {
   const std::string input = kCases + "normal.txt";

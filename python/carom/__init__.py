@@ -107,20 +107,24 @@ def _flag(name, value):
 
 
 def _path(value):
-    """A file name (str or os.PathLike) as a str; None as "" (no file)."""
-    return "" if value is None else str(value)
+    """A file name (str, bytes or os.PathLike) as the bytes that name the file; None as b"" (no
+    file). Bytes, not str: a name that is not UTF-8 (os.fsdecode's surrogate escapes) reaches the
+    library as the file's own name."""
+    if value is None:
+        return b""
+    return _os.fsencode(value if isinstance(value, (str, bytes, _os.PathLike)) else str(value))
 
 
 def _output(name, path, every_name, every):
-    """A streamed output and its cadence, both or neither: (path or "", every or 0.0)."""
+    """A streamed output and its cadence, both or neither: (the path's bytes or b"", every or 0.0)."""
     if path is None:
         if every is not None:
             raise ValueError(f"{every_name} needs {name}: the file to write to")
-        return "", 0.0
+        return b"", 0.0
     if every is None:
         raise ValueError(f"{name} needs {every_name}: the time between "
                          f"{'frames' if name == 'dump' else 'rows'}")
-    return str(path), _number(every_name, every)
+    return _path(path), _number(every_name, every)
 
 
 _RULES = ("swap", "elastic")
@@ -363,7 +367,7 @@ class Simulation:
 
     def save(self, path):
         """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""
-        self._idle.save(str(path))
+        self._idle.save(_path(path))
 
     def __repr__(self):
         kind = "disks" if self.dim == 2 else "spheres"
@@ -390,7 +394,7 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
     broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
-        str(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
+        _path(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
         None if rule is None else _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
@@ -468,7 +472,7 @@ def compress(sim, phi=None, jam=False, rate=_D["rate"], kT=_D["compress_kT"],
 
 def resume(path):
     """The Simulation a checkpoint holds (sim.save or `carom run --checkpoint`), to run on exactly."""
-    return Simulation._wrap(_carom.Simulation.resume(str(path)))
+    return Simulation._wrap(_carom.Simulation.resume(_path(path)))
 
 
 def _positive(name, value):
@@ -494,10 +498,10 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     writes the report page there. A broken file raises carom.InputError, bad options ValueError.
     """
     result = _json.loads(_carom.analyze(
-        str(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),
+        _path(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),
         _positive("bin", bin), _positive("r_max", r_max),
-        _positive("contact_width", contact_width), None if log is None else str(log),
-        None if html is None else str(html)))
+        _positive("contact_width", contact_width), None if log is None else _path(log),
+        None if html is None else _path(html)))
     arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean"),
               "snapshot": ("radius", "psi6_modulus", "psi6_phase")}
     for section, keys in arrays.items():

@@ -17,6 +17,7 @@
 #include "carom/run.hpp"
 #include "carom/start.hpp"
 #include "carom/sweep.hpp"
+#include "json_text.hpp"
 #include "sweep/task_spec.hpp"
 
 namespace carom {
@@ -78,7 +79,7 @@ double number(const nlohmann::json& summary, const char* key) {
 
 // What a done task measured, from its summary (and a run's time series for the errors).
 TaskResult done_result(const std::vector<std::string>& names, const fs::path& folder) {
-  const nlohmann::json summary = nlohmann::json::parse(read_text(folder / task_files::kSummary));
+  const nlohmann::json summary = parse_json(read_text(folder / task_files::kSummary));
   TaskResult result;
   result.status = TaskStatus::done;
   result.dimension = summary.value("dimension", 0);
