@@ -1601,7 +1601,8 @@ TEST_F(Cli, HostileNumbersAreRefusedUpFront) {
     EXPECT_FALSE(fs::exists(dump) || fs::exists(checkpoint))
         << fmt::format("{}", fmt::join(args, " "));
   }
-  EXPECT_NE(carom({"init", "--n", "-5", "--phi", "0.3"}).err.find("--n must be at least 1, got -5"),
+  EXPECT_NE(carom({"init", "--n", "-5", "--phi", "0.3"})
+                .err.find("--n must be a whole number of at least 1, got '-5'"),
             std::string::npos);
 }
 
@@ -1718,6 +1719,57 @@ TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
   const Result swept = carom({"sweep", dir_ / "plan.toml", "-o", folder / "sweep", "-q"});
   EXPECT_EQ(swept.exit_code, 0) << swept.err;
   EXPECT_NE(read_file(folder / "sweep" / "results.csv").find("done"), std::string::npos);
+}
+
+// Regression: integer options took "-5" as 2^64 - 5 (--check-every -5: no check ever ran), "010"
+// as octal and "0x10" as hex; --stride 0 was refused with a 309-digit bound.
+TEST_F(Cli, IntegerOptionsTakeWholeNumbersAndSaySo) {
+  const std::string input = kCases + "normal.txt";
+  for (const auto& [args, message] :
+       std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"run", input, "1", "--check", "--check-every", "-5"},
+            "--check-every must be a whole number of at least 1, got '-5'"},
+           {{"run", input, "1", "--check", "--check-every", "0"}, "at least 1, got '0'"},
+           {{"run", input, "1", "--check", "--check-every", "1.5"}, "got '1.5'"},
+           {{"run", input, "1", "--check", "--check-every", "0x10"}, "got '0x10'"},
+           {{"run", input, "1", "--kT", "1", "--seed", "-1"}, "--seed must be a whole number"},
+           {{"run", input, "1", "--check", "--check-every", "99999999999999999999"},
+            "at most 18446744073709551615"},
+           {{"init", "--n", "-5", "--phi", "0.3"}, "--n must be a whole number of at least 1"},
+           {{"init", "--n", "0x10", "--phi", "0.3"}, "got '0x10'"},
+           {{"init", "--n", "10", "--phi", "0.3", "--seed", "-2"}, "--seed must be a whole"},
+           {{"view", input, "-o", dir_ / "v.html", "--stride", "0"},
+            "--stride must be a whole number of at least 1, got '0'"},
+           {{"sweep", dir_ / "plan.toml", "-j", "-1"}, "--jobs must be a whole number"},
+           {{"sweep", dir_ / "plan.toml", "-j", "0"}, "--jobs must be a whole number"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("0000000"), std::string::npos) << r.err;  // no bound of 309 digits
+  }
+  // Leading zeros are decimal, not octal.
+  const fs::path ten = dir_ / "ten.txt";
+  ASSERT_EQ(carom({"init", "--n", "010", "--phi", "0.3", "-o", ten}).exit_code, 0);
+  EXPECT_NE(read_file(ten).find("\n10\n"), std::string::npos) << read_file(ten);
+}
+
+// Regression: an inelastic collapse in a periodic box asked "is a disk wedged exactly between
+// two walls?", where there are none. The message names what this run can have.
+TEST_F(Cli, AStuckRunSaysWhatCanBeTrueOfIt) {
+  // A granular gas without the TC model collapses (at t = 11 or so).
+  const fs::path gas = dir_ / "gas.txt";
+  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.4", "--boundary", "periodic", "-o", gas})
+                .exit_code,
+            0);
+  const Result collapse = carom({"run", gas, "1000", "--rule", "elastic", "--restitution", "0.3",
+                                 "--tc", "0", "-q"});
+  EXPECT_EQ(collapse.exit_code, 1) << collapse.err;
+  EXPECT_NE(collapse.err.find("inelastic collapse"), std::string::npos) << collapse.err;
+  EXPECT_NE(collapse.err.find("--tc 0"), std::string::npos) << collapse.err;
+  EXPECT_EQ(collapse.err.find("wall"), std::string::npos) << collapse.err;
+  const Result wedged = carom({"run", write("wedged.txt", "1\n0.5\n1 10\n0.5 5 1 0\n"), "1"});
+  EXPECT_EQ(wedged.exit_code, 1) << wedged.err;
+  EXPECT_NE(wedged.err.find("wedged exactly between two walls"), std::string::npos) << wedged.err;
 }
 
 // Regressions: small promises of the output.
