@@ -573,7 +573,7 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
     Fnv1a hash;
     add_head(hash, head);
     for (const auto& row : *particles) {
-      hash.add(row.dump());
+      hash.add(dump_json(row));
       hash.add("\n");
     }
     if (hash.text() != checksum->get<std::string>()) {

@@ -117,6 +117,15 @@ TEST(Checkpoint, ASourceNameThatIsNotUtf8IsReadBackAsTheSameBytes) {
   EXPECT_NE(text.find(R"("source": "dossier\udce9/caf\udce9\udcff.txt")"), std::string::npos);
   const AnyCheckpoint back = read(text);
   EXPECT_EQ(std::get<Checkpoint<2>>(back).source, name);
+  // Such a name where a number belongs is refused as any other string there (not an exception
+  // of the json library's while checking the checksum).
+  std::string edited = text;
+  const std::size_t first_row = edited.find("[", edited.find("[", edited.find("\"particles\"")) + 1);
+  edited.replace(first_row + 1, 0, "\"x\\udce9\", ");
+  expect_refused(edited, "its checksum does not match");
+  const std::size_t checksum = edited.find(",\n \"checksum\"");
+  edited.erase(checksum, edited.find('\n', checksum + 2) - checksum);  // to the line's end
+  expect_refused(edited, "found [\"x\\udce9\"");
 }
 
 // dump_json and parse_json: bytes that are not UTF-8 round-trip, and nothing else changes.
