@@ -540,7 +540,8 @@ def _typed(text, kind):
 def _results_table(plan, path):
     """results.csv as a pandas DataFrame, or as a numpy structured array without pandas: the swept
     keys typed as in the plan, status and error as text, every measure a float (NaN: none)."""
-    with open(path, newline="") as f:
+    # A task's error may name a file whose name is not UTF-8: read as os.fsdecode would.
+    with open(path, newline="", encoding="utf-8", errors="surrogateescape") as f:
         header, *rows = list(_csv.reader(f))
     first = plan.points[0]
     columns = {}
@@ -595,7 +596,8 @@ def sweep(plan, out_dir, client=None):
     ("done", "failed"), the measures as floats (NaN: not measured) and the error.
     """
     plan = _file_name("plan", plan)
-    out_dir = _file_name("out_dir", out_dir)
+    # The library is given the folder's bytes: its name need not be UTF-8.
+    out_dir = _os.fsencode(_file_name("out_dir", out_dir))
     import distributed  # here: only a sweep needs Dask, which takes a second to import
     if client is not None and not isinstance(client, distributed.Client):
         raise ValueError(f"client must be a dask.distributed Client or None, got {client!r}")
@@ -614,8 +616,8 @@ def sweep(plan, out_dir, client=None):
             _run_tasks(client, core, out_dir, waiting)
     results = _carom.read_task_results(core, out_dir)
     _carom.write_sweep_tables(core, out_dir, results)
-    _carom.write_sweep_report(core, results, _os.path.join(out_dir, "report.html"))
-    return _results_table(core, _os.path.join(out_dir, "results.csv"))
+    _carom.write_sweep_report(core, results, _os.path.join(out_dir, b"report.html"))
+    return _results_table(core, _os.path.join(out_dir, b"results.csv"))
 
 
 def _run_tasks(client, plan, out_dir, indices):
