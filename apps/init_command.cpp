@@ -31,8 +31,7 @@ Examples:
   carom init --n 100 --phi 0.2 --box 40 20 -o sparse.txt
   carom init --dim 3 --n 4000 --phi 0.45 --boundary periodic -o spheres.txt)");
   InitialOptions& o = args.options;
-  init->add_option("--dim", args.dimension, "2: disks; 3: spheres")
-      ->check(CLI::IsMember({2, 3}))
+  add_whole_option(init, "--dim", args.dimension, 2, "2: disks; 3: spheres", std::optional(3))
       ->default_str("2");
   add_whole_option(init, "--n", o.n, std::uint64_t{1}, "Number of particles")->required();
   init->add_option("--phi", o.packing_fraction,
