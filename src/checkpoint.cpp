@@ -520,7 +520,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   std::string text = dump_json(head, 1);
   Fnv1a hash;
   add_head(hash, parse_json(text));  // keys sorted, as the reader sees them
-  text.resize(text.size() - 2);                 // reopen the object
+  text.resize(text.size() - 2);      // reopen the object
   out << text << ",\n \"particles\": [";
   // One line a particle: position, velocity, time, radius, mass, wall and pair collisions, last
   // collision (null: none yet), image flags.

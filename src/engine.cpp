@@ -210,8 +210,8 @@ double Engine<D>::image_horizon(double speed) const {
 
 template <std::size_t D>
 void Engine<D>::throw_stuck(const Event& event) const {
-  const std::string partner = event.is_wall() ? std::string("a wall")
-                                              : fmt::format("particle {}", event.partner);
+  const std::string partner =
+      event.is_wall() ? std::string("a wall") : fmt::format("particle {}", event.partner);
   const std::string stuck =
       fmt::format("{} collisions at t = {} without time advancing (particle {} and {})",
                   events_at_now_, system_.absolute(event.time), event.first, partner);
@@ -226,11 +226,11 @@ void Engine<D>::throw_stuck(const Event& event) const {
             ? fmt::format("a --tc longer than {} does so sooner", rule_.elastic_within)
             : std::string("--tc 0 turned it off (give it a time above 0)")));
   }
-  throw JamError(fmt::format("the {} are jammed: {}{}", kParticlesName<D>, stuck,
-                             system_.box.periodic()
-                                 ? std::string()
-                                 : fmt::format("; is a {} wedged exactly between two walls?",
-                                               kParticleName<D>)));
+  throw JamError(fmt::format(
+      "the {} are jammed: {}{}", kParticlesName<D>, stuck,
+      system_.box.periodic()
+          ? std::string()
+          : fmt::format("; is a {} wedged exactly between two walls?", kParticleName<D>)));
 }
 
 template <std::size_t D>

@@ -147,8 +147,7 @@ void for_each_unicode_escape(std::string_view text, const OnEscape& on_escape) {
     if (text[i] != '\\') continue;
     if (text[i + 1] == 'u' && i + 6 <= text.size()) {
       unsigned code = 0;
-      const auto [end, error] =
-          std::from_chars(text.data() + i + 2, text.data() + i + 6, code, 16);
+      const auto [end, error] = std::from_chars(text.data() + i + 2, text.data() + i + 6, code, 16);
       if (error == std::errc() && end == text.data() + i + 6) on_escape(code, i);
     }
     ++i;  // the escaped character

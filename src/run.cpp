@@ -241,9 +241,9 @@ void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
   const std::vector<NamedFile> own = output_files(spec);
   outputs.insert(outputs.end(), own.begin(), own.end());
   // A resumed run may save its checkpoint where it read it.
-  check_files_apart({{"the input FILE", start_file_path(start.input),
-                      start.resumed ? "--checkpoint" : ""}},
-                    outputs);
+  check_files_apart(
+      {{"the input FILE", start_file_path(start.input), start.resumed ? "--checkpoint" : ""}},
+      outputs);
 
   simulation.check_target(spec.end_time);
   const double now = simulation.time();
@@ -408,8 +408,7 @@ Runner::~Runner() = default;
 Runner::Runner(Runner&&) noexcept = default;
 Runner& Runner::operator=(Runner&&) noexcept = default;
 
-void Runner::check(const RunSpec& spec,
-                   const std::vector<NamedFile>& other_outputs) const {
+void Runner::check(const RunSpec& spec, const std::vector<NamedFile>& other_outputs) const {
   state_->start.simulation.visit([&](const auto& s) { state_->check(s, spec, other_outputs); });
 }
 

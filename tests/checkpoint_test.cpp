@@ -120,7 +120,8 @@ TEST(Checkpoint, ASourceNameThatIsNotUtf8IsReadBackAsTheSameBytes) {
   // Such a name where a number belongs is refused as any other string there (not an exception
   // of the json library's while checking the checksum).
   std::string edited = text;
-  const std::size_t first_row = edited.find("[", edited.find("[", edited.find("\"particles\"")) + 1);
+  const std::size_t first_row =
+      edited.find("[", edited.find("[", edited.find("\"particles\"")) + 1);
   edited.replace(first_row + 1, 0, "\"x\\udce9\", ");
   expect_refused(edited, "its checksum does not match");
   const std::size_t checksum = edited.find(",\n \"checksum\"");

@@ -1637,11 +1637,11 @@ TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
 // every command refuses an output that is one of its inputs, however it is spelled.
 TEST_F(Cli, EveryCommandRefusesAnOutputThatIsItsInput) {
   const fs::path start = dir_ / "gas.txt", movie = dir_ / "run.xyz", log = dir_ / "run.csv";
-  ASSERT_EQ(carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start})
-                .exit_code,
-            0);
-  ASSERT_EQ(carom({"run", start, "2", "--dump", movie, "--every", "1", "--log", log,
-                   "--log-every", "1", "-q"})
+  ASSERT_EQ(
+      carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
+  ASSERT_EQ(carom({"run", start, "2", "--dump", movie, "--every", "1", "--log", log, "--log-every",
+                   "1", "-q"})
                 .exit_code,
             0);
   ASSERT_EQ(carom({"run", start, "2", "--dump", dir_ / "run.gsd", "--every", "1", "-q"}).exit_code,
@@ -1680,9 +1680,9 @@ TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
   fs::create_directories(folder);
   const fs::path start = folder / "caf\xe9.txt", checkpoint = folder / "c\xe9.ckpt",
                  summary = folder / "s.json", movie = folder / "m\xe9.xyz";
-  ASSERT_EQ(carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
   const Result ran = carom({"run", start, "2", "--summary", summary, "--checkpoint", checkpoint,
                             "--dump", movie, "--every", "1", "-o", folder / "end.txt", "-q"});
   ASSERT_EQ(ran.exit_code, 0) << ran.err;
@@ -1705,8 +1705,8 @@ TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
   EXPECT_EQ(written(summary, "input"), written(checkpoint, "source"));
   EXPECT_EQ(written(summary, "input"), (dir_ / "dossier\\udce9" / "caf\\udce9.txt").string());
   // The other commands that write names: analyze (json and page), compress's summary.
-  const Result analysed = carom({"analyze", movie, "-o", folder / "a.json", "--html",
-                                 folder / "a.html"});
+  const Result analysed =
+      carom({"analyze", movie, "-o", folder / "a.json", "--html", folder / "a.html"});
   ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
   EXPECT_NE(read_file(folder / "a.json").find("m\\udce9.xyz"), std::string::npos);
   const Result compressed = carom({"compress", start, "--phi", "0.35", "-o", folder / "d.txt",
@@ -1725,8 +1725,7 @@ TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
 // as octal and "0x10" as hex; --stride 0 was refused with a 309-digit bound.
 TEST_F(Cli, IntegerOptionsTakeWholeNumbersAndSaySo) {
   const std::string input = kCases + "normal.txt";
-  for (const auto& [args, message] :
-       std::vector<std::pair<std::vector<std::string>, std::string>>{
+  for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
            {{"run", input, "1", "--check", "--check-every", "-5"},
             "--check-every must be a whole number of at least 1, got '-5'"},
            {{"run", input, "1", "--check", "--check-every", "0"}, "at least 1, got '0'"},
@@ -1762,11 +1761,11 @@ TEST_F(Cli, IntegerOptionsTakeWholeNumbersAndSaySo) {
 TEST_F(Cli, AStuckRunSaysWhatCanBeTrueOfIt) {
   // A granular gas without the TC model collapses (at t = 11 or so).
   const fs::path gas = dir_ / "gas.txt";
-  ASSERT_EQ(carom({"init", "--n", "100", "--phi", "0.4", "--boundary", "periodic", "-o", gas})
-                .exit_code,
-            0);
-  const Result collapse = carom({"run", gas, "1000", "--rule", "elastic", "--restitution", "0.3",
-                                 "--tc", "0", "-q"});
+  ASSERT_EQ(
+      carom({"init", "--n", "100", "--phi", "0.4", "--boundary", "periodic", "-o", gas}).exit_code,
+      0);
+  const Result collapse =
+      carom({"run", gas, "1000", "--rule", "elastic", "--restitution", "0.3", "--tc", "0", "-q"});
   EXPECT_EQ(collapse.exit_code, 1) << collapse.err;
   EXPECT_NE(collapse.err.find("inelastic collapse"), std::string::npos) << collapse.err;
   EXPECT_NE(collapse.err.find("--tc 0"), std::string::npos) << collapse.err;

@@ -116,7 +116,7 @@ def _path(value):
 
 
 def _output(name, path, every_name, every):
-    """A streamed output and its cadence, both or neither: (the path's bytes or b"", every or 0.0)."""
+    """A streamed output and its cadence, both or neither: (_path(path) or b"", every or 0.0)."""
     if path is None:
         if every is not None:
             raise ValueError(f"{every_name} needs {name}: the file to write to")

@@ -29,8 +29,8 @@ void export_errors(py::module_& m) {
       throw;
     } catch (const std::exception& e) {
       const std::string_view what = e.what();
-      PyObject* strict = PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()),
-                                              nullptr);
+      PyObject* strict =
+          PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), nullptr);
       if (strict != nullptr) {
         Py_DECREF(strict);
         throw;  // UTF-8: the usual translation
