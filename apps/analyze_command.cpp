@@ -109,11 +109,11 @@ void analyze_command(const AnalyzeArguments& args) {
   for (const std::string* path : {&args.output, &args.html}) {
     if (!path->empty() && *path != "-") check_writable(*path);
   }
-  if (!args.output.empty() && args.output == args.html) {
-    throw UsageError(args.output == "-"
-                         ? std::string("-o and --html cannot both write to standard output")
-                         : fmt::format("-o and --html name the same file, {}", args.output));
+  if (args.output == "-" && args.html == "-") {
+    throw UsageError("-o and --html cannot both write to standard output");
   }
+  check_files_apart({{"the input TRAJECTORY", args.trajectory}, {"--log", args.log}},
+                    {{"-o", args.output}, {"--html", args.html}});
   AnalysisOptions options;
   options.from_time = option_number(args.from_time, "--equilibrate", options.from_time);
   options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);

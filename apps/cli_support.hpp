@@ -5,7 +5,9 @@
 
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cstdint>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <stdexcept>
@@ -113,6 +115,36 @@ class Output {
  private:
   std::unique_ptr<AtomicFile> file_;
 };
+
+// A whole number from the command line, from `least` to `most`: decimal digits only, so that
+// "-5" is refused rather than wrapped round to 2^64 - 5 (as strtoull, CLI11's reading of an
+// unsigned option, does), "010" is ten rather than octal eight, and "0x10" and "1.5" are
+// refused. Throws CLI::ValidationError (a usage error) naming `option` and the range: "from
+// least to most" when `most` is the option's own bound (`bounded`), else "at least least" (`most`
+// is then only its type's).
+std::uint64_t parse_whole(const std::string& text, const std::string& option, std::uint64_t least,
+                          std::uint64_t most, bool bounded);
+
+// An option (`names` as add_option's) taking a whole number from `least` to `most` (parse_whole;
+// by default up to what `Integer` holds) into `target`: every integer option of carom is declared
+// with this.
+template <class Integer>
+CLI::Option* add_whole_option(CLI::App* app, const std::string& names, Integer& target,
+                              Integer least, const std::string& help,
+                              std::optional<Integer> most = std::nullopt) {
+  const std::string option = names.substr(names.rfind(',') + 1);  // the long name
+  return app
+      ->add_option_function<std::string>(
+          names,
+          [&target, option, least, most](const std::string& text) {
+            target = static_cast<Integer>(parse_whole(
+                text, option, static_cast<std::uint64_t>(least),
+                static_cast<std::uint64_t>(most.value_or(std::numeric_limits<Integer>::max())),
+                most.has_value()));
+          },
+          help)
+      ->type_name("N");
+}
 
 // A number from the command line, finite; `what` names it in the message.
 double parse_number(const std::string& text, const std::string& what);

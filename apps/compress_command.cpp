@@ -82,6 +82,8 @@ void compress_command(CompressArguments args) {
   for (const std::string* path : {&args.output, &args.summary}) {
     if (!path->empty() && *path != "-") check_writable(*path);
   }
+  check_files_apart({{"the input FILE", start_file_path(args.input)}},
+                    {{"-o", args.output}, {"--summary", args.summary}});
   if (!args.jam && !(args.target > 0.0)) throw UsageError("give --phi TARGET or --jam");
   check_progress(args.progress);
   CompressionSpec spec{args.settings, args.unit_diameter, args.input};

@@ -31,10 +31,9 @@ Examples:
   carom init --n 100 --phi 0.2 --box 40 20 -o sparse.txt
   carom init --dim 3 --n 4000 --phi 0.45 --boundary periodic -o spheres.txt)");
   InitialOptions& o = args.options;
-  init->add_option("--dim", args.dimension, "2: disks; 3: spheres")
-      ->check(CLI::IsMember({2, 3}))
+  add_whole_option(init, "--dim", args.dimension, 2, "2: disks; 3: spheres", std::optional(3))
       ->default_str("2");
-  init->add_option("--n", args.n, "Number of particles")->required();
+  add_whole_option(init, "--n", o.n, std::uint64_t{1}, "Number of particles")->required();
   init->add_option("--phi", o.packing_fraction,
                    "Packing fraction: particle area (volume) / box area (volume)")
       ->check(finite_number())
@@ -58,7 +57,7 @@ Examples:
   init->add_option("--kT", o.temperature, "Temperature (masses are 1)")
       ->check(finite_number())
       ->default_str("1");
-  init->add_option("--seed", o.seed, "Random seed")->default_str("1");
+  add_whole_option(init, "--seed", o.seed, std::uint64_t{0}, "Random seed")->default_str("1");
   add_choice<Boundary>(init, "--boundary", o.boundary,
                        "The box the file is meant for: with walls, particles keep R from them");
   auto* lattice =
@@ -90,8 +89,6 @@ void write_initial(const InitialOptions& o, const std::string& path) {
 
 void init_command(InitArguments args) {
   InitialOptions& o = args.options;
-  if (args.n < 1) throw UsageError(fmt::format("--n must be at least 1, got {}", args.n));
-  o.n = static_cast<std::uint64_t>(args.n);
   if (args.lattice) o.placement = Placement::lattice;
   if (args.random) o.placement = Placement::random;
   if (!args.output.empty() && args.output != "-") check_writable(args.output);

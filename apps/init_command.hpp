@@ -10,7 +10,6 @@ namespace carom::cli {
 struct InitArguments {
   InitialOptions options;
   int dimension = 2;
-  long long n = 0;  // signed, so that a negative count is refused as such rather than wrapped
   bool lattice = false;
   bool random = false;
   std::string output;

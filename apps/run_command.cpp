@@ -201,8 +201,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "--check", args.check,
       "Verify during the run that event times never decrease and, every --check-every "
       "events, that no particles overlap or leave the box; a violation stops the run (exit 1)");
-  run->add_option("--check-every", args.check_every,
-                  "Events between overlap checks (default: N, at least 1000)");
+  add_whole_option(run, "--check-every", args.check_every, std::uint64_t{1},
+                   "Events between overlap checks (default: N, at least 1000)");
   run->add_flag("-q,--quiet", args.quiet,
                 "No progress line (shown on stderr during long runs when it is a terminal) and "
                 "no notes");
@@ -212,7 +212,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "(zero total momentum, kT exact), as carom init does: for a start without "
                   "velocities, or to rethermalise one")
       ->check(finite_number());
-  run->add_option("--seed", args.seed, "Random seed of --kT's velocities (and Andersen's draws)")
+  add_whole_option(run, "--seed", args.seed, std::uint64_t{0},
+                   "Random seed of --kT's velocities (and Andersen's draws)")
       ->default_str("1");
   add_choice<ThermostatKind>(
       run, "--thermostat", args.thermostat,

@@ -141,8 +141,7 @@ CLI::App* add_sweep_command(CLI::App& app, SweepArguments& args) {
                     "The folder of the tasks and the results (default: PLAN's name without .toml)");
   sweep->add_flag("--dry-run", args.dry_run,
                   "List the tasks and the carom commands each is, and run nothing");
-  sweep
-      ->add_option("-j,--jobs", args.jobs,
+  add_whole_option(sweep, "-j,--jobs", args.jobs, 1u,
                    "Tasks at a time on this machine (default: every core); under MPI, one a rank")
       ->default_str("cores");
   sweep->add_option("--html", args.html, "Write the report to this page (default DIR/report.html)");

@@ -32,9 +32,9 @@ Examples:
   carom view movie.xyz -o late.html --frames 100: --stride 4)");
   view->add_option("TRAJECTORY", args.trajectory, "An extended XYZ or GSD trajectory")->required();
   view->add_option("-o,--output", args.output, "The HTML file to write")->required();
-  view->add_option("--stride", args.stride, "Keep every K-th frame of those chosen")
+  add_whole_option(view, "--stride", args.stride, std::uint64_t{1},
+                   "Keep every K-th frame of those chosen")
       ->type_name("K")
-      ->check(CLI::PositiveNumber)
       ->default_str("1");
   view->add_option("--frames", args.frames, "Keep frames A to B - 1 (A:B, A:, :B)")
       ->type_name("A:B");
@@ -72,6 +72,7 @@ void view_command(const ViewArguments& args) {
   // The page is created only once the frames are read (a stop meanwhile leaves nothing), but
   // where it goes is checked first.
   if (args.output != "-") check_writable(args.output);
+  check_files_apart({{"the input TRAJECTORY", args.trajectory}}, {{"-o", args.output}});
   const std::vector<Frame> frames = read_trajectory_frames(args.trajectory, chosen(args));
   if (frames.empty()) {
     throw UsageError(

@@ -10,6 +10,7 @@
 #include "carom/analysis.hpp"
 #include "carom/report_html.hpp"
 #include "carom/version.hpp"
+#include "json_text.hpp"
 
 namespace carom {
 
@@ -186,9 +187,9 @@ nlohmann::json to_json(const Analysis& a) {
 
 }  // namespace
 
-// Text that is not UTF-8 (a file name in Latin-1, say) is written with replacement characters.
+// A name that is not UTF-8 (a file name in Latin-1, say) is written as json_text.hpp says.
 void write_analysis_json(std::ostream& out, const Analysis& analysis) {
-  out << to_json(analysis).dump(1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  out << dump_json(to_json(analysis), 1) << '\n';
 }
 
 void write_report_html(std::ostream& out, const Analysis& analysis) {
@@ -196,8 +197,7 @@ void write_report_html(std::ostream& out, const Analysis& analysis) {
   const std::size_t slot = kReportHtml.find(kSlot);
   // No "<" reaches the page as such: a file name holding "</script>" or "<!--" would otherwise
   // end or derail the page's script. JSON reads \u003c as "<".
-  const std::string json =
-      to_json(analysis).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  const std::string json = dump_json(to_json(analysis));
   std::string data;
   data.reserve(json.size());
   for (const char c : json) {

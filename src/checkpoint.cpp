@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "carom/validation.hpp"
 #include "carom/version.hpp"
 #include "checkpoint_check.hpp"
+#include "json_text.hpp"
 
 namespace carom {
 
@@ -49,7 +51,7 @@ class Fnv1a {
 // Numbers are written in shortest round-trip form, so reading and writing again gives the same
 // bytes; reindenting or reordering the file keeps it, changing any value does not.
 void add_head(Fnv1a& hash, const nlohmann::json& head) {
-  hash.add(head.dump());
+  hash.add(dump_json(head));
   hash.add("\n");
 }
 
@@ -106,7 +108,7 @@ Json time_or_null(double t) {
 
 // A json value as a message may show it: short.
 std::string shown(const nlohmann::json& value) {
-  std::string text = value.dump();
+  std::string text = dump_json(value);
   if (text.size() > 40) text = text.substr(0, 40) + "...";
   return text;
 }
@@ -555,10 +557,10 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
         "precision: speeds or a shear rate too large to integrate)",
         *where));
   }
-  std::string text = head.dump(1);
+  std::string text = dump_json(head, 1);
   Fnv1a hash;
-  add_head(hash, nlohmann::json::parse(text));  // keys sorted, as the reader sees them
-  text.resize(text.size() - 2);                 // reopen the object
+  add_head(hash, parse_json(text));  // keys sorted, as the reader sees them
+  text.resize(text.size() - 2);      // reopen the object
   out << text << ",\n \"particles\": [";
   // One line a particle: position, velocity, time, radius, mass, wall and pair collisions, last
   // collision (null: none yet), image flags.
@@ -582,7 +584,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
 AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(in);
+    j = parse_json(std::string(std::istreambuf_iterator<char>(in), {}));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(name, 0, fmt::format("not a carom checkpoint (not valid json: {})", e.what()));
   }
@@ -611,7 +613,7 @@ AnyCheckpoint read_checkpoint(std::istream& in, const std::string& name) {
     Fnv1a hash;
     add_head(hash, head);
     for (const auto& row : *particles) {
-      hash.add(row.dump());
+      hash.add(dump_json(row));
       hash.add("\n");
     }
     if (hash.text() != checksum->get<std::string>()) {

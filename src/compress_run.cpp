@@ -8,6 +8,7 @@
 #include "carom/initial.hpp"
 #include "carom/request.hpp"
 #include "carom/version.hpp"
+#include "json_text.hpp"
 
 namespace carom {
 
@@ -80,7 +81,7 @@ void write_json(std::ostream& out, const CompressionSummary& s) {
       {"unit_diameter", s.unit_diameter},
       {"box", s.box},
       {"wall_seconds", s.wall_seconds}};
-  out << json.dump(2) << '\n';
+  out << dump_json(json, 2) << '\n';
 }
 
 std::optional<std::string> shortfall(const CompressionSummary& s, const std::string& packing) {

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <stdexcept>
+#include <string>
 
 #include "cell_grid.hpp"
 #include "fast_engine.hpp"
@@ -48,13 +49,7 @@ template <std::size_t D>
 Event Engine<D>::apply(Event event) {
   // Simultaneous events are common (corners, symmetric starts) but bounded: a few per particle.
   events_at_now_ = event.time == now_ ? events_at_now_ + 1 : 0;
-  if (events_at_now_ > 64 * system_.particles.size() + 1000) {
-    throw JamError(fmt::format(
-        "the {} are jammed: {} collisions at t = {} without time advancing (particle {} "
-        "cannot move apart from {}; is a {} wedged exactly between two walls?)",
-        kParticlesName<D>, events_at_now_, system_.absolute(event.time), event.first, event.partner,
-        kParticleName<D>));
-  }
+  if (events_at_now_ > 64 * system_.particles.size() + 1000) throw_stuck(event);
   now_ = event.time;
   const double t = event.time;
   Particle<D>& a = system_.particles[event.first];
@@ -220,6 +215,31 @@ double Engine<D>::image_horizon(double speed) const {
   const double closing = 2.0 * speed + std::abs(system_.box.image_speed());
   const double room = shortest_side(system_.box) / 2.0 - 2.0 * largest_;
   return closing > 0.0 ? room / closing : kNever;
+}
+
+template <std::size_t D>
+void Engine<D>::throw_stuck(const Event& event) const {
+  const std::string partner =
+      event.is_wall() ? std::string("a wall") : fmt::format("particle {}", event.partner);
+  const std::string stuck =
+      fmt::format("{} collisions at t = {} without time advancing (particle {} and {})",
+                  events_at_now_, system_.absolute(event.time), event.first, partner);
+  // The message names only a cause this run can have: a collapse needs inelastic collisions, a
+  // wedge needs walls.
+  if (rule_.restitution < 1.0) {
+    throw JamError(fmt::format(
+        "inelastic collapse: {}: with restitution {} a cluster of {} collides ever faster, "
+        "infinitely often in finite time, unless the TC model keeps its collisions elastic; {}",
+        stuck, rule_.restitution, kParticlesName<D>,
+        rule_.elastic_within > 0.0
+            ? fmt::format("a --tc longer than {} does so sooner", rule_.elastic_within)
+            : std::string("--tc 0 turned it off (give it a time above 0)")));
+  }
+  throw JamError(fmt::format(
+      "the {} are jammed: {}{}", kParticlesName<D>, stuck,
+      system_.box.periodic()
+          ? std::string()
+          : fmt::format("; is a {} wedged exactly between two walls?", kParticleName<D>)));
 }
 
 template <std::size_t D>

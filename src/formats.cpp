@@ -13,6 +13,7 @@
 #include "carom/classic_input.hpp"
 #include "carom/observables.hpp"
 #include "carom/version.hpp"
+#include "json_text.hpp"
 #include "whole_lines.hpp"
 
 namespace carom {
@@ -246,12 +247,12 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
            : nlohmann::ordered_json(nullptr)},
   };
   if (!particles) {
-    out << head.dump(2) << '\n';
+    out << dump_json(head, 2) << '\n';
     return;
   }
   // The settings pretty-printed, then one compact line a particle: readable, and a million
   // particles are streamed rather than built as one document in memory.
-  std::string text = head.dump(2);
+  std::string text = dump_json(head, 2);
   text.resize(text.size() - 2);  // reopen the object: drop the closing "\n}"
   out << text << ",\n  \"particles\": [";
   constexpr const char* kAxes[] = {"x", "y", "z"};

@@ -34,4 +34,30 @@ bool same_file(const std::string& a, const std::string& b) {
   return pa == pb;
 }
 
+void check_files_apart(const std::vector<NamedFile>& inputs,
+                       const std::vector<NamedFile>& outputs) {
+  const auto names_a_file = [](const NamedFile& f) { return !f.path.empty() && f.path != "-"; };
+  for (const NamedFile& input : inputs) {
+    if (!names_a_file(input)) continue;
+    for (const NamedFile& output : outputs) {
+      if (names_a_file(output) && output.option != input.saved_over_by &&
+          same_file(input.path, output.path)) {
+        throw RequestError(fmt::format(
+            "{} and {} name the same file ({} and {}): writing it would destroy what is read",
+            input.option, output.option, input.path, output.path));
+      }
+    }
+  }
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    for (std::size_t j = i + 1; j < outputs.size(); ++j) {
+      if (names_a_file(outputs[i]) && names_a_file(outputs[j]) &&
+          same_file(outputs[i].path, outputs[j].path)) {
+        throw RequestError(
+            fmt::format("{} and {} name the same file ({} and {}): one would overwrite the other",
+                        outputs[i].option, outputs[j].option, outputs[i].path, outputs[j].path));
+      }
+    }
+  }
+}
+
 }  // namespace carom

@@ -28,34 +28,12 @@ constexpr const char* kCannotStream =
 constexpr double kMostRows = 1e7;
 
 // The files a spec writes, named by their options.
-std::vector<std::pair<std::string, std::string>> output_files(const RunSpec& spec) {
-  std::vector<std::pair<std::string, std::string>> files;
-  for (const auto& [flag, path] :
-       {std::pair<const char*, const std::string&>{"--summary", spec.summary},
-        {"--checkpoint", spec.checkpoint},
-        {"--dump", spec.dump},
-        {"--events", spec.events},
-        {"--log", spec.log}}) {
-    if (!path.empty() && path != "-") files.emplace_back(flag, path);
-  }
-  return files;
-}
-
-// Refuses two of `files` that are one file: one would overwrite the other. `continued` (a
-// checkpoint a resumed run read) may be saved over by --checkpoint.
-void check_distinct(const std::vector<std::pair<std::string, std::string>>& files,
-                    const std::string& continued = "") {
-  for (std::size_t i = 0; i < files.size(); ++i) {
-    for (std::size_t j = i + 1; j < files.size(); ++j) {
-      const bool saved_over =
-          !continued.empty() && files[i].second == continued && files[j].first == "--checkpoint";
-      if (!saved_over && same_file(files[i].second, files[j].second)) {
-        throw RequestError(
-            fmt::format("{} and {} name the same file ({} and {}): one would overwrite the other",
-                        files[i].first, files[j].first, files[i].second, files[j].second));
-      }
-    }
-  }
+std::vector<NamedFile> output_files(const RunSpec& spec) {
+  return {{"--summary", spec.summary},
+          {"--checkpoint", spec.checkpoint},
+          {"--dump", spec.dump},
+          {"--events", spec.events},
+          {"--log", spec.log}};
 }
 
 // Refuses an output of about `bytes` that its disk cannot hold (free space unknown: the write
@@ -236,7 +214,7 @@ void check_run_spec(const RunSpec& spec) {
   if (spec.measure_from && !(*spec.measure_from >= 0.0 && std::isfinite(*spec.measure_from))) {
     throw RequestError(fmt::format("--equilibrate must be >= 0, got {}", *spec.measure_from));
   }
-  check_distinct(output_files(spec));
+  check_files_apart({}, output_files(spec));
 }
 
 void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared) {
@@ -294,21 +272,22 @@ struct Runner::State {
   }
   template <std::size_t D>
   void check(const Simulation<D>& simulation, const RunSpec& spec,
-             const std::vector<std::pair<std::string, std::string>>& others) const;
+             const std::vector<NamedFile>& others) const;
   template <std::size_t D>
   RunOutcome run(Simulation<D>& simulation, const RunSpec& spec, const RunHooks& hooks);
 };
 
 template <std::size_t D>
 void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
-                          const std::vector<std::pair<std::string, std::string>>& others) const {
+                          const std::vector<NamedFile>& others) const {
   check_run_spec(spec);
-  std::vector<std::pair<std::string, std::string>> files;
-  if (!start.input.empty() && start.input != "-") files.emplace_back("the input FILE", start.input);
-  files.insert(files.end(), others.begin(), others.end());
-  const auto outputs = output_files(spec);
-  files.insert(files.end(), outputs.begin(), outputs.end());
-  check_distinct(files, start.resumed ? start.input : "");
+  std::vector<NamedFile> outputs = others;
+  const std::vector<NamedFile> own = output_files(spec);
+  outputs.insert(outputs.end(), own.begin(), own.end());
+  // A resumed run may save its checkpoint where it read it.
+  check_files_apart(
+      {{"the input FILE", start_file_path(start.input), start.resumed ? "--checkpoint" : ""}},
+      outputs);
 
   simulation.check_target(spec.end_time);
   const double now = simulation.time();
@@ -457,8 +436,7 @@ Runner::~Runner() = default;
 Runner::Runner(Runner&&) noexcept = default;
 Runner& Runner::operator=(Runner&&) noexcept = default;
 
-void Runner::check(const RunSpec& spec,
-                   const std::vector<std::pair<std::string, std::string>>& other_outputs) const {
+void Runner::check(const RunSpec& spec, const std::vector<NamedFile>& other_outputs) const {
   state_->start.simulation.visit([&](const auto& s) { state_->check(s, spec, other_outputs); });
 }
 

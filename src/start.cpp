@@ -66,12 +66,35 @@ void require_dimension(std::int64_t dimension) {
   }
 }
 
+namespace {
+
+// `text` in lower case (ASCII).
+std::string lowered(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+// A start spec's GSD frame, FILE.gsd:K (the ending in any case): the file, and K's text as
+// written (checked by the reader); nullopt for a spec without one.
+std::optional<std::pair<std::string, std::string>> gsd_frame_of(const std::string& spec) {
+  const std::size_t colon = lowered(spec).rfind(".gsd:");
+  if (colon == std::string::npos) return std::nullopt;
+  return std::pair{spec.substr(0, colon + 4), spec.substr(colon + 5)};
+}
+
+bool is_gsd_file(const std::string& path) {
+  return path.size() > 4 && lowered(path.substr(path.size() - 4)) == ".gsd";
+}
+
+}  // namespace
+
+std::string start_file_path(const std::string& spec) {
+  if (is_gsd_file(spec)) return spec;
+  const auto frame = gsd_frame_of(spec);
+  return frame ? frame->first : spec;
+}
+
 AnyClassicInput read_any_start_file(const std::string& spec, std::optional<Boundary> boundary) {
-  // FILE.gsd or FILE.gsd:K, the ending in any case.
-  const auto lower = [](std::string text) {
-    for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return text;
-  };
   // A GSD frame's box is what it is: a boundary asked for must be that one.
   const auto boxed = [&](AnyClassicInput input) {
     const Boundary held = std::visit([](const auto& in) { return in.system.box.boundary; }, input);
@@ -82,16 +105,12 @@ AnyClassicInput read_any_start_file(const std::string& spec, std::optional<Bound
     }
     return input;
   };
-  const std::string lowered = lower(spec);
-  if (lowered.size() > 4 && lowered.ends_with(".gsd")) {
-    return boxed(read_gsd_start(spec, std::nullopt));
-  }
-  const std::size_t colon = lowered.rfind(".gsd:");
-  if (colon != std::string::npos) {
-    const std::string number = spec.substr(colon + 5);
+  if (is_gsd_file(spec)) return boxed(read_gsd_start(spec, std::nullopt));
+  if (const auto frame = gsd_frame_of(spec)) {
+    const std::string& number = frame->second;
     if (!number.empty() && number.size() <= 18 &&
         std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      return boxed(read_gsd_start(spec.substr(0, colon + 4), std::stoull(number)));
+      return boxed(read_gsd_start(frame->first, std::stoull(number)));
     }
     throw InputError(spec, 0,
                      fmt::format("'{}' is not a frame number (FILE.gsd:K, K from 0)", number));

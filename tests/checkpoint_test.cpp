@@ -10,9 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "carom/classic_input.hpp"
 #include "carom/invariant_check.hpp"
+#include "json_text.hpp"
 #include "test_systems.hpp"
 
 namespace carom {
@@ -121,6 +123,61 @@ TEST(Checkpoint, ANumberThatOverflowedIsNeverWritten) {
               std::string::npos)
         << e.what();
   }
+}
+
+// Regression: a source whose name is not UTF-8 made write_checkpoint throw (nlohmann's
+// "invalid UTF-8 byte"), after the run: nothing was saved. It is written as \udcXX escapes and
+// read back as the same bytes, under the same checksum.
+TEST(Checkpoint, ASourceNameThatIsNotUtf8IsReadBackAsTheSameBytes) {
+  pcg32 rng(16);
+  Simulation<2> simulation(random_gas(rng, 20, 0.3, 0.5, 10, 8), {{Rule::elastic}});
+  simulation.run_until(2.0);
+  const std::string name = "dossier\xe9/caf\xe9\xff.txt";
+  const std::string text = written(simulation.checkpoint(name));
+  EXPECT_NE(text.find(R"("source": "dossier\udce9/caf\udce9\udcff.txt")"), std::string::npos);
+  const AnyCheckpoint back = read(text);
+  EXPECT_EQ(std::get<Checkpoint<2>>(back).source, name);
+  // Such a name where a number belongs is refused as any other string there (not an exception
+  // of the json library's while checking the checksum).
+  std::string edited = text;
+  const std::size_t first_row =
+      edited.find("[", edited.find("[", edited.find("\"particles\"")) + 1);
+  edited.replace(first_row + 1, 0, "\"x\\udce9\", ");
+  expect_refused(edited, "its checksum does not match");
+  const std::size_t checksum = edited.find(",\n \"checksum\"");
+  edited.erase(checksum, edited.find('\n', checksum + 2) - checksum);  // to the line's end
+  expect_refused(edited, "found [\"x\\udce9\"");
+}
+
+// dump_json and parse_json: bytes that are not UTF-8 round-trip, and nothing else changes.
+TEST(JsonText, BytesThatAreNotUtf8RoundTripAndValidTextIsUntouched) {
+  // Each string, and whether it is UTF-8.
+  const std::vector<std::pair<std::string, bool>> strings = {
+      {"plain", true},
+      {"caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x8e\xb1", true},  // café € and an emoji
+      {R"(a backslash \udce9 as text)", true},
+      {"\xc6\x80 U+0180, the marks' own range", true},
+      {std::string("nul \0 alone", 11), true},
+      {"caf\xe9", false},  // Latin-1
+      {std::string("nul \0 then \xe9", 13), false},
+      {"\xed\xa0\x80", false},  // an encoded surrogate
+      {"\xc0\xaf overlong, \xf5 beyond, \xe2\x82 cut", false}};
+  for (const auto& [s, utf8] : strings) {
+    const nlohmann::json value = {{"name", s}, {s, {s, 1.5}}};
+    const std::string text = dump_json(value, 1);
+    EXPECT_EQ(parse_json(text), value) << text;
+    if (utf8) {
+      EXPECT_EQ(text, value.dump(1));  // written as nlohmann writes it
+    } else {
+      EXPECT_NE(text.find("\\udc"), std::string::npos) << text;
+    }
+  }
+  EXPECT_EQ(dump_json(nlohmann::json("caf\xe9")), R"("caf\udce9")");
+  // What Python's json.dumps writes for os.fsdecode(b"caf\xe9") reads as the bytes; a surrogate
+  // pair stays the character it encodes.
+  EXPECT_EQ(parse_json(R"("caf\udce9")").get<std::string>(), "caf\xe9");
+  EXPECT_EQ(parse_json(R"("\ud83c\udfb1")").get<std::string>(), "\xf0\x9f\x8e\xb1");
+  EXPECT_THROW(parse_json(R"("\udc41")"), nlohmann::json::parse_error);  // not a byte's escape
 }
 
 TEST(Checkpoint, TheChecksumCoversTheValuesNotTheLayout) {

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -1714,7 +1715,8 @@ TEST_F(Cli, HostileNumbersAreRefusedUpFront) {
     EXPECT_FALSE(fs::exists(dump) || fs::exists(checkpoint))
         << fmt::format("{}", fmt::join(args, " "));
   }
-  EXPECT_NE(carom({"init", "--n", "-5", "--phi", "0.3"}).err.find("--n must be at least 1, got -5"),
+  EXPECT_NE(carom({"init", "--n", "-5", "--phi", "0.3"})
+                .err.find("--n must be a whole number of at least 1, got '-5'"),
             std::string::npos);
 }
 
@@ -1743,6 +1745,148 @@ TEST_F(Cli, OutputsThatAreOneFileAreRefused) {
   const fs::path checkpoint = dir_ / "c.ckpt";
   ASSERT_EQ(carom({"run", input, "5", "--checkpoint", checkpoint}).exit_code, 0);
   EXPECT_EQ(carom({"run", "--resume", checkpoint, "10", "--checkpoint", checkpoint}).exit_code, 0);
+}
+
+// Regression: view, analyze and compress wrote over their own inputs (run refused the same):
+// every command refuses an output that is one of its inputs, however it is spelled.
+TEST_F(Cli, EveryCommandRefusesAnOutputThatIsItsInput) {
+  const fs::path start = dir_ / "gas.txt", movie = dir_ / "run.xyz", log = dir_ / "run.csv";
+  ASSERT_EQ(
+      carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
+  ASSERT_EQ(carom({"run", start, "2", "--dump", movie, "--every", "1", "--log", log, "--log-every",
+                   "1", "-q"})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--dump", dir_ / "run.gsd", "--every", "1", "-q"}).exit_code,
+            0);
+  fs::create_directories(dir_ / "sub");
+  fs::create_symlink(movie, dir_ / "link.xyz");
+  const std::string dotted = (dir_ / "sub" / ".." / "run.xyz").string();
+  const std::map<fs::path, std::string> before = {{start, read_file(start)},
+                                                  {movie, read_file(movie)},
+                                                  {log, read_file(log)},
+                                                  {dir_ / "run.gsd", read_file(dir_ / "run.gsd")}};
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"view", movie, "-o", movie},
+        {"view", movie, "-o", dotted},
+        {"view", dir_ / "link.xyz", "-o", movie},
+        {"analyze", movie, "--html", movie},
+        {"analyze", movie, "-o", dotted},
+        {"analyze", movie, "--log", log, "-o", log},
+        {"analyze", movie, "--log", log, "--html", (dir_ / "." / "run.csv").string()},
+        {"compress", start, "--phi", "0.4", "-o", start},
+        {"compress", start, "--phi", "0.4", "--summary", (dir_ / "sub" / ".." / "gas.txt")},
+        {"compress", (dir_ / "run.gsd:1").string(), "--phi", "0.4", "-o", dir_ / "run.gsd"},
+        {"run", (dir_ / "run.gsd:0").string(), "1", "--dump", dir_ / "run.gsd", "--every", "1"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_NE(r.err.find("name the same file"), std::string::npos) << r.err;
+  }
+  for (const auto& [path, text] : before) EXPECT_EQ(read_file(path), text) << path;
+}
+
+// Regression: a start file or folder whose name is not UTF-8 ran, then lost everything to
+// "invalid UTF-8 byte" (exit 1): no summary, checkpoint or output. Such a name is written into
+// JSON as \udcXX escapes, and read back as the same bytes: the resumed run names the same file.
+TEST_F(Cli, ANameThatIsNotUtf8IsKeptInEveryFileAndReadBack) {
+  const fs::path folder = dir_ / "dossier\xe9";
+  fs::create_directories(folder);
+  const fs::path start = folder / "caf\xe9.txt", checkpoint = folder / "c\xe9.ckpt",
+                 summary = folder / "s.json", movie = folder / "m\xe9.xyz";
+  ASSERT_EQ(
+      carom({"init", "--n", "20", "--phi", "0.3", "--boundary", "periodic", "-o", start}).exit_code,
+      0);
+  const Result ran = carom({"run", start, "2", "--summary", summary, "--checkpoint", checkpoint,
+                            "--dump", movie, "--every", "1", "-o", folder / "end.txt", "-q"});
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  // The value of a string field as written (nlohmann::json refuses lone surrogate escapes).
+  const auto written = [&](const fs::path& json, const std::string& key) {
+    const std::string text = read_file(json), opening = "\"" + key + "\": \"";
+    const std::size_t from = text.find(opening) + opening.size();
+    return text.substr(from, text.find('"', from) - from);
+  };
+  EXPECT_NE(read_file(summary).find("dossier\\udce9/caf\\udce9.txt"), std::string::npos)
+      << read_file(summary);
+  EXPECT_NE(read_file(checkpoint).find("dossier\\udce9/caf\\udce9.txt"), std::string::npos);
+  EXPECT_TRUE(fs::exists(folder / "end.txt"));
+  // The checkpoint names its start file, read back as the same bytes: the resumed run's summary
+  // says so.
+  const Result resumed = carom({"run", "--resume", checkpoint, "4", "--checkpoint", checkpoint,
+                                "--summary", summary, "--format", "json", "-q"});
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("dossier\\udce9/caf\\udce9.txt"), std::string::npos) << resumed.out;
+  EXPECT_EQ(written(summary, "input"), written(checkpoint, "source"));
+  EXPECT_EQ(written(summary, "input"), (dir_ / "dossier\\udce9" / "caf\\udce9.txt").string());
+  // The other commands that write names: analyze (json and page), compress's summary.
+  const Result analysed =
+      carom({"analyze", movie, "-o", folder / "a.json", "--html", folder / "a.html"});
+  ASSERT_EQ(analysed.exit_code, 0) << analysed.err;
+  EXPECT_NE(read_file(folder / "a.json").find("m\\udce9.xyz"), std::string::npos);
+  const Result compressed = carom({"compress", start, "--phi", "0.35", "-o", folder / "d.txt",
+                                   "--summary", folder / "d.json", "-q"});
+  ASSERT_EQ(compressed.exit_code, 0) << compressed.err;
+  EXPECT_NE(read_file(folder / "d.json").find("caf\\udce9.txt"), std::string::npos);
+  // A sweep into such a folder: its tasks' summaries are read back for the tables.
+  std::ofstream(dir_ / "plan.toml") << "[start]\nn = 16\nboundary = \"periodic\"\n[run]\n"
+                                       "end_time = 1\nrule = \"elastic\"\n[sweep]\nphi = [0.2]\n";
+  const Result swept = carom({"sweep", dir_ / "plan.toml", "-o", folder / "sweep", "-q"});
+  EXPECT_EQ(swept.exit_code, 0) << swept.err;
+  EXPECT_NE(read_file(folder / "sweep" / "results.csv").find("done"), std::string::npos);
+}
+
+// Regression: integer options took "-5" as 2^64 - 5 (--check-every -5: no check ever ran), "010"
+// as octal and "0x10" as hex; --stride 0 was refused with a 309-digit bound.
+TEST_F(Cli, IntegerOptionsTakeWholeNumbersAndSaySo) {
+  const std::string input = kCases + "normal.txt";
+  for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"run", input, "1", "--check", "--check-every", "-5"},
+            "--check-every must be a whole number of at least 1, got '-5'"},
+           {{"run", input, "1", "--check", "--check-every", "0"}, "at least 1, got '0'"},
+           {{"run", input, "1", "--check", "--check-every", "1.5"}, "got '1.5'"},
+           {{"run", input, "1", "--check", "--check-every", "0x10"}, "got '0x10'"},
+           {{"run", input, "1", "--kT", "1", "--seed", "-1"}, "--seed must be a whole number"},
+           {{"run", input, "1", "--check", "--check-every", "99999999999999999999"},
+            "at most 18446744073709551615, got '99999999999999999999'"},
+           {{"init", "--n", "-5", "--phi", "0.3"}, "--n must be a whole number of at least 1"},
+           {{"init", "--n", "0x10", "--phi", "0.3"}, "got '0x10'"},
+           {{"init", "--n", "10", "--phi", "0.3", "--seed", "-2"}, "--seed must be a whole"},
+           {{"init", "--n", "10", "--phi", "0.3", "--dim", "2.5"},
+            "--dim must be a whole number from 2 to 3, got '2.5'"},
+           {{"init", "--n", "10", "--phi", "0.3", "--dim", "0x3"}, "from 2 to 3, got '0x3'"},
+           {{"init", "--n", "10", "--phi", "0.3", "--dim", "4"}, "from 2 to 3, got '4'"},
+           {{"view", input, "-o", dir_ / "v.html", "--stride", "0"},
+            "--stride must be a whole number of at least 1, got '0'"},
+           {{"sweep", dir_ / "plan.toml", "-j", "-1"}, "--jobs must be a whole number"},
+           {{"sweep", dir_ / "plan.toml", "-j", "0"}, "--jobs must be a whole number"}}) {
+    const Result r = carom(args);
+    EXPECT_EQ(r.exit_code, 2) << fmt::format("{}", fmt::join(args, " ")) << ": " << r.err;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("0000000"), std::string::npos) << r.err;  // no bound of 309 digits
+  }
+  // Leading zeros are decimal, not octal.
+  const fs::path ten = dir_ / "ten.txt";
+  ASSERT_EQ(carom({"init", "--n", "010", "--phi", "0.3", "-o", ten}).exit_code, 0);
+  EXPECT_NE(read_file(ten).find("\n10\n"), std::string::npos) << read_file(ten);
+}
+
+// Regression: an inelastic collapse in a periodic box asked "is a disk wedged exactly between
+// two walls?", where there are none. The message names what this run can have.
+TEST_F(Cli, AStuckRunSaysWhatCanBeTrueOfIt) {
+  // A granular gas without the TC model collapses (at t = 11 or so).
+  const fs::path gas = dir_ / "gas.txt";
+  ASSERT_EQ(
+      carom({"init", "--n", "100", "--phi", "0.4", "--boundary", "periodic", "-o", gas}).exit_code,
+      0);
+  const Result collapse =
+      carom({"run", gas, "1000", "--rule", "elastic", "--restitution", "0.3", "--tc", "0", "-q"});
+  EXPECT_EQ(collapse.exit_code, 1) << collapse.err;
+  EXPECT_NE(collapse.err.find("inelastic collapse"), std::string::npos) << collapse.err;
+  EXPECT_NE(collapse.err.find("--tc 0"), std::string::npos) << collapse.err;
+  EXPECT_EQ(collapse.err.find("wall"), std::string::npos) << collapse.err;
+  const Result wedged = carom({"run", write("wedged.txt", "1\n0.5\n1 10\n0.5 5 1 0\n"), "1"});
+  EXPECT_EQ(wedged.exit_code, 1) << wedged.err;
+  EXPECT_NE(wedged.err.find("wedged exactly between two walls"), std::string::npos) << wedged.err;
 }
 
 // Regressions: small promises of the output.

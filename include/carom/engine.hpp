@@ -17,7 +17,7 @@
 namespace carom {
 
 // The particles cannot move apart: collisions keep coming at one instant without end (a disk
-// wedged exactly between two walls, say). Thrown instead of spinning forever.
+// wedged exactly between two walls, an inelastic collapse). Thrown instead of spinning forever.
 class JamError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
@@ -135,6 +135,9 @@ class Engine {
   double largest_reach() const { return largest_; }
   // For a horizon too short for a double to advance the time at `t`: the run cannot progress.
   [[noreturn]] void throw_too_fast(double t) const;
+  // For collisions that keep coming at one instant (`event` the last): a JamError naming what
+  // can cause it in this run (an inelastic collapse, a particle wedged between walls).
+  [[noreturn]] void throw_stuck(const Event& event) const;
 
   System<D> system_;
   CollisionRule rule_;

@@ -6,6 +6,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace carom {
 
@@ -20,5 +21,21 @@ void check_writable(const std::string& path);
 // Whether two paths name one file: the same file if both exist (hard links, symlinks and other
 // spellings included), else the same absolute path once symbolic links are resolved.
 bool same_file(const std::string& a, const std::string& b);
+
+// A file a command reads or writes, with what names it in messages: the option ("-o", "--html")
+// or the argument ("the input FILE").
+struct NamedFile {
+  std::string option;
+  std::string path;
+  // For an input, the one output option allowed to save over it ("" for none): a resumed run's
+  // checkpoint, saved again by --checkpoint.
+  std::string saved_over_by = {};
+};
+
+// Throws RequestError, naming both options and paths, when an output is one of the inputs (it
+// would be overwritten before or while it is read) or two outputs are one file (one would
+// overwrite the other), however the paths are spelled (same_file). Empty paths and "-" (the
+// standard streams) are left out. Every front end checks its files with this, before any work.
+void check_files_apart(const std::vector<NamedFile>& inputs, const std::vector<NamedFile>& outputs);
 
 }  // namespace carom

@@ -122,8 +122,7 @@ class Runner {
   // checkpoint or summary) and RunLengthError (an end time the run cannot reach). A front end's
   // own outputs, {option, path} (the command line's -o), are checked against the run's files
   // and its input too.
-  void check(const RunSpec& spec,
-             const std::vector<std::pair<std::string, std::string>>& other_outputs = {}) const;
+  void check(const RunSpec& spec, const std::vector<NamedFile>& other_outputs = {}) const;
   // Runs to spec.end_time, writing what spec names. Returns when the end time is reached or the
   // stop flag is set (status stopped: the checkpoint, if any, is saved; the summary is not
   // written). Throws what check() throws, JamError and InvariantError (nothing saved: the state

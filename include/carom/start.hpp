@@ -19,6 +19,9 @@ namespace carom {
 AnyClassicInput read_any_start_file(const std::string& spec,
                                     std::optional<Boundary> boundary = std::nullopt);
 
+// The file a start spec names: FILE.gsd for FILE.gsd:K, else the spec itself.
+std::string start_file_path(const std::string& spec);
+
 // The particles and box of a start file (read_any_start_file), in either dimension.
 AnySystem read_start_system(const std::string& spec,
                             std::optional<Boundary> boundary = std::nullopt);

@@ -108,20 +108,24 @@ def _flag(name, value):
 
 
 def _path(value):
-    """A file name (str or os.PathLike) as a str; None as "" (no file)."""
-    return "" if value is None else str(value)
+    """A file name (str, bytes or os.PathLike) as the bytes that name the file; None as b"" (no
+    file). Bytes, not str: a name that is not UTF-8 (os.fsdecode's surrogate escapes) reaches the
+    library as the file's own name."""
+    if value is None:
+        return b""
+    return _os.fsencode(value if isinstance(value, (str, bytes, _os.PathLike)) else str(value))
 
 
 def _output(name, path, every_name, every):
-    """A streamed output and its cadence, both or neither: (path or "", every or 0.0)."""
+    """A streamed output and its cadence, both or neither: (_path(path) or b"", every or 0.0)."""
     if path is None:
         if every is not None:
             raise ValueError(f"{every_name} needs {name}: the file to write to")
-        return "", 0.0
+        return b"", 0.0
     if every is None:
         raise ValueError(f"{name} needs {every_name}: the time between "
                          f"{'frames' if name == 'dump' else 'rows'}")
-    return str(path), _number(every_name, every)
+    return _path(path), _number(every_name, every)
 
 
 _RULES = ("swap", "elastic")
@@ -374,7 +378,7 @@ class Simulation:
 
     def save(self, path):
         """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""
-        self._idle.save(str(path))
+        self._idle.save(_path(path))
 
     def __repr__(self):
         kind = "disks" if self.dim == 2 else "spheres"
@@ -401,7 +405,7 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
     broken file raises carom.InputError naming the file and line.
     """
     return Simulation._wrap(_carom.Simulation.read(
-        str(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
+        _path(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
         None if rule is None else _choice("rule", rule, _RULES),
         _number("restitution", restitution), _number("tc", tc),
         _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
@@ -479,7 +483,7 @@ def compress(sim, phi=None, jam=False, rate=_D["rate"], kT=_D["compress_kT"],
 
 def resume(path):
     """The Simulation a checkpoint holds (sim.save or `carom run --checkpoint`), to run on exactly."""
-    return Simulation._wrap(_carom.Simulation.resume(str(path)))
+    return Simulation._wrap(_carom.Simulation.resume(_path(path)))
 
 
 def _positive(name, value):
@@ -505,10 +509,10 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     writes the report page there. A broken file raises carom.InputError, bad options ValueError.
     """
     result = _json.loads(_carom.analyze(
-        str(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),
+        _path(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),
         _positive("bin", bin), _positive("r_max", r_max),
-        _positive("contact_width", contact_width), None if log is None else str(log),
-        None if html is None else str(html)))
+        _positive("contact_width", contact_width), None if log is None else _path(log),
+        None if html is None else _path(html)))
     arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean"),
               "snapshot": ("radius", "psi6_modulus", "psi6_phase")}
     for section, keys in arrays.items():
@@ -554,7 +558,8 @@ def _typed(text, kind):
 def _results_table(plan, path):
     """results.csv as a pandas DataFrame, or as a numpy structured array without pandas: the swept
     keys typed as in the plan, status and error as text, every measure a float (NaN: none)."""
-    with open(path, newline="") as f:
+    # A task's error may name a file whose name is not UTF-8: read as os.fsdecode would.
+    with open(path, newline="", encoding="utf-8", errors="surrogateescape") as f:
         header, *rows = list(_csv.reader(f))
     first = plan.points[0]
     columns = {}
@@ -615,7 +620,8 @@ def sweep(plan, out_dir, client=None):
     ("done", "failed"), the measures as floats (NaN: not measured) and the error.
     """
     plan = _file_name("plan", plan)
-    out_dir = _file_name("out_dir", out_dir)
+    # The library is given the folder's bytes: its name need not be UTF-8.
+    out_dir = _os.fsencode(_file_name("out_dir", out_dir))
     import distributed  # here: only a sweep needs Dask, which takes a second to import
     if client is not None and not isinstance(client, distributed.Client):
         raise ValueError(f"client must be a dask.distributed Client or None, got {client!r}")
@@ -636,8 +642,8 @@ def sweep(plan, out_dir, client=None):
                 _run_tasks(client, core, out_dir, waiting)
         results = _carom.read_task_results(core, out_dir)
         _carom.write_sweep_tables(core, out_dir, results)
-        _carom.write_sweep_report(core, results, _os.path.join(out_dir, "report.html"))
-    return _results_table(core, _os.path.join(out_dir, "results.csv"))
+        _carom.write_sweep_report(core, results, _os.path.join(out_dir, b"report.html"))
+    return _results_table(core, _os.path.join(out_dir, b"results.csv"))
 
 
 def _run_tasks(client, plan, out_dir, indices):

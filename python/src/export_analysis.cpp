@@ -9,6 +9,7 @@
 
 #include "carom/analysis.hpp"
 #include "carom/atomic_file.hpp"
+#include "carom/request.hpp"
 #include "exports.hpp"
 
 namespace carom::python {
@@ -30,6 +31,8 @@ void export_analysis(py::module_& m) {
           options.rdf = {bin_width, r_max};
           options.contact_width = contact_width;
           // What can fail at once does so before the work, as on the command line.
+          check_files_apart({{"trajectory", trajectory}, {"log", log.value_or("")}},
+                            {{"html", html.value_or("")}});
           std::optional<LogTable> table;
           if (log) table = read_log_table(*log);
           std::optional<AtomicFile> page;

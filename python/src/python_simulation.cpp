@@ -212,6 +212,11 @@ void PythonSimulation::measure_from(double t) {
 }
 
 void PythonSimulation::save(const std::string& path) const {
+  // As carom run --checkpoint: never over the start file read, though a resumed checkpoint may
+  // be saved where it was read.
+  const Start& start = runner_.start();
+  check_files_apart({{"the file read", start_file_path(start.input), start.resumed ? "path" : ""}},
+                    {{"path", path}});
   runner_.save(path);
 }
 

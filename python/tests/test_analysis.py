@@ -58,3 +58,14 @@ def test_analyze_refuses_what_it_cannot_do(tmp_path, trajectory):
         carom.analyze(path, r_max=1000)
     with pytest.raises(ValueError, match="equilibrate must be a number"):
         carom.analyze(path, equilibrate="soon")
+
+
+def test_analyze_refuses_a_page_that_is_one_of_its_inputs(tmp_path, trajectory):
+    """Regression: html=the trajectory (or the log) overwrote it with the page."""
+    _, path, log = trajectory
+    (tmp_path / "sub").mkdir()
+    before = path.read_bytes(), log.read_bytes()
+    for html in (path, tmp_path / "sub" / ".." / path.name, log):
+        with pytest.raises(ValueError, match="name the same file"):
+            carom.analyze(path, log=log, html=html)
+    assert (path.read_bytes(), log.read_bytes()) == before

@@ -1,6 +1,8 @@
 """The Python API itself: numpy shapes and dtypes, copies, properties, Simulations from arrays."""
 
 import json
+import os
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -342,3 +344,29 @@ def test_help_documents_every_public_name():
         if not inspect.getdoc(target):
             missing.append(f"Simulation.{name}")
     assert not missing, missing
+
+
+def test_a_name_that_is_not_utf8_is_kept_and_read_back(cli, tmp_path):
+    """Regression: a file whose name is not UTF-8 (caf\\xe9.txt) could not be named at all (str
+    with surrogate escapes), and its name in a summary lost the run. Names go to the library as
+    their bytes; JSON holds them as \\udcXX escapes, which json.load reads as os.fsdecode's str."""
+    folder = os.fsencode(tmp_path) + b"/dossier\xe9"
+    os.mkdir(folder)
+    start, checkpoint, movie = (folder + name for name in (b"/caf\xe9.txt", b"/c.ckpt", b"/m.xyz"))
+    cli("init", "--n", 20, "--phi", 0.3, "--boundary", "periodic", "-o", os.fsdecode(start))
+    for path in (start, os.fsdecode(start), Path(os.fsdecode(start))):  # bytes, str, PathLike
+        sim = carom.read(path)
+        sim.run(1.0, summary=folder + b"/s.json", checkpoint=checkpoint, dump=movie, every=0.5)
+        with open(folder + b"/s.json") as f:
+            assert os.fsencode(json.load(f)["input"]) == start
+    assert os.fsencode(json.loads(sim.format("json"))["input"]) == start
+    resumed = carom.resume(os.fsdecode(checkpoint))
+    resumed.run(2.0, summary=folder + b"/s.json")
+    with open(folder + b"/s.json") as f:
+        assert os.fsencode(json.load(f)["input"]) == start
+    analysis = carom.analyze(movie, html=folder + b"/page\xe9.html")
+    assert os.fsencode(analysis["trajectory"]) == movie
+    assert os.path.exists(folder + b"/page\xe9.html")
+    # Messages name such files too (pybind11 alone gave them no message at all).
+    with pytest.raises(carom.InputError, match="caf\udce9-missing.txt: cannot open"):
+        carom.read(folder + b"/caf\xe9-missing.txt")

@@ -334,3 +334,18 @@ def test_run_refuses_what_the_command_line_refuses(tmp_path, monkeypatch, option
     with pytest.raises(ValueError, match=pattern):
         sim.run(10.0, **options)
     assert sim.time == 0.0 and list(tmp_path.iterdir()) == []
+
+
+def test_save_refuses_the_start_file_it_read(cases, tmp_path):
+    """Regression: sim.save over the start file carom.read read destroyed it (carom run refuses
+    --checkpoint there); a resumed checkpoint may still be saved where it was read."""
+    start = tmp_path / "gas.txt"
+    start.write_bytes((cases / "normal.txt").read_bytes())
+    sim = carom.read(start)
+    (tmp_path / "sub").mkdir()
+    for path in (start, tmp_path / "sub" / ".." / "gas.txt"):
+        with pytest.raises(ValueError, match="name the same file"):
+            sim.save(path)
+    assert start.read_bytes() == (cases / "normal.txt").read_bytes()
+    sim.save(tmp_path / "run.ckpt")
+    carom.resume(tmp_path / "run.ckpt").save(tmp_path / "run.ckpt")

@@ -179,6 +179,18 @@ def test_cli_mpi_and_dask_write_the_same_files(cli, tmp_path, client):
         pytest.skip("no mpirun, or carom built without MPI: compared the other two only")
 
 
+def test_a_folder_whose_name_is_not_utf8_gets_the_same_files(cli, tmp_path, client):
+    """Regression: a sweep into dossier\\xe9 had every task fail ("invalid UTF-8 byte" writing its
+    summary), and carom.sweep could not name such a folder at all."""
+    plan = write_plan(tmp_path, **SHORT)
+    out = os.fsdecode(os.fsencode(tmp_path) + b"/dossier\xe9")
+    cli("sweep", plan, "-o", out, "-q")
+    reference = contents(set_aside(Path(out), "cli"))
+    table = carom.sweep(plan, out, client=client)
+    assert list(table["status"]) == ["done"] * 4
+    assert_same_contents(contents(Path(out)), reference, "carom.sweep")
+
+
 def test_each_task_is_its_commands_run_alone(cli, tmp_path):
     (tmp_path / "sweep").mkdir()
     plan = write_plan(tmp_path / "sweep", **SHORT)

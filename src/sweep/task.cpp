@@ -25,6 +25,7 @@
 #include "carom/run.hpp"
 #include "carom/start.hpp"
 #include "carom/sweep.hpp"
+#include "json_text.hpp"
 #include "sweep/task_spec.hpp"
 
 namespace carom {
@@ -157,7 +158,7 @@ std::optional<std::string> compression_shortfall(const nlohmann::json& summary,
 // done, or failed for a compression that jammed short of its target.
 TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
   const std::vector<std::string> names = measure_names(plan);
-  const nlohmann::json summary = nlohmann::json::parse(read_text(folder / task_files::kSummary));
+  const nlohmann::json summary = parse_json(read_text(folder / task_files::kSummary));
   TaskResult result;
   result.status = TaskStatus::done;
   if (plan.kind() == TaskKind::compress) {
