@@ -907,13 +907,24 @@ TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
         std::pair{Options{"--shear", "0.2", "--velocity-profile", "--thermostat", "rescale", "--kT",
                           "1", "--thermostat-every", "1"},
                   Options{}}}) {
-    Options run = {"run",      start, "20", "--rule", "elastic", "--equilibrate", "4", "--checkpoint",
-                   checkpoint, "--summary", dir_ / "whole.json", "-o", dir_ / "out.txt"};
+    Options run = {"run",
+                   start,
+                   "20",
+                   "--rule",
+                   "elastic",
+                   "--equilibrate",
+                   "4",
+                   "--checkpoint",
+                   checkpoint,
+                   "--summary",
+                   dir_ / "whole.json",
+                   "-o",
+                   dir_ / "out.txt"};
     run.insert(run.end(), physics.begin(), physics.end());
     run.insert(run.end(), measured.begin(), measured.end());
     ASSERT_EQ(carom(run).exit_code, 0) << physics.front();
-    Options resume = {"run",     "--resume", checkpoint, "20", "--summary", dir_ / "resumed.json",
-                      "-o", dir_ / "out.txt"};
+    Options resume = {"run", "--resume",      checkpoint, "20", "--summary", dir_ / "resumed.json",
+                      "-o",  dir_ / "out.txt"};
     resume.insert(resume.end(), measured.begin(), measured.end());
     const Result resumed = carom(resume);
     ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
@@ -1136,8 +1147,7 @@ TEST_F(Cli, GsdTrajectoriesAreWrittenAndContinuedByAResumedRun) {
   const Result refused =
       carom({"run", "--resume", checkpoint, "4", "--dump", theirs, "--every", "0.5"});
   EXPECT_EQ(refused.exit_code, 2);
-  EXPECT_NE(refused.err.find("not a GSD trajectory carom wrote"), std::string::npos)
-      << refused.err;
+  EXPECT_NE(refused.err.find("not a GSD trajectory carom wrote"), std::string::npos) << refused.err;
   EXPECT_EQ(fs::file_size(theirs), 20008u);
 }
 
