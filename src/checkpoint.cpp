@@ -417,8 +417,8 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     }
     if (const auto found = j.find("window_records"); found != j.end()) {
       const std::string where = "\"window_records\"";
-      c.records.window_start = f.coordinate(f.at(*found, "window_start", where),
-                                            "the window records' window_start");
+      c.records.window_start =
+          f.coordinate(f.at(*found, "window_start", where), "the window records' window_start");
       c.records.end_time =
           f.coordinate(f.at(*found, "end_time", where), "the window records' end_time");
     }

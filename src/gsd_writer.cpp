@@ -115,12 +115,15 @@ std::optional<std::uint64_t> moved_index_capacity(std::uint64_t frame, std::uint
 }
 
 // `value` as the single-precision number a GSD file stores. Throws std::range_error naming
-// `what` when it would not read back: beyond float's range (stored as inf), or a size (a box
-// side, a diameter, a mass: positive) that rounds to 0.
+// `what` when it would not read back: not a number, beyond float's range (stored as inf), or a
+// size (a box side, a diameter, a mass: positive) that rounds to 0.
 template <class What>
 float single(double value, bool size, const What& what) {
   const auto stored = static_cast<float>(value);
-  if (!std::isinf(stored) && (!size || stored > 0.0f)) return stored;
+  if (std::isfinite(stored) && (!size || stored > 0.0f)) return stored;
+  if (std::isnan(value)) {
+    throw std::range_error(fmt::format("{} is not a number, which no .gsd reader takes", what()));
+  }
   throw std::range_error(fmt::format(
       "{} is {:g}, which a .gsd file's single precision stores as {} (magnitudes up to {:.3g}{}), "
       "and no reader takes that back: dump to .xyz or .lammpstrj, which hold every double, or "

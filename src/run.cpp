@@ -248,9 +248,9 @@ struct Runner::State {
   WindowRecords records;
   // RunOutputs<2> or <3>, as the simulation is; made by the first run().
   std::shared_ptr<void> outputs;
-  double wall_seconds = 0.0;          // in run(), over the Runner's life
-  std::uint64_t events = 0;           // the events of that time
-  std::optional<DriftVerdict> drift;  // of the last run
+  double wall_seconds = 0.0;                             // in run(), over the Runner's life
+  std::uint64_t events = 0;                              // the events of that time
+  std::optional<DriftVerdict> drift;                     // of the last run
   std::optional<SymmetricTensor> pressure_tensor_error;  // of the last run
   std::optional<TransportEstimate> transport;            // of the last run
 
@@ -367,10 +367,11 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   // before the summary is written, and the resumed run must write the summary this one would).
   const auto checkpoint_now = [&] { return checkpoint_of(simulation, records_now()); };
   if (spec.checkpoint_every) {
-    observers.add(std::make_shared<CheckpointWriter<D>>(
-        spec.checkpoint, *spec.checkpoint_every, checkpoint_now, [&outputs] {
-          if (!outputs.flush()) throw std::runtime_error(kCannotStream);
-        }));
+    const auto flush_outputs = [&outputs] {
+      if (!outputs.flush()) throw std::runtime_error(kCannotStream);
+    };
+    observers.add(std::make_shared<CheckpointWriter<D>>(spec.checkpoint, *spec.checkpoint_every,
+                                                        checkpoint_now, flush_outputs));
   }
   if (hooks.progress) {
     observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
@@ -404,7 +405,9 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
-  if (!spec.checkpoint.empty()) save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
+  if (!spec.checkpoint.empty()) {
+    save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
+  }
   if (!streamed_ok) {
     throw std::runtime_error(
         fmt::format("{}{}", kCannotStream,
@@ -412,7 +415,8 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
                         ? std::string()
                         : fmt::format("; the run's end state is saved in {}", spec.checkpoint)));
   }
-  // A stop asked for once the end was reached still stops: nothing more is written.
+  // A stop asked for once the end was reached still stops: nothing more is written (the
+  // checkpoint just saved holds what the summary needs: a run resumed from it writes it).
   if (hooks.stop && hooks.stop->load() != 0) status = RunStatus::stopped;
   RunOutcome outcome{status, RunReport{}};
   if (status == RunStatus::stopped) return outcome;

@@ -439,8 +439,8 @@ void Simulation<D>::measure_from(double t) {
 
 template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
-  return {source,          state(),         settings_,     time_, settled_,
-          counts_,         measurement_,    measure_from_, {},    thermostat_instants_,
+  return {source,          state(),          settings_,     time_, settled_,
+          counts_,         measurement_,     measure_from_, {},    thermostat_instants_,
           thermostat_rng_, thermostat_next_, std::nullopt};
 }
 

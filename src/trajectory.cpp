@@ -53,8 +53,7 @@ class TextFormat : public TrajectoryFormat<D> {
 template <std::size_t D>
 class ExtendedXyz final : public TextFormat<D> {
  public:
-  std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive,
-                                    double) override {
+  std::uint64_t whole_frames_before(std::istream& in, double t, bool inclusive, double) override {
     LineReader reader{in, 0, {}};
     std::uint64_t kept = 0;
     try {

@@ -945,13 +945,24 @@ TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
         std::pair{Options{"--shear", "0.2", "--velocity-profile", "--thermostat", "rescale", "--kT",
                           "1", "--thermostat-every", "1"},
                   Options{}}}) {
-    Options run = {"run",      start, "20", "--rule", "elastic", "--equilibrate", "4", "--checkpoint",
-                   checkpoint, "--summary", dir_ / "whole.json", "-o", dir_ / "out.txt"};
+    Options run = {"run",
+                   start,
+                   "20",
+                   "--rule",
+                   "elastic",
+                   "--equilibrate",
+                   "4",
+                   "--checkpoint",
+                   checkpoint,
+                   "--summary",
+                   dir_ / "whole.json",
+                   "-o",
+                   dir_ / "out.txt"};
     run.insert(run.end(), physics.begin(), physics.end());
     run.insert(run.end(), measured.begin(), measured.end());
     ASSERT_EQ(carom(run).exit_code, 0) << physics.front();
-    Options resume = {"run",     "--resume", checkpoint, "20", "--summary", dir_ / "resumed.json",
-                      "-o", dir_ / "out.txt"};
+    Options resume = {"run", "--resume",      checkpoint, "20", "--summary", dir_ / "resumed.json",
+                      "-o",  dir_ / "out.txt"};
     resume.insert(resume.end(), measured.begin(), measured.end());
     const Result resumed = carom(resume);
     ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
@@ -1174,15 +1185,15 @@ TEST_F(Cli, GsdTrajectoriesAreWrittenAndContinuedByAResumedRun) {
   const Result refused =
       carom({"run", "--resume", checkpoint, "4", "--dump", theirs, "--every", "0.5"});
   EXPECT_EQ(refused.exit_code, 2);
-  EXPECT_NE(refused.err.find("not a GSD trajectory carom wrote"), std::string::npos)
-      << refused.err;
+  EXPECT_NE(refused.err.find("not a GSD trajectory carom wrote"), std::string::npos) << refused.err;
   EXPECT_EQ(fs::file_size(theirs), 20008u);
 }
 
 // Regression: a .gsd dump of numbers beyond single precision (a box of 1e50) was written with
 // inf in it, and refused by every reader. Refused up front, exit 2, naming the value; nothing is
-// written.
-TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefusedUpFront) {
+// written. A speed a collision raises beyond it later stops the run as a failed write does: the
+// value named, the run saved, the file holding its frames so far, readable.
+TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefused) {
   const fs::path movie = dir_ / "m.gsd";
   // (A particle that fast crosses the box 10^5 times by t = 1e-33.)
   for (const auto& [start, end, named] :
@@ -1200,6 +1211,21 @@ TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefusedUpFront) {
                   .exit_code,
               0);
   }
+  // A heavy disk at 2e38 hits a light one at rest, which leaves at twice that (by t = 1e-37 it
+  // has gone 40 from where it was).
+  const fs::path hit = write("hit.txt", "2\n1\n3e38 3e38\n5 5 2e38 0 1 1e6\n8 5 0 0 1 1\n"),
+                 checkpoint = dir_ / "c.ckpt";
+  const Result r = carom({"run", hit, "3e-37", "--rule", "elastic", "--dump", movie, "--every",
+                          "1e-37", "--checkpoint", checkpoint, "-o", dir_ / "out.txt"});
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("vx of particle 1 at t = 1e-37 is 4e+38"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("is saved in " + checkpoint.string()), std::string::npos) << r.err;
+  const Result viewed = carom({"view", movie, "-o", dir_ / "page.html"});
+  EXPECT_EQ(viewed.exit_code, 0) << viewed.err;
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "3e-37", "--dump", dir_ / "hit.xyz", "--every",
+                   "1e-37", "-o", dir_ / "out.txt"})
+                .exit_code,
+            0);
 }
 
 TEST_F(Cli, ASignalSavesACheckpointAndTheResumedRunMatches) {

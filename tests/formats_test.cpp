@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <sstream>
@@ -295,6 +296,8 @@ TEST(Formats, GsdFramesBeyondSinglePrecisionAreRefusedBeforeAnythingIsWritten) {
   System<2> light = boxed({10, 10}, {disk({5, 5}, {1, 0}, 1)});
   light.records[0].mass = 1e-60;
   refused(light, "the mass of particle 0 is 1e-60");
+  refused(boxed({10, 10}, {disk({5, 5}, {std::nan(""), 0}, 1)}),
+          "particle 0 (from the box's centre) at t = 0 is not a number");
   // What single precision rounds but reads back is written: a tiny speed stored as 0.
   std::ostringstream out(std::ios::binary);
   trajectory_format_for<2>("m.gsd")->frame(out, 0, 0.0,

@@ -2,6 +2,8 @@
 // checkpoint it saved there, reports the summary of the run never interrupted: every record the
 // summary needs (the drift verdict's intervals, the pressure tensor's, the transport blocks, the
 // seed) is in every checkpoint, however the run got there.
+#include "carom/run.hpp"
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -16,7 +18,6 @@
 #include "carom/checkpoint.hpp"
 #include "carom/formats.hpp"
 #include "carom/initial.hpp"
-#include "carom/run.hpp"
 #include "carom/start.hpp"
 
 namespace carom {
@@ -138,9 +139,9 @@ Interruption stop_after_event(std::uint64_t k) {
 Interruption stop_at_time(double t, double every) {
   return [t, every](AnySimulation& any, std::atomic<int>& flag) {
     any.visit([&]<std::size_t D>(Simulation<D>& s) {
-      s.add_observer(std::make_shared<StopWhen<D>>(
-          Trigger::every_time(every), flag,
-          [t](const Simulation<D>& at) { return at.time() == t; }));
+      s.add_observer(
+          std::make_shared<StopWhen<D>>(Trigger::every_time(every), flag,
+                                        [t](const Simulation<D>& at) { return at.time() == t; }));
     });
   };
 }
@@ -205,7 +206,8 @@ class CheckpointResume : public ::testing::Test {
     RunSpec spec = c.spec;
     spec.measure_from.reset();  // the checkpoint holds the window
     ASSERT_EQ(resumed.run(spec).status, RunStatus::reached) << what;
-    EXPECT_EQ(summary_without_clock(c.spec.summary).dump(2), whole.dump(2)) << c.name << ": " << what;
+    EXPECT_EQ(summary_without_clock(c.spec.summary).dump(2), whole.dump(2))
+        << c.name << ": " << what;
   }
 
   fs::path folder_;
@@ -235,10 +237,12 @@ TEST_F(CheckpointResume, AStopAtAnyInstantResumesToTheSummaryOfARunNeverStopped)
     constexpr std::uint64_t kStops = 12;
     for (std::uint64_t i = 1; i <= kStops; ++i) {
       const std::uint64_t k = std::max<std::uint64_t>(1, events * i / kStops);
-      expect_resumed_summary(c, whole, stop_after_event(k), "stopped after event " + std::to_string(k));
+      expect_resumed_summary(c, whole, stop_after_event(k),
+                             "stopped after event " + std::to_string(k));
     }
     for (const double t : {2.5, 5.0, 6.25, 17.5, 28.75}) {
-      expect_resumed_summary(c, whole, stop_at_time(t, 1.25), "stopped at t = " + std::to_string(t));
+      expect_resumed_summary(c, whole, stop_at_time(t, 1.25),
+                             "stopped at t = " + std::to_string(t));
     }
   }
 }
@@ -249,7 +253,8 @@ TEST_F(CheckpointResume, AFailedWriteResumesToTheSummaryOfARunNeverStopped) {
   for (const RunCase& c : cases(folder_)) {
     const auto [whole, events] = uninterrupted(c);
     for (const std::uint64_t k : {std::uint64_t{1}, events / 3, events - 1, events}) {
-      expect_resumed_summary(c, whole, fail_after_event(k), "failed after event " + std::to_string(k));
+      expect_resumed_summary(c, whole, fail_after_event(k),
+                             "failed after event " + std::to_string(k));
     }
     for (const double t : {5.0, 6.25, 17.5, 30.0}) {
       expect_resumed_summary(c, whole, fail_at_time(t, 1.25), "failed at t = " + std::to_string(t));
