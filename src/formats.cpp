@@ -182,8 +182,9 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
     };
     shear = {{"rate", rate},
              // The images' shift now, at the end of what was run (the stored offset is the
-             // one at the epoch, which can lie far back).
-             {"offset", shown_shift(system.box, simulation.stored_time())},
+             // one at the epoch, which can lie far back), from the absolute time: a run resumed
+             // at its end has the same, where its stored time may differ in the last bit.
+             {"offset", shown_shift(system.box, system.stored(simulation.time()))},
              {"shear_stress", value(p, 1.0)},
              {"shear_stress_error", spread(error, 1.0)},
              {"shear_viscosity", value(p, 1.0 / rate)},
