@@ -69,7 +69,8 @@ std::vector<double> AnySimulation::box() const {
 double AnySimulation::shear_shift() const {
   // From the absolute time, as the summary and frames take it (a resumed run's stored time may
   // differ from the uninterrupted run's in the last bit).
-  return visit([](const auto& s) { return shown_shift(s.state().box, s.state().stored(s.time())); });
+  return visit(
+      [](const auto& s) { return shown_shift(s.state().box, s.state().stored(s.time())); });
 }
 
 void AnySimulation::check_target(double t) const {

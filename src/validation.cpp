@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "carom/overlap.hpp"
@@ -55,6 +57,19 @@ std::optional<std::string> particle_problem(std::size_t i, const Particle<D>& p,
           "two diameters ({})",
           i, p.radius, 4.0 * p.radius);
     }
+  }
+  // Positions are doubles: in a box of largest side L they are resolved to about L x 2^-52, and
+  // contacts need a small fraction of a diameter. (Regression: a disk of radius 1 in a box of
+  // 3e38, resolved to 7e22, ended its run in NaN with exit 0.)
+  const double largest = *std::max_element(b.size.c.begin(), b.size.c.end());
+  const double resolution = largest * std::numeric_limits<double>::epsilon();
+  if (resolution > kFinestContact * 2.0 * p.radius) {
+    return fmt::format(
+        "particle {} with radius {} is too small for a box of side {}: a double places it to "
+        "about {:.3g} there, and its contacts need {:g} of a diameter (the box may be at most "
+        "{:.3g} diameters across)",
+        i, p.radius, largest, resolution, kFinestContact,
+        kFinestContact / std::numeric_limits<double>::epsilon());
   }
   for (std::size_t k = 0; k < D && !b.periodic(); ++k) {
     for (const bool upper : {false, true}) {

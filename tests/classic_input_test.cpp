@@ -106,6 +106,17 @@ TEST(ClassicInput, RefusesMagnitudesWhoseSquaresOverflow) {
   EXPECT_NO_THROW(read("1\n1\n10 10\n5 5 0 1e-90\n"));
 }
 
+TEST(ClassicInput, RefusesBoxesTooLargeToResolveAContact) {
+  // Regression: a disk of radius 1 in a box of 3e38 (positions resolved to about 7e22) ran to an
+  // all-NaN state with exit 0, and its checkpoint was refused on resume.
+  EXPECT_EQ(error_of("2\n1\n3e38 3e38\n1e38 5 2e38 0 1 1e6\n2e38 5 0 0 1 1\n"),
+            "test.txt:4: particle 0 with radius 1 is too small for a box of side 3e+38: a double "
+            "places it to about 6.66e+22 there, and its contacts need 1e-06 of a diameter (the box "
+            "may be at most 4.5e+09 diameters across)");
+  // A dilute gas far from that bound is a start like any other.
+  EXPECT_NO_THROW(read("1\n1\n1e9 1e9\n5e8 5e8 0 0\n"));
+}
+
 TEST(ClassicInput, TouchingIsAllowed) {
   // Touching each other and the walls, as the classic assignment's second case starts.
   EXPECT_NO_THROW(read("3\n1\n10 10\n1 1 0 0\n3 1 0 0\n9 9 0 0\n"));

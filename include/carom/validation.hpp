@@ -15,6 +15,9 @@ namespace carom {
 // predictions, and beyond these the squares overflow or underflow.
 inline constexpr double kLargestMagnitude = 1e100;
 inline constexpr double kSmallestMagnitude = 1e-100;
+// The spacing of doubles across the box, as a fraction of a particle's diameter, beyond which its
+// contacts cannot be resolved: a box at most about 4.5e9 diameters across.
+inline constexpr double kFinestContact = 1e-6;
 
 // Checks a number a program supplies as the reader checks one it parses: finite, and a magnitude
 // from kSmallestMagnitude to kLargestMagnitude (or 0); throws std::invalid_argument naming
