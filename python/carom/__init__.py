@@ -625,7 +625,7 @@ def sweep(plan, out_dir, client=None):
     import distributed  # here: only a sweep needs Dask, which takes a second to import
     if client is not None and not isinstance(client, distributed.Client):
         raise ValueError(f"client must be a dask.distributed Client or None, got {client!r}")
-    core = _carom.SweepPlan.read(plan)
+    core = _carom.SweepPlan.read(_os.fsencode(plan))
     _carom.check_sweep_folder(core, out_dir)
     _os.makedirs(out_dir, exist_ok=True)
     # No other sweep (carom.sweep, carom sweep or carom_mpi) runs in out_dir meanwhile.

@@ -153,9 +153,10 @@ void export_sweep(py::module_& m) {
             return SweepPlan::parse(text, name, folder);
           },
           "text"_a, "name"_a, "folder"_a)
-      .def_property_readonly("name", &SweepPlan::name)
+      // Paths as bytes: they need not be UTF-8 (the plan's text, TOML, is).
+      .def_property_readonly("name", [](const SweepPlan& p) { return py::bytes(p.name()); })
       .def_property_readonly("text", &SweepPlan::text)
-      .def_property_readonly("folder", &SweepPlan::folder)
+      .def_property_readonly("folder", [](const SweepPlan& p) { return py::bytes(p.folder()); })
       .def_property_readonly(
           "kind", [](const SweepPlan& p) { return p.kind() == TaskKind::run ? "run" : "compress"; })
       .def_property_readonly("axes", &SweepPlan::axes)

@@ -181,8 +181,9 @@ def test_cli_mpi_and_dask_write_the_same_files(cli, tmp_path, client):
 
 def test_a_folder_whose_name_is_not_utf8_gets_the_same_files(cli, tmp_path, client):
     """Regression: a sweep into dossier\\xe9 had every task fail ("invalid UTF-8 byte" writing its
-    summary), and carom.sweep could not name such a folder at all."""
-    plan = write_plan(tmp_path, **SHORT)
+    summary), and carom.sweep could not name such a folder at all, nor read a plan so named."""
+    plan = os.fsdecode(os.fsencode(tmp_path) + b"/plan\xe9.toml")
+    os.rename(write_plan(tmp_path, **SHORT), plan)
     out = os.fsdecode(os.fsencode(tmp_path) + b"/dossier\xe9")
     cli("sweep", plan, "-o", out, "-q")
     reference = contents(set_aside(Path(out), "cli"))
