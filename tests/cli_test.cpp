@@ -14,6 +14,7 @@
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -99,6 +100,16 @@ class Cli : public ::testing::Test {
   pid_t start_run(const fs::path& input, std::vector<std::string> args) {
     args.insert(args.begin(), {"run", input.string()});
     return spawn(args);
+  }
+
+  // Ctrl-C to a run started by start_run once it is simulating (it checks its outputs first):
+  // its exit code, or nullopt if it ignored the signal.
+  std::optional<int> interrupted_exit_code(pid_t pid) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ::kill(pid, SIGINT);
+    int status = 0;
+    if (!wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; })) return std::nullopt;
+    return WEXITSTATUS(status);
   }
 
   // Waits for a process started by spawn(): its exit code, or -1 if a signal ended it.
@@ -581,13 +592,7 @@ TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
   const fs::path checkpoint = dir_ / "ck";
   const pid_t pid = start_run(
       start, {"1e11", "--boundary", "periodic", "--checkpoint", checkpoint.string(), "-q"});
-  // The run checks its checkpoint path first, then simulates: give it a moment to get there.
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGINT);
-  int status = 0;
-  ASSERT_TRUE(wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }))
-      << "the run ignored SIGINT";
-  EXPECT_EQ(WEXITSTATUS(status), 130);
+  ASSERT_EQ(interrupted_exit_code(pid), 130) << "the run ignored SIGINT";
   const auto saved = nlohmann::json::parse(read_file(checkpoint));
   EXPECT_EQ(saved["counts"]["events"], 0);
   const double stopped_at = saved["time"].get<double>();
@@ -606,12 +611,7 @@ TEST_F(Cli, CtrlCStopsAShearedRunOfRenewalsAndSavesIt) {
   const fs::path checkpoint = dir_ / "ck";
   const pid_t pid = start_run(start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear",
                                       "1e9", "--checkpoint", checkpoint.string(), "-q"});
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGINT);
-  int status = 0;
-  ASSERT_TRUE(wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }))
-      << "the sheared run ignored SIGINT";
-  EXPECT_EQ(WEXITSTATUS(status), 130);
+  ASSERT_EQ(interrupted_exit_code(pid), 130) << "the sheared run ignored SIGINT";
   EXPECT_GT(nlohmann::json::parse(read_file(checkpoint))["time"].get<double>(), 0.0);
 }
 
