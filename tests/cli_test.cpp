@@ -102,13 +102,15 @@ class Cli : public ::testing::Test {
     return spawn(args);
   }
 
-  // Ctrl-C to a run started by start_run once it is simulating (it checks its outputs first):
-  // its exit code, or nullopt if it ignored the signal.
-  std::optional<int> interrupted_exit_code(pid_t pid) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Ctrl-C to a run started by start_run with `--dump movie`, once it has written its first
+  // frame: it is simulating then, its stop handlers in place, however loaded the machine. Its
+  // exit code, or nullopt if it wrote no frame, ignored the signal or was killed by it.
+  std::optional<int> interrupted_exit_code(pid_t pid, const fs::path& movie) {
+    if (!wait_until([&] { return holds(movie, "Time="); })) return std::nullopt;
     ::kill(pid, SIGINT);
     int status = 0;
     if (!wait_until([&] { return ::waitpid(pid, &status, WNOHANG) == pid; })) return std::nullopt;
+    if (!WIFEXITED(status)) return std::nullopt;
     return WEXITSTATUS(status);
   }
 
@@ -590,9 +592,10 @@ TEST_F(Cli, CtrlCSavesTheInterruptedStateNotTheLastPeriodicOne) {
 TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
   const fs::path start = write("parallel.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
   const fs::path checkpoint = dir_ / "ck";
-  const pid_t pid = start_run(
-      start, {"1e11", "--boundary", "periodic", "--checkpoint", checkpoint.string(), "-q"});
-  ASSERT_EQ(interrupted_exit_code(pid), 130) << "the run ignored SIGINT";
+  const fs::path movie = dir_ / "movie.xyz";
+  const pid_t pid = start_run(start, {"1e11", "--boundary", "periodic", "--checkpoint",
+                                      checkpoint.string(), "--dump", movie, "--every", "1e10", "-q"});
+  ASSERT_EQ(interrupted_exit_code(pid, movie), 130) << "the run ignored SIGINT";
   const auto saved = nlohmann::json::parse(read_file(checkpoint));
   EXPECT_EQ(saved["counts"]["events"], 0);
   const double stopped_at = saved["time"].get<double>();
@@ -609,9 +612,11 @@ TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
 TEST_F(Cli, CtrlCStopsAShearedRunOfRenewalsAndSavesIt) {
   const fs::path start = write("two.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
   const fs::path checkpoint = dir_ / "ck";
-  const pid_t pid = start_run(start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear",
-                                      "1e9", "--checkpoint", checkpoint.string(), "-q"});
-  ASSERT_EQ(interrupted_exit_code(pid), 130) << "the sheared run ignored SIGINT";
+  const fs::path movie = dir_ / "movie.xyz";
+  const pid_t pid =
+      start_run(start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear", "1e9",
+                        "--checkpoint", checkpoint.string(), "--dump", movie, "--every", "1", "-q"});
+  ASSERT_EQ(interrupted_exit_code(pid, movie), 130) << "the sheared run ignored SIGINT";
   EXPECT_GT(nlohmann::json::parse(read_file(checkpoint))["time"].get<double>(), 0.0);
 }
 
