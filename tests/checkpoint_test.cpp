@@ -258,7 +258,13 @@ TEST(Checkpoint, TheSettingsAreCheckedAsANewRunsAre) {
   expect_refused(tampered(text, [](Json& j) { j["tc"] = -1.0; }),
                  "the TC time must be a number >= 0, got -1");
   expect_refused(tampered(text, [](Json& j) { j["rule"] = "sticky"; }), "unknown rule 'sticky'");
-  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 4; }), "format 4");
+  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 5; }), "format 5");
+  // Format 3 (carom 1.2 to 1.7: no window records, no seed) is still read.
+  EXPECT_NO_THROW(read(tampered(text, [](Json& j) {
+    j["carom_checkpoint"] = 3;
+    j.erase("window_records");
+    j.erase("seed");
+  })));
   expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 2.5; }), "format 2.5");
   expect_refused(tampered(text, [](Json& j) { j["dimension"] = 4; }), "dimension 4");
 }
@@ -289,7 +295,7 @@ TEST(Checkpoint, ACheckpointFarInTimeResumesAsPreciselyAsOneNearZero) {
                                     j["measurement"]["start_time"] =
                                         j["measurement"]["start_time"].get<double>() + kShift;
                                   }),
-                         time, "format 3");
+                         time, "its epoch shifted");
   const std::string old = tampered(text, [&](Json& j) {
     const double epoch = j["epoch"].get<double>() + kShift;
     j.erase("epoch");

@@ -16,12 +16,17 @@
 
 namespace carom {
 
-// Format 3 records the epoch the stored times count from (System::epoch) and every particle's
-// image flags (ParticleRecord::image). Format 2 (carom 1.1:
+// Format 4 (carom 1.8) adds what the summary needs of the measurement window (its records: the
+// drift verdict's intervals, the pressure tensor's, transport's blocks, with the window and end
+// they measure) and the velocities' seed, so that a run resumed at any instant, its end included,
+// reports the uninterrupted run's summary; a carom that knows only format 3 refuses it rather
+// than report a summary without them. Format 3 (carom 1.2 to 1.7) records the epoch the stored
+// times count from (System::epoch) and every particle's image flags (ParticleRecord::image), and
+// is still read (a run resumed from it starts its window's records afresh). Format 2 (carom 1.1:
 // the dimension, the TC model's last-collision times, the run's counts apart from the measurement
 // window's, whether the run is whole at its time; absolute stored times) and format 1 (carom
 // 1.0) are still read, their stored times re-based at once to the latest of them.
-inline constexpr int kCheckpointFormat = 3;
+inline constexpr int kCheckpointFormat = 4;
 
 template <std::size_t D>
 struct Checkpoint {
