@@ -593,8 +593,9 @@ TEST_F(Cli, CtrlCStopsARunWithoutEventsAndSavesIt) {
   const fs::path start = write("parallel.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
   const fs::path checkpoint = dir_ / "ck";
   const fs::path movie = dir_ / "movie.xyz";
-  const pid_t pid = start_run(start, {"1e11", "--boundary", "periodic", "--checkpoint",
-                                      checkpoint.string(), "--dump", movie, "--every", "1e10", "-q"});
+  const pid_t pid =
+      start_run(start, {"1e11", "--boundary", "periodic", "--checkpoint", checkpoint.string(),
+                        "--dump", movie, "--every", "1e10", "-q"});
   ASSERT_EQ(interrupted_exit_code(pid, movie), 130) << "the run ignored SIGINT";
   const auto saved = nlohmann::json::parse(read_file(checkpoint));
   EXPECT_EQ(saved["counts"]["events"], 0);
@@ -613,9 +614,9 @@ TEST_F(Cli, CtrlCStopsAShearedRunOfRenewalsAndSavesIt) {
   const fs::path start = write("two.txt", "2\n0.5\n10 10\n1 1 1 0\n1 5 1 0\n");
   const fs::path checkpoint = dir_ / "ck";
   const fs::path movie = dir_ / "movie.xyz";
-  const pid_t pid =
-      start_run(start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear", "1e9",
-                        "--checkpoint", checkpoint.string(), "--dump", movie, "--every", "1", "-q"});
+  const pid_t pid = start_run(
+      start, {"1", "--boundary", "periodic", "--rule", "elastic", "--shear", "1e9", "--checkpoint",
+              checkpoint.string(), "--dump", movie, "--every", "1", "-q"});
   ASSERT_EQ(interrupted_exit_code(pid, movie), 130) << "the sheared run ignored SIGINT";
   EXPECT_GT(nlohmann::json::parse(read_file(checkpoint))["time"].get<double>(), 0.0);
 }
@@ -1202,7 +1203,8 @@ TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefused) {
   const fs::path movie = dir_ / "m.gsd";
   // (A particle that fast crosses the box 10^5 times by t = 1e-33.)
   for (const auto& [start, end, named] :
-       {std::tuple{write("huge.txt", "1\n0.5\n1e50 1e50\n5 5 1 0\n"), "1", "box side Lx is 1e+50"},
+       {std::tuple{write("huge.txt", "1\n1e41\n1e50 1e50\n5e49 5e49 1 0\n"), "1",
+                   "box side Lx is 1e+50"},
         std::tuple{write("fast.txt", "2\n0.5\n10 10\n5 5 1 0\n2 2 0 1e39\n"), "1e-33",
                    "vy of particle 1 at t = 0 is 1e+39"}}) {
     const Result r =
@@ -1216,19 +1218,22 @@ TEST_F(Cli, GsdDumpsBeyondSinglePrecisionAreRefused) {
                   .exit_code,
               0);
   }
-  // A heavy disk at 2e38 hits a light one at rest, which leaves at twice that (by t = 1e-37 it
-  // has gone 40 from where it was).
-  const fs::path hit = write("hit.txt", "2\n1\n3e38 3e38\n5 5 2e38 0 1 1e6\n8 5 0 0 1 1\n"),
+  // A heavy disk at 2e38 hits a light one at rest, which leaves at twice that (by t = 1e-9 it
+  // has gone 2e29, two radii, from where it was; the box is 1.5e9 diameters across, which a
+  // double resolves).
+  const fs::path hit = write(
+                     "hit.txt",
+                     "2\n1e29\n3e38 3e38\n1e30 1e30 2e38 0 1e29 1e6\n1.3e30 1e30 0 0 1e29 1\n"),
                  checkpoint = dir_ / "c.ckpt";
-  const Result r = carom({"run", hit, "3e-37", "--rule", "elastic", "--dump", movie, "--every",
-                          "1e-37", "--checkpoint", checkpoint, "-o", dir_ / "out.txt"});
+  const Result r = carom({"run", hit, "3e-9", "--rule", "elastic", "--dump", movie, "--every",
+                          "1e-9", "--checkpoint", checkpoint, "-o", dir_ / "out.txt"});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("vx of particle 1 at t = 1e-37 is 4e+38"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("vx of particle 1 at t = 1e-09 is 4e+38"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("is saved in " + checkpoint.string()), std::string::npos) << r.err;
   const Result viewed = carom({"view", movie, "-o", dir_ / "page.html"});
   EXPECT_EQ(viewed.exit_code, 0) << viewed.err;
-  EXPECT_EQ(carom({"run", "--resume", checkpoint, "3e-37", "--dump", dir_ / "hit.xyz", "--every",
-                   "1e-37", "-o", dir_ / "out.txt"})
+  EXPECT_EQ(carom({"run", "--resume", checkpoint, "3e-9", "--dump", dir_ / "hit.xyz", "--every",
+                   "1e-9", "-o", dir_ / "out.txt"})
                 .exit_code,
             0);
 }
