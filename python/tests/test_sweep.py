@@ -374,6 +374,44 @@ def test_a_task_that_cannot_run_fails_alone(cli, tmp_path, client):
     assert table["error"][1] == rows[2].split(",", 9)[-1]
 
 
+# A compression that jams short of its target at the fast rate: its error names its packing's
+# path, here in a folder whose name is not UTF-8.
+JAMMING_PLAN = """\
+[start]
+n = 64
+phi = 0.3
+polydispersity = 0.2
+boundary = "periodic"
+[compress]
+phi = 0.8
+[sweep]
+rate = [0.1, 1000]
+"""
+
+
+def jammed_sweep_by_the_cli(cli, tmp_path):
+    """The plan, the folder caf\\xe9/out and the results.csv `carom sweep` writes there (then
+    set aside): the second task failed, its error naming caf\\xe9/.../packing.txt."""
+    plan = write_plan(tmp_path, JAMMING_PLAN)
+    out = Path(os.fsdecode(os.fsencode(tmp_path) + b"/caf\xe9")) / "out"
+    cli("sweep", plan, "-o", out, "-q", expect=101)
+    results = (out / "results.csv").read_bytes()
+    assert b"\n1000,failed," in results and b"caf\xe9/" in results, results
+    set_aside(out, "cli")
+    return plan, out, results
+
+
+def test_a_failure_naming_a_non_utf8_path_is_recorded_under_mpi(cli, tmp_path):
+    """Regression: a worker rank could not send such an error (the json of its report threw) and
+    rank 0 waited for it for ever."""
+    if not has_mpi(cli):
+        pytest.skip("no mpirun, or carom built without MPI")
+    plan, out, results = jammed_sweep_by_the_cli(cli, tmp_path)
+    mpi = mpi_sweep(cli, plan, "-o", out, "-q")
+    assert mpi.returncode == 101, mpi.stderr.decode(errors="replace")
+    assert (out / "results.csv").read_bytes() == results
+
+
 def test_bad_arguments_are_refused(tmp_path):
     plan = write_plan(tmp_path, **SHORT)
     with pytest.raises(ValueError, match="plan must be a path"):
