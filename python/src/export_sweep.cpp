@@ -25,6 +25,16 @@ namespace {
 
 namespace py = pybind11;
 
+// A task's error as Python text: it may name a file whose name is not UTF-8, which pybind11's
+// strict decoding would raise UnicodeDecodeError for; decoded as os.fsdecode decodes a name
+// (surrogateescape), so the name survives.
+py::str error_text(const std::string& error) {
+  PyObject* text =
+      PyUnicode_DecodeUTF8(error.data(), static_cast<Py_ssize_t>(error.size()), "surrogateescape");
+  if (text == nullptr) throw py::error_already_set();  // out of memory: any bytes decode so
+  return py::reinterpret_steal<py::str>(text);
+}
+
 // Each task's swept keys and their values as the plan types them (bool, int, float, str, list),
 // in the axes' order.
 py::list points(const SweepPlan& plan) {
@@ -177,7 +187,7 @@ void export_sweep(py::module_& m) {
   py::class_<TaskResult>(m, "TaskResult")
       .def_property_readonly("status",
                              [](const TaskResult& r) { return std::string(status_name(r.status)); })
-      .def_readonly("error", &TaskResult::error)
+      .def_property_readonly("error", [](const TaskResult& r) { return error_text(r.error); })
       .def_readonly("dimension", &TaskResult::dimension)
       .def_property_readonly("measures",
                              [](const TaskResult& r) {
@@ -196,7 +206,7 @@ void export_sweep(py::module_& m) {
       [](const SweepPlan& plan, std::size_t index, const std::string& out_dir,
          const std::string& sweep_id) {
         const TaskResult result = run_task_interruptibly(plan, index, out_dir, sweep_id);
-        return std::make_pair(std::string(status_name(result.status)), result.error);
+        return py::make_tuple(std::string(status_name(result.status)), error_text(result.error));
       },
       "plan"_a, "index"_a, "out_dir"_a, "sweep_id"_a = "");
   m.def(

@@ -412,6 +412,15 @@ def test_a_failure_naming_a_non_utf8_path_is_recorded_under_mpi(cli, tmp_path):
     assert (out / "results.csv").read_bytes() == results
 
 
+def test_a_failure_naming_a_non_utf8_path_is_recorded_on_dask(cli, tmp_path, client):
+    """Regression: the error reached Python as a UnicodeDecodeError on the worker, which aborted
+    the whole carom.sweep."""
+    plan, out, results = jammed_sweep_by_the_cli(cli, tmp_path)
+    table = carom.sweep(plan, out, client=client)
+    assert list(table["status"]) == ["done", "failed"]
+    assert (out / "results.csv").read_bytes() == results
+
+
 def test_bad_arguments_are_refused(tmp_path):
     plan = write_plan(tmp_path, **SHORT)
     with pytest.raises(ValueError, match="plan must be a path"):
