@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <thread>
 
 #include "carom/atomic_file.hpp"
@@ -185,6 +186,15 @@ void export_sweep(py::module_& m) {
           "index"_a, "folder"_a);
 
   py::class_<TaskResult>(m, "TaskResult")
+      // A result as a Dask worker returned it: its status's name and its error's bytes.
+      .def(py::init([](const std::string& status, const std::string& error) {
+             for (const TaskStatus s : {TaskStatus::done, TaskStatus::failed, TaskStatus::stopped,
+                                        TaskStatus::pending}) {
+               if (status_name(s) == status) return TaskResult::with(s, error);
+             }
+             throw std::invalid_argument(fmt::format("no task status is named '{}'", status));
+           }),
+           "status"_a, "error"_a)
       .def_property_readonly("status",
                              [](const TaskResult& r) { return std::string(status_name(r.status)); })
       .def_property_readonly("error", [](const TaskResult& r) { return error_text(r.error); })

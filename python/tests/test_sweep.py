@@ -453,6 +453,23 @@ def test_a_sweep_under_mpi_records_what_fails_as_without_it(cli, tmp_path):
         == (tmp_path / "alone" / "results.csv").read_text()
 
 
+def test_a_failure_that_never_reached_its_error_file_is_recorded_on_dask(cli, tmp_path, client):
+    """Regression: carom.sweep read the tasks' folders again instead of what its workers
+    returned, so a task whose error.txt could not be written (here a folder that cannot be
+    removed) was not failed as `carom sweep` records it."""
+    plan = write_plan(tmp_path, **SHORT)
+    out = tmp_path / "out"
+    blocked = out / TASKS[1] / "error.txt" / "x"
+    blocked.mkdir(parents=True)
+    cli("sweep", plan, "-o", out, "-q", expect=101)
+    results = (out / "results.csv").read_bytes()
+    set_aside(out, "cli")
+    blocked.mkdir(parents=True)
+    table = carom.sweep(plan, out, client=client)
+    assert list(table["status"]) == ["done", "failed", "done", "done"]
+    assert (out / "results.csv").read_bytes() == results
+
+
 def refusal(cli, *args, cwd):
     """The first line of a command's error (exit 2) run in cwd, after 'carom: error: '."""
     cli(*args, expect=2, cwd=cwd)
