@@ -661,12 +661,14 @@ def _run_tasks(client, plan, out_dir, indices):
     """The tasks `indices` of plan on client's workers, until every one has returned: what each
     returned, (status, error)."""
     sweep_id = _uuid.uuid4().hex
-    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i, sweep_id,
-                             pure=False) for i in indices]
+    futures = []
     try:
+        for i in indices:
+            futures.append(client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i,
+                                         sweep_id, pure=False))
         return client.gather(futures)
     except BaseException:
-        # Stopped (Ctrl-C) or refused. A cancelled future does not stop a task a worker runs, so
+        # Stopped (Ctrl-C, while the tasks are submitted too) or refused. A cancelled future does not stop a task a worker runs, so
         # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
         # left queued on a client that outlives the sweep, and the sweep returns once every task
         # has let go of its folder: a sweep run again at once finds them free.

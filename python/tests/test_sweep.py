@@ -523,6 +523,36 @@ def test_output_locations_are_checked_before_any_task_runs(cli, tmp_path):
     assert (tmp_path / "file").read_text() == "not a folder"
 
 
+def test_ctrl_c_while_the_tasks_are_submitted_stops_those_submitted(tmp_path, client,
+                                                                    monkeypatch):
+    """Regression: the tasks were submitted outside the try that stops them, so a Ctrl-C then
+    left those already submitted running on the workers."""
+    plan = write_plan(tmp_path, **LONG)
+    submitted = []
+    submit = client.submit
+
+    def interrupted_submit(*args, **kwargs):
+        if submitted:
+            raise KeyboardInterrupt
+        submitted.append(submit(*args, **kwargs))
+        return submitted[-1]
+
+    stopped = []
+    run = client.run
+
+    def recorded_run(function, *args, **kwargs):
+        stopped.append(function.__name__)
+        return run(function, *args, **kwargs)
+
+    monkeypatch.setattr(client, "submit", interrupted_submit)
+    monkeypatch.setattr(client, "run", recorded_run)
+    with pytest.raises(KeyboardInterrupt):
+        carom.sweep(plan, tmp_path / "out", client=client)
+    monkeypatch.undo()
+    assert stopped == ["_stop_sweep_tasks"]
+    assert submitted[0].cancelled()
+
+
 def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     """Another sweep holds the folder (its sweep.lock): refused before anything runs, however
     the sweep is run; once the holder has gone (even killed), the folder is free."""
