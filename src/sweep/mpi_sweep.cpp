@@ -123,14 +123,16 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
   }
   SweepProgress progress;
   progress.total = results.size();
-  const auto count = [&] {
-    progress.done = progress.failed = 0;
-    for (const TaskResult& result : results) {
-      progress.done += result.status == TaskStatus::done ? 1 : 0;
-      progress.failed += result.status == TaskStatus::failed ? 1 : 0;
-    }
+  // The counter a result's status adds to, if any: the counts are kept as results arrive, since
+  // counting them all again at each would take quadratic time over a sweep of 100,000 tasks.
+  const auto counter = [&progress](const TaskResult& result) -> std::size_t* {
+    if (result.status == TaskStatus::done) return &progress.done;
+    if (result.status == TaskStatus::failed) return &progress.failed;
+    return nullptr;
   };
-  count();
+  for (const TaskResult& result : results) {
+    if (std::size_t* count = counter(result)) ++*count;
+  }
   const auto begun = std::chrono::steady_clock::now();
   std::size_t next = 0;
   int workers = ranks - 1;
@@ -162,8 +164,10 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
     if (last.task != kNoMoreTasks) {
       --progress.running;
       leaving = last.result.status == TaskStatus::stopped;
-      results.at(static_cast<std::size_t>(last.task)) = std::move(last.result);
-      count();
+      TaskResult& result = results.at(static_cast<std::size_t>(last.task));
+      if (std::size_t* count = counter(result)) --*count;
+      result = std::move(last.result);
+      if (std::size_t* count = counter(result)) ++*count;
     }
     int task = kNoMoreTasks;
     if (next < waiting.size() && !stopped(hooks) && !leaving) {
