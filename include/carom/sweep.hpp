@@ -113,11 +113,13 @@ inline constexpr const char* kSweepLock = "sweep.lock";
 // The sweep's report page, unless another is named.
 inline constexpr const char* kReportPage = "report.html";
 
-// A lock held while the object lives: flock on a lock file, which the OS releases when the
-// holder ends, however it ends (a SIGKILL, a crash; a machine's end where the file system's
-// server gives its locks up, as NFS does), so that no lock outlives its holder. Works across
-// machines where the shared file system keeps flock locks for all of them (NFS, GPFS, BeeGFS
-// with global locks, Lustre mounted with -o flock); on one that keeps none (Lustre's default)
+// A lock held while the object lives: an open file description lock (fcntl F_OFD_SETLK) on a
+// lock file, held by the open file (two in one process exclude each other), which the OS
+// releases when the holder ends, however it ends (a SIGKILL, a crash; a machine's end where the
+// file system's server gives its locks up, as NFS does), so that no lock outlives its holder.
+// Works across machines where the shared file system keeps such locks for all of them (NFS,
+// GPFS, BeeGFS with global locks, Lustre mounted with -o flock; Lustre's -o localflock keeps
+// them for one node only); on one that keeps none (Lustre's default)
 // taking it throws RequestError, saying so. The file stays (removing it would let two holders
 // lock two files of one name); while held, it says who holds it.
 class HeldLock {

@@ -555,7 +555,9 @@ def test_ctrl_c_while_the_tasks_are_submitted_stops_those_submitted(tmp_path, cl
 
 def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     """Another sweep holds the folder (its sweep.lock): refused before anything runs, however
-    the sweep is run; once the holder has gone (even killed), the folder is free."""
+    the sweep is run; once the holder has gone (even killed), the folder is free. The holder's
+    POSIX lock (lockf) conflicts with the sweep's open file description lock, as flock would
+    not."""
     import fcntl
 
     plan = write_plan(tmp_path, **SHORT)
@@ -564,7 +566,7 @@ def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent("""
         import fcntl, sys
         f = open(sys.argv[1], "a")
-        fcntl.flock(f, fcntl.LOCK_EX)
+        fcntl.lockf(f, fcntl.LOCK_EX)
         print("held", flush=True)
         sys.stdin.read()
         """), str(out / "sweep.lock")], stdin=subprocess.PIPE, stdout=subprocess.PIPE)
@@ -579,8 +581,8 @@ def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     holder.kill()
     holder.wait()
     cli("sweep", plan, "-o", out, "-q")
-    with open(out / "sweep.lock") as f:
-        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free once the sweep has ended
+    with open(out / "sweep.lock", "a") as f:
+        fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free once the sweep has ended
     assert done(out) == list(TASKS)
 
 
@@ -608,7 +610,7 @@ def test_ctrl_c_stops_the_tasks_on_the_dask_workers(cli, long_sweep, client):
     # Every task the workers ran has let go of its folder, and none goes on.
     import fcntl
     for task in stopped:
-        with open(out / task / "task.lock") as f:
-            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with open(out / task / "task.lock", "a") as f:
+            fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
     cli("sweep", plan, "-o", out, "-q")
     assert_same_contents(contents(out), reference, "after Ctrl-C")
