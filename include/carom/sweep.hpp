@@ -103,9 +103,13 @@ inline constexpr const char* kPacking = "packing.txt";         // a compression'
 inline constexpr const char* kError = "error.txt";             // why the task failed
 inline constexpr const char* kLock = "task.lock";              // held while the task runs
 // All of them: a plan's dump or event log may take none of these names, nor that of a temporary
-// file of one (AtomicFile::is_temporary_of), which a resumed task removes.
+// file of one (AtomicFile::is_temporary_of: carom makes some beside any file it writes).
 inline constexpr std::array kOwn = {kCommands,   kStart,   kSummary, kLog,
                                     kCheckpoint, kPacking, kError,   kLock};
+// Those written whole (AtomicFile): an attempt killed while it wrote one leaves its temporary,
+// which a resumed task removes.
+inline constexpr std::array kWrittenWhole = {kCommands,   kStart,   kSummary,
+                                             kCheckpoint, kPacking, kError};
 }  // namespace task_files
 
 // In a sweep's folder: held while a sweep runs there.

@@ -285,12 +285,10 @@ fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string
 // (AtomicFile's FILE.tmp.XXXXXX): those and nothing else, so that a dump the plan names
 // "run.tmp.xyz" is the user's and stays.
 void remove_leftovers(const fs::path& folder) {
-  constexpr std::array kWrittenWhole = {task_files::kCommands, task_files::kStart,
-                                        task_files::kSummary,  task_files::kCheckpoint,
-                                        task_files::kPacking,  task_files::kError};
+  const auto& written_whole = task_files::kWrittenWhole;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
-    if (std::any_of(kWrittenWhole.begin(), kWrittenWhole.end(), [&](const char* target) {
+    if (std::any_of(written_whole.begin(), written_whole.end(), [&](const char* target) {
           return AtomicFile::is_temporary_of(name, target);
         })) {
       fs::remove(entry.path());
