@@ -586,6 +586,23 @@ TEST(SweepTask, AFolderSpelledAnotherWayHoldsTheSameTasks) {
   EXPECT_THROW(check_sweep_folder(parse(changed), (out / ".").string()), RequestError);
 }
 
+// A plan whose start file was edited to another file holds other tasks: the results of the old
+// file are not taken as done, though the tasks' folders are spelled alike.
+TEST(SweepTask, AStartFileEditedToAnotherFileIsAnotherTask) {
+  const Folder folder;
+  const std::string gas = "2\n0.5\n10 10\n2 2 1 0\n5 5 0 1\n";
+  std::ofstream(folder / "a.txt") << gas;
+  std::ofstream(folder / "b.txt") << gas;
+  const std::string text = "[start]\nfile = \"a.txt\"\n[run]\nend_time = 1\nkT = 1\n";
+  ASSERT_EQ(run_task(SweepPlan::parse(text, "plan.toml", folder / ""), 0, folder / "out").status,
+            TaskStatus::done);
+  std::string edited = text;
+  edited.replace(edited.find("a.txt"), 5, "b.txt");
+  const SweepPlan other = SweepPlan::parse(edited, "plan.toml", folder / "");
+  EXPECT_THROW(check_sweep_folder(other, folder / "out"), RequestError);
+  EXPECT_THROW(run_task(other, 0, folder / "out"), RequestError);
+}
+
 // Item 3: a swept seed reaches every random draw of its tasks, or the plan is refused; the tasks
 // of a state point are never copies of one run.
 TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {

@@ -103,9 +103,13 @@ inline constexpr const char* kPacking = "packing.txt";         // a compression'
 inline constexpr const char* kError = "error.txt";             // why the task failed
 inline constexpr const char* kLock = "task.lock";              // held while the task runs
 // All of them: a plan's dump or event log may take none of these names, nor that of a temporary
-// file of one (AtomicFile::is_temporary_of), which a resumed task removes.
+// file of one (AtomicFile::is_temporary_of: carom makes some beside any file it writes).
 inline constexpr std::array kOwn = {kCommands,   kStart,   kSummary, kLog,
                                     kCheckpoint, kPacking, kError,   kLock};
+// Those written whole (AtomicFile): an attempt killed while it wrote one leaves its temporary,
+// which a resumed task removes.
+inline constexpr std::array kWrittenWhole = {kCommands,   kStart,   kSummary,
+                                             kCheckpoint, kPacking, kError};
 }  // namespace task_files
 
 // In a sweep's folder: held while a sweep runs there.
@@ -113,11 +117,13 @@ inline constexpr const char* kSweepLock = "sweep.lock";
 // The sweep's report page, unless another is named.
 inline constexpr const char* kReportPage = "report.html";
 
-// A lock held while the object lives: flock on a lock file, which the OS releases when the
-// holder ends, however it ends (a SIGKILL, a crash; a machine's end where the file system's
-// server gives its locks up, as NFS does), so that no lock outlives its holder. Works across
-// machines where the shared file system keeps flock locks for all of them (NFS, GPFS, BeeGFS
-// with global locks, Lustre mounted with -o flock); on one that keeps none (Lustre's default)
+// A lock held while the object lives: an open file description lock (fcntl F_OFD_SETLK) on a
+// lock file, held by the open file (two in one process exclude each other), which the OS
+// releases when the holder ends, however it ends (a SIGKILL, a crash; a machine's end where the
+// file system's server gives its locks up, as NFS does), so that no lock outlives its holder.
+// Works across machines where the shared file system keeps such locks for all of them (NFS,
+// GPFS, BeeGFS with global locks, Lustre mounted with -o flock; Lustre's -o localflock keeps
+// them for one node only); on one that keeps none (Lustre's default)
 // taking it throws RequestError, saying so. The file stays (removing it would let two holders
 // lock two files of one name); while held, it says who holds it.
 class HeldLock {

@@ -536,8 +536,12 @@ def _sweep_task(text, name, folder, out_dir, index, sweep_id):
     """One task of carom.sweep, on a Dask worker: the plan parsed again from its text (a worker
     needs to see out_dir, not the plan's file), then the task run, or continued from what an
     earlier attempt left, until done or until _stop_sweep_tasks(sweep_id). Returns (status,
-    error)."""
-    return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir, sweep_id)
+    error). Whatever fails here is the task's failure, as `carom sweep` records it (a task lock
+    that cannot be made, say), not the whole sweep's."""
+    try:
+        return _carom.run_task(_carom.SweepPlan.parse(text, name, folder), index, out_dir, sweep_id)
+    except Exception as error:
+        return "failed", str(error)
 
 
 def _stop_sweep_tasks(sweep_id):
@@ -637,24 +641,34 @@ def sweep(plan, out_dir, client=None):
                 with distributed.LocalCluster(n_workers=_os.cpu_count() or 1,
                                               threads_per_worker=1, processes=True) as cluster, \
                         distributed.Client(cluster) as own:
-                    _run_tasks(own, core, out_dir, waiting)
+                    returned = _run_tasks(own, core, out_dir, waiting)
             else:
-                _run_tasks(client, core, out_dir, waiting)
+                returned = _run_tasks(client, core, out_dir, waiting)
         results = _carom.read_task_results(core, out_dir)
+        if waiting:
+            # What the workers returned, as `carom sweep` keeps what its tasks returned, so that
+            # results.csv is the same whatever ran them: a failure that never reached error.txt
+            # included. A task's folder, where it agrees, gives its measures too.
+            for index, (status, error) in zip(waiting, returned):
+                if (results[index].status, results[index].error) != (status, error):
+                    results[index] = _carom.TaskResult(status, _os.fsencode(error))
         _carom.write_sweep_tables(core, out_dir, results)
         _carom.write_sweep_report(core, results, _os.path.join(out_dir, b"report.html"))
     return _results_table(core, _os.path.join(out_dir, b"results.csv"))
 
 
 def _run_tasks(client, plan, out_dir, indices):
-    """The tasks `indices` of plan on client's workers, until every one has returned."""
+    """The tasks `indices` of plan on client's workers, until every one has returned: what each
+    returned, (status, error)."""
     sweep_id = _uuid.uuid4().hex
-    futures = [client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i, sweep_id,
-                             pure=False) for i in indices]
+    futures = []
     try:
-        client.gather(futures)
+        for i in indices:
+            futures.append(client.submit(_sweep_task, plan.text, plan.name, plan.folder, out_dir, i,
+                                         sweep_id, pure=False))
+        return client.gather(futures)
     except BaseException:
-        # Stopped (Ctrl-C) or refused. A cancelled future does not stop a task a worker runs, so
+        # Stopped (Ctrl-C, while the tasks are submitted too) or refused. A cancelled future does not stop a task a worker runs, so
         # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
         # left queued on a client that outlives the sweep, and the sweep returns once every task
         # has let go of its folder: a sweep run again at once finds them free.

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <stdexcept>
 #include <thread>
 
 #include "carom/atomic_file.hpp"
@@ -24,6 +25,16 @@ namespace carom::python {
 namespace {
 
 namespace py = pybind11;
+
+// A task's error as Python text: it may name a file whose name is not UTF-8, which pybind11's
+// strict decoding would raise UnicodeDecodeError for; decoded as os.fsdecode decodes a name
+// (surrogateescape), so the name survives.
+py::str error_text(const std::string& error) {
+  PyObject* text =
+      PyUnicode_DecodeUTF8(error.data(), static_cast<Py_ssize_t>(error.size()), "surrogateescape");
+  if (text == nullptr) throw py::error_already_set();  // out of memory: any bytes decode so
+  return py::reinterpret_steal<py::str>(text);
+}
 
 // Each task's swept keys and their values as the plan types them (bool, int, float, str, list),
 // in the axes' order.
@@ -175,9 +186,18 @@ void export_sweep(py::module_& m) {
           "index"_a, "folder"_a);
 
   py::class_<TaskResult>(m, "TaskResult")
+      // A result as a Dask worker returned it: its status's name and its error's bytes.
+      .def(py::init([](const std::string& status, const std::string& error) {
+             for (const TaskStatus s : {TaskStatus::done, TaskStatus::failed, TaskStatus::stopped,
+                                        TaskStatus::pending}) {
+               if (status_name(s) == status) return TaskResult::with(s, error);
+             }
+             throw std::invalid_argument(fmt::format("no task status is named '{}'", status));
+           }),
+           "status"_a, "error"_a)
       .def_property_readonly("status",
                              [](const TaskResult& r) { return std::string(status_name(r.status)); })
-      .def_readonly("error", &TaskResult::error)
+      .def_property_readonly("error", [](const TaskResult& r) { return error_text(r.error); })
       .def_readonly("dimension", &TaskResult::dimension)
       .def_property_readonly("measures",
                              [](const TaskResult& r) {
@@ -196,7 +216,7 @@ void export_sweep(py::module_& m) {
       [](const SweepPlan& plan, std::size_t index, const std::string& out_dir,
          const std::string& sweep_id) {
         const TaskResult result = run_task_interruptibly(plan, index, out_dir, sweep_id);
-        return std::make_pair(std::string(status_name(result.status)), result.error);
+        return py::make_tuple(std::string(status_name(result.status)), error_text(result.error));
       },
       "plan"_a, "index"_a, "out_dir"_a, "sweep_id"_a = "");
   m.def(

@@ -41,8 +41,9 @@ class Cli:
     def run(self, *args, expect=0, cwd=None):
         command = [self.exe, *[str(a) for a in args]]
         proc = subprocess.run(command, capture_output=True, cwd=cwd, timeout=300)
-        out = proc.stdout.decode()
-        err = proc.stderr.decode()
+        # A message may name a file whose name is not UTF-8: decoded as os.fsdecode decodes one.
+        out = proc.stdout.decode(errors="surrogateescape")
+        err = proc.stderr.decode(errors="surrogateescape")
         assert proc.returncode == expect, (
             f"{' '.join(command)} exited with {proc.returncode}, expected {expect}:\n{err}")
         self.last_stderr = err

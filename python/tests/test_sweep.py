@@ -374,6 +374,53 @@ def test_a_task_that_cannot_run_fails_alone(cli, tmp_path, client):
     assert table["error"][1] == rows[2].split(",", 9)[-1]
 
 
+# A compression that jams short of its target at the fast rate: its error names its packing's
+# path, here in a folder whose name is not UTF-8.
+JAMMING_PLAN = """\
+[start]
+n = 64
+phi = 0.3
+polydispersity = 0.2
+boundary = "periodic"
+[compress]
+phi = 0.8
+[sweep]
+rate = [0.1, 1000]
+"""
+
+
+def jammed_sweep_by_the_cli(cli, tmp_path):
+    """The plan, the folder caf\\xe9/out and the results.csv `carom sweep` writes there (then
+    set aside): the second task failed, its error naming caf\\xe9/.../packing.txt."""
+    plan = write_plan(tmp_path, JAMMING_PLAN)
+    out = Path(os.fsdecode(os.fsencode(tmp_path) + b"/caf\xe9")) / "out"
+    cli("sweep", plan, "-o", out, "-q", expect=101)
+    results = (out / "results.csv").read_bytes()
+    assert b"\n1000,failed," in results and b"caf\xe9/" in results, results
+    set_aside(out, "cli")
+    return plan, out, results
+
+
+def test_a_failure_naming_a_non_utf8_path_is_recorded_under_mpi(cli, tmp_path):
+    """Regression: a worker rank could not send such an error (the json of its report threw) and
+    rank 0 waited for it for ever."""
+    if not has_mpi(cli):
+        pytest.skip("no mpirun, or carom built without MPI")
+    plan, out, results = jammed_sweep_by_the_cli(cli, tmp_path)
+    mpi = mpi_sweep(cli, plan, "-o", out, "-q")
+    assert mpi.returncode == 101, mpi.stderr.decode(errors="replace")
+    assert (out / "results.csv").read_bytes() == results
+
+
+def test_a_failure_naming_a_non_utf8_path_is_recorded_on_dask(cli, tmp_path, client):
+    """Regression: the error reached Python as a UnicodeDecodeError on the worker, which aborted
+    the whole carom.sweep."""
+    plan, out, results = jammed_sweep_by_the_cli(cli, tmp_path)
+    table = carom.sweep(plan, out, client=client)
+    assert list(table["status"]) == ["done", "failed"]
+    assert (out / "results.csv").read_bytes() == results
+
+
 def test_bad_arguments_are_refused(tmp_path):
     plan = write_plan(tmp_path, **SHORT)
     with pytest.raises(ValueError, match="plan must be a path"):
@@ -404,6 +451,23 @@ def test_a_sweep_under_mpi_records_what_fails_as_without_it(cli, tmp_path):
     assert rows[2].startswith("0.3,2,failed,") and "error.txt" in rows[2], rows[2]
     assert (tmp_path / "mpi" / "results.csv").read_text().replace("mpi/", "alone/") \
         == (tmp_path / "alone" / "results.csv").read_text()
+
+
+def test_a_failure_that_never_reached_its_error_file_is_recorded_on_dask(cli, tmp_path, client):
+    """Regression: carom.sweep read the tasks' folders again instead of what its workers
+    returned, so a task whose error.txt could not be written (here a folder that cannot be
+    removed) was not failed as `carom sweep` records it."""
+    plan = write_plan(tmp_path, **SHORT)
+    out = tmp_path / "out"
+    blocked = out / TASKS[1] / "error.txt" / "x"
+    blocked.mkdir(parents=True)
+    cli("sweep", plan, "-o", out, "-q", expect=101)
+    results = (out / "results.csv").read_bytes()
+    set_aside(out, "cli")
+    blocked.mkdir(parents=True)
+    table = carom.sweep(plan, out, client=client)
+    assert list(table["status"]) == ["done", "failed", "done", "done"]
+    assert (out / "results.csv").read_bytes() == results
 
 
 def refusal(cli, *args, cwd):
@@ -459,9 +523,41 @@ def test_output_locations_are_checked_before_any_task_runs(cli, tmp_path):
     assert (tmp_path / "file").read_text() == "not a folder"
 
 
+def test_ctrl_c_while_the_tasks_are_submitted_stops_those_submitted(tmp_path, client,
+                                                                    monkeypatch):
+    """Regression: the tasks were submitted outside the try that stops them, so a Ctrl-C then
+    left those already submitted running on the workers."""
+    plan = write_plan(tmp_path, **LONG)
+    submitted = []
+    submit = client.submit
+
+    def interrupted_submit(*args, **kwargs):
+        if submitted:
+            raise KeyboardInterrupt
+        submitted.append(submit(*args, **kwargs))
+        return submitted[-1]
+
+    stopped = []
+    run = client.run
+
+    def recorded_run(function, *args, **kwargs):
+        stopped.append(function.__name__)
+        return run(function, *args, **kwargs)
+
+    monkeypatch.setattr(client, "submit", interrupted_submit)
+    monkeypatch.setattr(client, "run", recorded_run)
+    with pytest.raises(KeyboardInterrupt):
+        carom.sweep(plan, tmp_path / "out", client=client)
+    monkeypatch.undo()
+    assert stopped == ["_stop_sweep_tasks"]
+    assert submitted[0].cancelled()
+
+
 def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     """Another sweep holds the folder (its sweep.lock): refused before anything runs, however
-    the sweep is run; once the holder has gone (even killed), the folder is free."""
+    the sweep is run; once the holder has gone (even killed), the folder is free. The holder's
+    POSIX lock (lockf) conflicts with the sweep's open file description lock, as flock would
+    not."""
     import fcntl
 
     plan = write_plan(tmp_path, **SHORT)
@@ -470,7 +566,7 @@ def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent("""
         import fcntl, sys
         f = open(sys.argv[1], "a")
-        fcntl.flock(f, fcntl.LOCK_EX)
+        fcntl.lockf(f, fcntl.LOCK_EX)
         print("held", flush=True)
         sys.stdin.read()
         """), str(out / "sweep.lock")], stdin=subprocess.PIPE, stdout=subprocess.PIPE)
@@ -485,8 +581,8 @@ def test_a_second_sweep_in_a_busy_folder_is_refused(cli, tmp_path):
     holder.kill()
     holder.wait()
     cli("sweep", plan, "-o", out, "-q")
-    with open(out / "sweep.lock") as f:
-        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free once the sweep has ended
+    with open(out / "sweep.lock", "a") as f:
+        fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free once the sweep has ended
     assert done(out) == list(TASKS)
 
 
@@ -498,23 +594,33 @@ def test_ctrl_c_stops_the_tasks_on_the_dask_workers(cli, long_sweep, client):
     shutil.rmtree(out, ignore_errors=True)
     pids = client.run(os.getpid)
 
+    # Ctrl-C only once every worker runs a task: a signal sent after the sweep has returned would
+    # land outside pytest.raises. Given up on, the test fails on the flag instead.
+    gave_up = threading.Event()
+
     def interrupt_once_tasks_run():
         deadline = time.monotonic() + 60
-        while len(running(out)) < len(pids) and time.monotonic() < deadline:
+        while len(running(out)) < len(pids):
+            if time.monotonic() > deadline:
+                gave_up.set()
+                return
             time.sleep(0.002)
         os.kill(os.getpid(), signal.SIGINT)
 
     interrupter = threading.Thread(target=interrupt_once_tasks_run)
     interrupter.start()
-    with pytest.raises(KeyboardInterrupt):
-        carom.sweep(plan, out, client=client)
-    interrupter.join()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            carom.sweep(plan, out, client=client)
+    finally:
+        interrupter.join()
+    assert not gave_up.is_set(), "the workers were not caught running their tasks"
     stopped = running(out)
     assert stopped, "no task was caught running"
     # Every task the workers ran has let go of its folder, and none goes on.
     import fcntl
     for task in stopped:
-        with open(out / task / "task.lock") as f:
-            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with open(out / task / "task.lock", "a") as f:
+            fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
     cli("sweep", plan, "-o", out, "-q")
     assert_same_contents(contents(out), reference, "after Ctrl-C")

@@ -1,9 +1,11 @@
-// The sweep's locks: flock on a lock file, held by an open file description, so that two threads
-// of one process exclude each other as two processes do, and released by the OS with the last
-// descriptor, however the process ends.
+// The sweep's locks: an open file description lock (fcntl F_OFD_SETLK) on a lock file, held by
+// the open file, not the process, so that two threads of one process exclude each other as two
+// processes do, and released by the OS with the last descriptor, however the process ends. Not
+// flock: the Linux NFS client emulates it with POSIX record locks, which belong to the process
+// (two descriptors of one process do not exclude each other, and closing any one drops the
+// lock); open file description locks behave alike locally and over NFS.
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <array>
@@ -23,10 +25,13 @@ std::optional<HeldLock> HeldLock::try_take(const std::string& path) {
   if (fd < 0) {
     throw RequestError(fmt::format("cannot make the lock file {}: {}", path, std::strerror(errno)));
   }
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+  struct flock whole_file {};
+  whole_file.l_type = F_WRLCK;
+  whole_file.l_whence = SEEK_SET;  // l_start = l_len = 0: the whole file; l_pid = 0, as OFD needs
+  if (::fcntl(fd, F_OFD_SETLK, &whole_file) != 0) {
     const int why = errno;
     ::close(fd);
-    if (why == EWOULDBLOCK) return std::nullopt;
+    if (why == EAGAIN || why == EACCES) return std::nullopt;
     throw RequestError(fmt::format(
         "cannot lock {}: {}: its file system keeps no file locks, without which two sweeps (or "
         "a sweep and a Dask worker left running) could write one task together; use a folder on "

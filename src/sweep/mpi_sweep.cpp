@@ -12,6 +12,8 @@
 #include <stdexcept>
 #include <thread>
 
+#include "json_text.hpp"
+
 namespace carom {
 
 namespace {
@@ -63,33 +65,51 @@ struct Report {
   TaskResult result;
 };
 
+// NaN (not measured; a clock not read) has no json number: null stands for it.
+nlohmann::json number(double value) {
+  return std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value);
+}
+
+double number_in(const nlohmann::json& json) {
+  return json.is_null() ? std::nan("") : json.get<double>();
+}
+
+// dump_json and parse_json: an error may name a file whose name is not UTF-8.
 std::string encode(const Report& report) {
   nlohmann::json measures = nlohmann::json::array();
-  for (const auto& [name, value] : report.result.measures) {
-    // NaN (not measured) has no json number: null stands for it.
-    measures.push_back({name, std::isnan(value) ? nlohmann::json(nullptr) : nlohmann::json(value)});
-  }
-  return nlohmann::json{
-      {"task", report.task},          {"status", static_cast<int>(report.result.status)},
-      {"error", report.result.error}, {"dimension", report.result.dimension},
-      {"measures", measures},         {"wall_seconds", report.result.wall_seconds}}
-      .dump();
+  for (const auto& [name, value] : report.result.measures) measures.push_back({name, number(value)});
+  return dump_json(nlohmann::json{{"task", report.task},
+                                  {"status", static_cast<int>(report.result.status)},
+                                  {"error", report.result.error},
+                                  {"dimension", report.result.dimension},
+                                  {"measures", measures},
+                                  {"wall_seconds", number(report.result.wall_seconds)}});
 }
 
 Report decode(const std::string& text) {
-  const nlohmann::json json = nlohmann::json::parse(text);
+  const nlohmann::json json = parse_json(text);
   Report report;
   report.task = json.at("task").get<int>();
   report.result.status = static_cast<TaskStatus>(json.at("status").get<int>());
   report.result.error = json.at("error").get<std::string>();
   report.result.dimension = json.at("dimension").get<int>();
-  report.result.wall_seconds = json.at("wall_seconds").get<double>();
+  report.result.wall_seconds = number_in(json.at("wall_seconds"));
   for (const nlohmann::json& measure : json.at("measures")) {
-    report.result.measures.emplace_back(
-        measure[0].get<std::string>(),
-        measure[1].is_null() ? std::nan("") : measure[1].get<double>());
+    report.result.measures.emplace_back(measure[0].get<std::string>(), number_in(measure[1]));
   }
   return report;
+}
+
+// A worker's report, which rank 0 waits for: one that cannot be written is sent as a failure
+// saying why, so that the worker never leaves without it.
+std::string encode_surely(const Report& report) {
+  try {
+    return encode(report);
+  } catch (const std::exception& e) {
+    return encode(
+        {report.task, TaskResult::with(TaskStatus::failed,
+                                       fmt::format("its result could not be sent: {}", e.what()))});
+  }
 }
 
 // Rank 0: hands the tasks not yet done out to the ranks as they ask, until every rank has left;
@@ -103,14 +123,16 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
   }
   SweepProgress progress;
   progress.total = results.size();
-  const auto count = [&] {
-    progress.done = progress.failed = 0;
-    for (const TaskResult& result : results) {
-      progress.done += result.status == TaskStatus::done ? 1 : 0;
-      progress.failed += result.status == TaskStatus::failed ? 1 : 0;
-    }
+  // The counter a result's status adds to, if any: the counts are kept as results arrive, since
+  // counting them all again at each would take quadratic time over a sweep of 100,000 tasks.
+  const auto counter = [&progress](const TaskResult& result) -> std::size_t* {
+    if (result.status == TaskStatus::done) return &progress.done;
+    if (result.status == TaskStatus::failed) return &progress.failed;
+    return nullptr;
   };
-  count();
+  for (const TaskResult& result : results) {
+    if (std::size_t* count = counter(result)) ++*count;
+  }
   const auto begun = std::chrono::steady_clock::now();
   std::size_t next = 0;
   int workers = ranks - 1;
@@ -142,8 +164,10 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
     if (last.task != kNoMoreTasks) {
       --progress.running;
       leaving = last.result.status == TaskStatus::stopped;
-      results.at(static_cast<std::size_t>(last.task)) = std::move(last.result);
-      count();
+      TaskResult& result = results.at(static_cast<std::size_t>(last.task));
+      if (std::size_t* count = counter(result)) --*count;
+      result = std::move(last.result);
+      if (std::size_t* count = counter(result)) ++*count;
     }
     int task = kNoMoreTasks;
     if (next < waiting.size() && !stopped(hooks) && !leaving) {
@@ -160,7 +184,7 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
 void work(const SweepPlan& plan, const std::string& out_dir, const SweepHooks& hooks) {
   Report last;
   while (true) {
-    std::string text = encode(last);
+    std::string text = encode_surely(last);
     MPI_Send(text.data(), static_cast<int>(text.size()), MPI_CHAR, 0, kAskTag, MPI_COMM_WORLD);
     int task = kNoMoreTasks;
     MPI_Recv(&task, 1, MPI_INT, 0, kAssignTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);

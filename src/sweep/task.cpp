@@ -88,7 +88,9 @@ std::vector<std::string> shell_words(std::string_view command) {
 
 // Whether `written` (a task.txt) holds the commands of `task`, however its folder and the plan's
 // were spelled when it was written (out, ./out, /home/me/out): the task's commands made again with
-// the folder and the start file that the written ones name are the same text.
+// the folder and the start file that the written ones name are the same text. The written start
+// file is taken only where it names the plan's: a plan edited to start from another file holds
+// other tasks, whose commands differ only there. One no longer there is judged by its name.
 bool holds_task(const std::string& written, const SweepPlan& plan, const SweepTask& task) {
   std::string last_line = written.substr(0, written.empty() ? 0 : written.size() - 1);
   last_line = last_line.substr(last_line.rfind('\n') + 1);
@@ -101,9 +103,17 @@ bool holds_task(const std::string& written, const SweepPlan& plan, const SweepTa
   const bool from_file = std::any_of(task.start.begin(), task.start.end(),
                                      [](const PlanSetting& s) { return s.key == "file"; });
   try {
-    return written == commands_text(sweep::task_spec(
-                          plan, task, folder.string(),
-                          from_file ? std::optional<std::string>(words[2]) : std::nullopt));
+    std::optional<std::string> start_file;
+    if (from_file) {
+      const std::string planned = *sweep::task_spec(plan, task, folder.string()).start_file;
+      const std::string& stored = words[2];
+      const bool same = fs::exists(stored)
+                            ? same_file(stored, planned)
+                            : fs::path(stored).filename() == fs::path(planned).filename();
+      if (!same) return false;
+      start_file = stored;
+    }
+    return written == commands_text(sweep::task_spec(plan, task, folder.string(), start_file));
   } catch (const PlanError&) {
     return false;  // a folder spelled as no task's could be
   }
@@ -275,12 +285,10 @@ fs::path task_folder(const SweepPlan& plan, std::size_t index, const std::string
 // (AtomicFile's FILE.tmp.XXXXXX): those and nothing else, so that a dump the plan names
 // "run.tmp.xyz" is the user's and stays.
 void remove_leftovers(const fs::path& folder) {
-  constexpr std::array kWrittenWhole = {task_files::kCommands, task_files::kStart,
-                                        task_files::kSummary,  task_files::kCheckpoint,
-                                        task_files::kPacking,  task_files::kError};
+  const auto& written_whole = task_files::kWrittenWhole;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
     const std::string name = entry.path().filename().string();
-    if (std::any_of(kWrittenWhole.begin(), kWrittenWhole.end(), [&](const char* target) {
+    if (std::any_of(written_whole.begin(), written_whole.end(), [&](const char* target) {
           return AtomicFile::is_temporary_of(name, target);
         })) {
       fs::remove(entry.path());
