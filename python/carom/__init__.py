@@ -668,10 +668,11 @@ def _run_tasks(client, plan, out_dir, indices):
                                          sweep_id, pure=False))
         return client.gather(futures)
     except BaseException:
-        # Stopped (Ctrl-C, while the tasks are submitted too) or refused. A cancelled future does not stop a task a worker runs, so
-        # every worker is told to stop this sweep's tasks (each saves its checkpoint), nothing is
-        # left queued on a client that outlives the sweep, and the sweep returns once every task
-        # has let go of its folder: a sweep run again at once finds them free.
+        # Stopped (Ctrl-C, while the tasks are submitted too) or refused. A cancelled future does
+        # not stop a task a worker runs, so every worker is told to stop this sweep's tasks (each
+        # saves its checkpoint), nothing is left queued on a client that outlives the sweep, and
+        # the sweep returns once every task has let go of its folder: a sweep run again at once
+        # finds them free.
         # A worker that cannot be reached (dead, restarting) is skipped: the wait below still
         # waits for any task it holds.
         client.run(_stop_sweep_tasks, sweep_id, on_error="ignore")
