@@ -5,7 +5,7 @@
 #include <iostream>
 #include <stdexcept>
 
-#include "carom/analysis.hpp"
+#include "carom/analysis/analysis.hpp"
 #include "cli_support.hpp"
 
 namespace carom::cli {

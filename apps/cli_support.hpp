@@ -15,11 +15,11 @@
 #include <utility>
 #include <vector>
 
-#include "carom/atomic_file.hpp"
-#include "carom/classic_input.hpp"
-#include "carom/names.hpp"
-#include "carom/request.hpp"
-#include "carom/stop_signal.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/core/names.hpp"
+#include "carom/run/request.hpp"
+#include "carom/run/stop_signal.hpp"
 
 namespace carom::cli {
 
@@ -36,7 +36,7 @@ struct Interrupted : std::runtime_error {
 };
 
 // The signal (SIGINT, SIGTERM, SIGHUP) that asked the command to stop, or 0: main() has the
-// library's opt-in handlers set it (carom/stop_signal.hpp); the simulation polls it.
+// library's opt-in handlers set it (carom/run/stop_signal.hpp); the simulation polls it.
 inline std::atomic<int>& stop_signal() {
   static std::atomic<int> requested{0};
   return requested;

@@ -4,8 +4,8 @@
 #include <optional>
 #include <string>
 
-#include "carom/compression.hpp"
-#include "carom/system.hpp"
+#include "carom/engine/compression.hpp"
+#include "carom/core/system.hpp"
 
 namespace carom::cli {
 

@@ -4,8 +4,10 @@
 
 #include <numeric>
 
-#include "carom/formats.hpp"
-#include "carom/observables.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/core/observables.hpp"
 #include "cli_support.hpp"
 
 namespace carom::cli {

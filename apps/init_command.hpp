@@ -3,7 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "carom/initial.hpp"
+#include "carom/engine/initial.hpp"
 
 namespace carom::cli {
 

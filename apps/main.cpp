@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "analyze_command.hpp"
-#include "carom/classic_input.hpp"
-#include "carom/request.hpp"
-#include "carom/sweep.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/run/request.hpp"
+#include "carom/sweep/sweep.hpp"
 #include "carom/version.hpp"
 #include "cli_support.hpp"
 #include "compress_command.hpp"

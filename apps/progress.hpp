@@ -14,7 +14,7 @@
 #include <optional>
 #include <string>
 
-#include "carom/run.hpp"
+#include "carom/run/run.hpp"
 
 namespace carom::cli {
 

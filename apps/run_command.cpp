@@ -5,8 +5,8 @@
 #include <cmath>
 #include <iostream>
 
-#include "carom/run.hpp"
-#include "carom/start.hpp"
+#include "carom/run/run.hpp"
+#include "carom/run/start.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
 

@@ -5,8 +5,10 @@
 #include <optional>
 #include <string>
 
-#include "carom/engine.hpp"
-#include "carom/formats.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
 
 namespace carom::cli {
 

@@ -7,11 +7,11 @@
 #include <iostream>
 #include <thread>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 #include "cli_support.hpp"
 #include "progress.hpp"
 #ifdef CAROM_HAVE_MPI
-#include "carom/mpi_sweep.hpp"
+#include "carom/sweep/mpi_sweep.hpp"
 #endif
 
 namespace carom::cli {

@@ -5,9 +5,9 @@
 #include <pcg_random.hpp>
 #include <vector>
 
-#include "carom/physics.hpp"
-#include "event_calendar.hpp"
-#include "event_queue.hpp"
+#include "carom/core/physics.hpp"
+#include "engine/event_calendar.hpp"
+#include "engine/event_queue.hpp"
 
 namespace carom {
 namespace {

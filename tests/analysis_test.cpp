@@ -1,4 +1,4 @@
-#include "carom/analysis.hpp"
+#include "carom/analysis/analysis.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,11 +9,11 @@
 #include <random>
 #include <sstream>
 
-#include "carom/classic_input.hpp"
-#include "carom/gsd.hpp"
-#include "carom/initial.hpp"
-#include "carom/simulation.hpp"
-#include "carom/trajectory.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/gsd.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/simulation.hpp"
+#include "carom/io/trajectory.hpp"
 
 namespace carom {
 namespace {

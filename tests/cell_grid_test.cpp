@@ -1,4 +1,4 @@
-#include "cell_grid.hpp"
+#include "engine/cell_grid.hpp"
 
 #include <gtest/gtest.h>
 

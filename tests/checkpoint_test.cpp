@@ -1,7 +1,7 @@
 // Checkpoints are validated when read: whatever a run can have reached is resumed, anything else
 // (an edit, a bit flip, a truncation) is refused with a message naming the file and the fault,
 // before a run could make a physically impossible result of it.
-#include "carom/checkpoint.hpp"
+#include "carom/io/checkpoint.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "carom/classic_input.hpp"
-#include "carom/invariant_check.hpp"
-#include "json_text.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/invariant_check.hpp"
+#include "io/json_text.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

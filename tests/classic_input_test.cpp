@@ -1,4 +1,4 @@
-#include "carom/classic_input.hpp"
+#include "carom/io/classic_input.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "carom/compression.hpp"
+#include "carom/engine/compression.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,11 +6,13 @@
 #include <cmath>
 #include <sstream>
 
-#include "carom/classic_input.hpp"
-#include "carom/formats.hpp"
-#include "carom/initial.hpp"
-#include "carom/observables.hpp"
-#include "carom/overlap.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/core/observables.hpp"
+#include "carom/engine/overlap.hpp"
 
 namespace carom {
 namespace {

@@ -1,7 +1,7 @@
-// The contact kernels (src/contact_batch.hpp): the four- and eight-wide ones give the scalar one's
+// The contact kernels (src/engine/contact_batch.hpp): the four- and eight-wide ones give the scalar one's
 // times bit for bit, and the scalar one is contact_time with the image seen at the clock, as the
 // reference engine computes it; the same for the wide distance tests that make neighbour lists.
-#include "contact_batch.hpp"
+#include "engine/contact_batch.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "carom/physics.hpp"
+#include "carom/core/physics.hpp"
 
 namespace carom {
 namespace {

@@ -4,13 +4,15 @@
 
 #include <cmath>
 
-#include "carom/classic_input.hpp"
-#include "carom/engine.hpp"
-#include "carom/formats.hpp"
-#include "carom/initial.hpp"
-#include "carom/overlap.hpp"
-#include "fast_engine.hpp"
-#include "list_engine.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/overlap.hpp"
+#include "engine/fast_engine.hpp"
+#include "engine/list_engine.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

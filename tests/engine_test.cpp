@@ -1,6 +1,6 @@
 // The engines: the classic assignment's cases through the library, the fast engine against the
 // reference engine on many random systems, and the invariants every run must keep.
-#include "carom/engine.hpp"
+#include "carom/engine/engine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,11 +8,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "carom/classic_input.hpp"
-#include "carom/formats.hpp"
-#include "carom/initial.hpp"
-#include "carom/overlap.hpp"
-#include "fast_engine.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/overlap.hpp"
+#include "engine/fast_engine.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

@@ -1,11 +1,11 @@
-#include "event_queue.hpp"
+#include "engine/event_queue.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <vector>
 
-#include "event_calendar.hpp"
+#include "engine/event_calendar.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

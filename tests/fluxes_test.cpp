@@ -1,7 +1,7 @@
 // The momentum and energy fluxes (fluxes.hpp): the pure pieces against hand-computed values, and
 // whole runs against what the fluxes must add up to (the virial, the kinetic energy, isotropy),
 // resumed from checkpoints bit for bit.
-#include "carom/fluxes.hpp"
+#include "carom/core/fluxes.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,10 +9,10 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/checkpoint.hpp"
-#include "carom/initial.hpp"
-#include "carom/observables.hpp"
-#include "carom/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/core/observables.hpp"
+#include "carom/engine/simulation.hpp"
 
 namespace carom {
 namespace {

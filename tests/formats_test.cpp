@@ -1,4 +1,6 @@
-#include "carom/formats.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "carom/classic_input.hpp"
-#include "carom/initial.hpp"
-#include "carom/trajectory.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/io/trajectory.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

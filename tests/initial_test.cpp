@@ -1,6 +1,6 @@
 // carom init's configurations: non-overlapping, at the requested packing fraction and temperature,
 // reproducible, in two and three dimensions.
-#include "carom/initial.hpp"
+#include "carom/engine/initial.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,11 +8,13 @@
 #include <numbers>
 #include <sstream>
 
-#include "carom/classic_input.hpp"
-#include "carom/formats.hpp"
-#include "carom/observables.hpp"
-#include "carom/overlap.hpp"
-#include "carom/physics.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/core/observables.hpp"
+#include "carom/engine/overlap.hpp"
+#include "carom/core/physics.hpp"
 
 namespace carom {
 namespace {

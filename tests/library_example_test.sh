@@ -43,7 +43,7 @@ cmake --install "$build_dir" --prefix "$prefix" > "$scratch/install.log" 2>&1 ||
   { cat "$scratch/install.log"; fail "cmake --install"; }
 
 # What a consumer needs is installed; what it must not see is not.
-for f in include/carom/simulation.hpp include/carom/classic_input.hpp include/carom/formats.hpp \
+for f in include/carom/engine/simulation.hpp include/carom/io/classic_input.hpp include/carom/io/classic_output.hpp \
          include/carom/version.hpp; do
   [[ -f $prefix/$f ]] || fail "$f not installed"
 done

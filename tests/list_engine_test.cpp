@@ -1,13 +1,13 @@
-#include "list_engine.hpp"
+#include "engine/list_engine.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "carom/classic_input.hpp"
-#include "carom/engine.hpp"
-#include "carom/initial.hpp"
-#include "fast_engine.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/engine/initial.hpp"
+#include "engine/fast_engine.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

@@ -1,15 +1,15 @@
 // Physics checked against theory: conservation laws, the Maxwell-Boltzmann distribution, the
 // hard-disk equation of state and the collision-rate identity.
-#include "carom/observables.hpp"
+#include "carom/core/observables.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "carom/initial.hpp"
-#include "carom/overlap.hpp"
-#include "carom/simulation.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/overlap.hpp"
+#include "carom/engine/simulation.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

@@ -1,4 +1,4 @@
-#include "carom/overlap.hpp"
+#include "carom/engine/overlap.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,12 +1,12 @@
 // The physics functions alone: free flight, wall hits, pair contacts and collision rules.
-#include "carom/physics.hpp"
+#include "carom/core/physics.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "carom/event.hpp"
+#include "carom/core/event.hpp"
 
 namespace carom {
 namespace {

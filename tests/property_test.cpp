@@ -7,9 +7,9 @@
 
 #include <cmath>
 
-#include "carom/engine.hpp"
-#include "carom/observables.hpp"
-#include "carom/overlap.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/core/observables.hpp"
+#include "carom/engine/overlap.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

@@ -2,7 +2,7 @@
 // checkpoint it saved there, reports the summary of the run never interrupted: every record the
 // summary needs (the drift verdict's intervals, the pressure tensor's, the transport blocks, the
 // seed) is in every checkpoint, however the run got there.
-#include "carom/run.hpp"
+#include "carom/run/run.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +15,12 @@
 #include <string>
 #include <vector>
 
-#include "carom/checkpoint.hpp"
-#include "carom/formats.hpp"
-#include "carom/initial.hpp"
-#include "carom/start.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/run/start.hpp"
 
 namespace carom {
 namespace {

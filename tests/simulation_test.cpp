@@ -1,7 +1,7 @@
 // The Simulation: runs cut into pieces equal whole runs bit for bit (walls and periodic, swap,
 // elastic, inelastic with a large TC time, a measurement window inside a piece, 2D and 3D),
 // observers on their own timeline, the stop flag, run-length guards and checkpoints.
-#include "carom/simulation.hpp"
+#include "carom/engine/simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +11,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "carom/checkpoint.hpp"
-#include "carom/classic_input.hpp"
-#include "carom/initial.hpp"
-#include "carom/invariant_check.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/invariant_check.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

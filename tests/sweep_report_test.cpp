@@ -3,8 +3,8 @@
 
 #include <sstream>
 
-#include "carom/equation_of_state.hpp"
-#include "carom/sweep.hpp"
+#include "carom/core/equation_of_state.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom {
 namespace {

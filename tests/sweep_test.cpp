@@ -1,6 +1,6 @@
 // The sweep's plan (what it accepts and refuses, and where it says the fault is), its tasks and
 // their commands, resumable tasks and the tables.
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>

@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "carom/classic_input.hpp"
-#include "carom/engine.hpp"
-#include "carom/measurement.hpp"
-#include "carom/simulation.hpp"
-#include "carom/system.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/core/measurement.hpp"
+#include "carom/engine/simulation.hpp"
+#include "carom/core/system.hpp"
 
 namespace carom::testing {
 

@@ -1,6 +1,6 @@
 // Thermostats (thermostat.hpp): the velocity changes alone, then runs that hold a temperature in
 // both engines bit for bit, in pieces and across checkpoints.
-#include "carom/thermostat.hpp"
+#include "carom/core/thermostat.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,12 +8,12 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/checkpoint.hpp"
-#include "carom/fluxes.hpp"
-#include "carom/initial.hpp"
-#include "carom/invariant_check.hpp"
-#include "carom/observables.hpp"
-#include "carom/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/core/fluxes.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/invariant_check.hpp"
+#include "carom/core/observables.hpp"
+#include "carom/engine/simulation.hpp"
 
 namespace carom {
 namespace {

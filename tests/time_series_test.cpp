@@ -1,5 +1,5 @@
 // The block average behind the time series' error bars, and the series itself on a run.
-#include "carom/time_series.hpp"
+#include "carom/io/time_series.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Transport coefficients (transport.hpp): the estimators on series with known answers, Enskog's
 // values in their dilute limit, and a measurement continued from a checkpoint bit for bit.
-#include "carom/transport.hpp"
+#include "carom/core/transport.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,10 +10,10 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/checkpoint.hpp"
-#include "carom/initial.hpp"
-#include "carom/simulation.hpp"
-#include "transport_meter.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/simulation.hpp"
+#include "run/transport_meter.hpp"
 
 namespace carom {
 namespace {

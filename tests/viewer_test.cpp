@@ -1,6 +1,6 @@
 // `carom view`'s reader: the trajectories carom writes, of disks and of spheres, read back with
 // their dimension, and what the page is handed.
-#include "carom/viewer.hpp"
+#include "carom/analysis/viewer.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "carom/classic_input.hpp"
-#include "carom/system.hpp"
-#include "carom/trajectory.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/core/system.hpp"
+#include "carom/io/trajectory.hpp"
 
 namespace carom {
 namespace {

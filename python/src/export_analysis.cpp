@@ -7,9 +7,9 @@
 #include <sstream>
 #include <string>
 
-#include "carom/analysis.hpp"
-#include "carom/atomic_file.hpp"
-#include "carom/request.hpp"
+#include "carom/analysis/analysis.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/run/request.hpp"
 #include "exports.hpp"
 
 namespace carom::python {

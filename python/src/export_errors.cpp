@@ -3,8 +3,8 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "carom/classic_input.hpp"
-#include "carom/engine.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/engine.hpp"
 #include "exports.hpp"
 
 namespace carom::python {

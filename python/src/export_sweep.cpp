@@ -16,8 +16,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "carom/atomic_file.hpp"
-#include "carom/sweep.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/sweep/sweep.hpp"
 #include "exports.hpp"
 
 namespace carom::python {

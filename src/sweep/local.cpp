@@ -7,7 +7,7 @@
 #include <mutex>
 #include <thread>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom {
 

@@ -15,7 +15,7 @@
 #include <fstream>
 #include <utility>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom {
 

@@ -1,4 +1,4 @@
-#include "carom/mpi_sweep.hpp"
+#include "carom/sweep/mpi_sweep.hpp"
 
 #include <fmt/format.h>
 #include <mpi.h>
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "json_text.hpp"
+#include "io/json_text.hpp"
 
 namespace carom {
 

@@ -12,12 +12,12 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "carom/atomic_file.hpp"
-#include "carom/names.hpp"
-#include "carom/simulation.hpp"
-#include "carom/start.hpp"
-#include "sweep/plan_keys.hpp"
-#include "sweep/task_spec.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/core/names.hpp"
+#include "carom/engine/simulation.hpp"
+#include "carom/run/start.hpp"
+#include "plan_keys.hpp"
+#include "task_spec.hpp"
 
 namespace carom {
 

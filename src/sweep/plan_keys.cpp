@@ -1,4 +1,4 @@
-#include "sweep/plan_keys.hpp"
+#include "plan_keys.hpp"
 
 #include <array>
 

@@ -6,7 +6,7 @@
 #include <optional>
 #include <string_view>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom::sweep {
 

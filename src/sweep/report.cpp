@@ -9,9 +9,9 @@
 #include <optional>
 #include <unordered_map>
 
-#include "carom/equation_of_state.hpp"
-#include "carom/sweep.hpp"
-#include "sweep/state_points.hpp"
+#include "carom/core/equation_of_state.hpp"
+#include "carom/sweep/sweep.hpp"
+#include "state_points.hpp"
 
 namespace carom {
 

@@ -1,4 +1,4 @@
-#include "sweep/state_points.hpp"
+#include "state_points.hpp"
 
 #include <fmt/format.h>
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom::sweep {
 

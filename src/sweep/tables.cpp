@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "carom/atomic_file.hpp"
-#include "carom/sweep.hpp"
-#include "sweep/state_points.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/sweep/sweep.hpp"
+#include "state_points.hpp"
 
 namespace carom {
 

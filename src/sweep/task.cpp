@@ -19,14 +19,14 @@
 #include <thread>
 #include <variant>
 
-#include "carom/atomic_file.hpp"
-#include "carom/compress_run.hpp"
-#include "carom/formats.hpp"
-#include "carom/run.hpp"
-#include "carom/start.hpp"
-#include "carom/sweep.hpp"
-#include "json_text.hpp"
-#include "sweep/task_spec.hpp"
+#include "carom/io/atomic_file.hpp"
+#include "carom/run/compress_run.hpp"
+#include "carom/run/run_report.hpp"
+#include "carom/run/run.hpp"
+#include "carom/run/start.hpp"
+#include "carom/sweep/sweep.hpp"
+#include "io/json_text.hpp"
+#include "task_spec.hpp"
 
 namespace carom {
 

@@ -1,4 +1,4 @@
-#include "sweep/task_spec.hpp"
+#include "task_spec.hpp"
 
 #include <fmt/format.h>
 
@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "carom/names.hpp"
-#include "carom/simulation.hpp"
-#include "sweep/plan_keys.hpp"
+#include "carom/core/names.hpp"
+#include "carom/engine/simulation.hpp"
+#include "plan_keys.hpp"
 
 namespace carom::sweep {
 

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "carom/compress_run.hpp"
-#include "carom/initial.hpp"
-#include "carom/run.hpp"
-#include "carom/start.hpp"
-#include "carom/sweep.hpp"
+#include "carom/run/compress_run.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/run/run.hpp"
+#include "carom/run/start.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom::sweep {
 

@@ -1,5 +1,5 @@
 // End-to-end tests of the `carom analyze --html` report in Debian's headless Chromium
-// (playwright-core, no browser download). The first part fills src/report/report.html with
+// (playwright-core, no browser download). The first part fills src/analysis/report/report.html with
 // fixture analyses, as carom does, to cover missing sections and edge cases; the second runs
 // carom (CAROM_EXE) on real disks and spheres.
 import { test, describe, before, after } from "node:test";
@@ -12,7 +12,7 @@ import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
 
 const carom = process.env.CAROM_EXE;
-const template = readFileSync(join(dirname(fileURLToPath(import.meta.url)), "../../src/report/report.html"), "utf8");
+const template = readFileSync(join(dirname(fileURLToPath(import.meta.url)), "../../src/analysis/report/report.html"), "utf8");
 const slot = "/*CAROM_DATA*/";
 const folder = mkdtempSync(join(tmpdir(), "carom-report-"));
 let browser;

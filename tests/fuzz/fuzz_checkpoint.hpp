@@ -17,12 +17,12 @@
 #include <string>
 #include <variant>
 
-#include "carom/analysis.hpp"
-#include "carom/checkpoint.hpp"
-#include "carom/classic_input.hpp"
-#include "carom/gsd.hpp"
-#include "carom/invariant_check.hpp"
-#include "carom/viewer.hpp"
+#include "carom/analysis/analysis.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/gsd.hpp"
+#include "carom/engine/invariant_check.hpp"
+#include "carom/analysis/viewer.hpp"
 
 namespace carom::fuzz {
 

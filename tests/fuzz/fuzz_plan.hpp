@@ -14,7 +14,7 @@
 #include <sstream>
 #include <string>
 
-#include "carom/sweep.hpp"
+#include "carom/sweep/sweep.hpp"
 
 namespace carom::fuzz {
 

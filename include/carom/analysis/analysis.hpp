@@ -1,0 +1,125 @@
+// Analysis of a trajectory's frames (carom analyze, carom.analyze in Python): the radial
+// distribution function and its contact value, the mean-square displacement, and the hexatic
+// order psi6. Pure functions of the frames: nothing here reads files or prints.
+#pragma once
+
+#include <complex>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "carom/io/log_table.hpp"
+#include "carom/io/trajectory_reader.hpp"
+
+namespace carom {
+
+// The geometry every frame of a trajectory shares, taken from its first frame.
+struct TrajectoryShape {
+  int dimension = 2;
+  std::size_t particles = 0;
+  std::vector<double> box;  // dimension sides
+  bool periodic = false;
+  double mean_diameter = 0.0;
+  bool monodisperse = true;  // every diameter equal
+  double packing_fraction = 0.0;
+};
+TrajectoryShape shape_of(const Frame& frame);
+
+struct RdfOptions {
+  double bin_width = 0.0;  // 0: the mean diameter / 50, so that contact is a bin edge
+  double r_max = 0.0;      // 0: 5 mean diameters, at most what the box allows
+};
+
+// g(r) at bin centres, averaged over the frames.
+struct Rdf {
+  std::vector<double> r, g;
+  double bin_width = 0.0, r_max = 0.0;
+};
+
+// The radial distribution function of every pair of particles within r_max, found through a cell
+// grid (O(N) a frame), by minimum image in a periodic box. The ideal-gas normalisation is the
+// shell's volume over the box's in a periodic box (r_max at most half the smallest side); between
+// walls it is the isotropic set covariance of the box the centres can reach (the sides less a
+// mean diameter), so that g is not biased low near the walls' cut-off pairs. Throws
+// std::invalid_argument for a bin or range the box cannot have.
+Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& options = {});
+
+// g at contact, extrapolated from the bins within `width` above contact (a least-squares
+// quadratic in r - d), and the equation of state's Z = 1 + 2^(D-1) eta g(d+) (Z = 1 + 2 eta g in
+// 2D, 1 + 4 eta g in 3D) for a monodisperse fluid. Nullopt when fewer than three bins lie there.
+struct ContactValue {
+  double r = 0.0, g = 0.0, z = 0.0;
+};
+std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int dimension,
+                                          double packing_fraction, double width);
+
+// The mean-square displacement of the unwrapped positions (position + image x box in a periodic
+// box), averaged over every particle and every time origin, at lags of whole frames: every lag
+// up to 200 frames, beyond that about 100 lags evenly spaced in log. No centre-of-mass drift is
+// removed (carom's runs conserve momentum). Throws std::invalid_argument when the frames are not
+// evenly spaced in time, or a periodic trajectory has no image flags.
+struct Msd {
+  std::vector<double> t, msd;
+};
+Msd mean_square_displacement(const std::vector<Frame>& frames);
+
+// The self-diffusion coefficient an MSD shows in `dimension` dimensions: its growth rate between
+// the lags T / 4 and T / 2 (T the longest lag: every lag up to T / 2 has at least half the frames
+// as origins), over 2 d (Einstein; the short-time curvature cancels). Nullopt with fewer than 5
+// lags.
+std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension);
+
+// The local hexatic order of each disk of a 2D frame: psi6_j = (1/6) sum over its six nearest
+// neighbours k (minimum image; ties by index) of exp(6 i theta_jk), theta_jk the angle of the bond
+// j -> k to the x axis. Throws std::invalid_argument for spheres or fewer than 7 disks.
+std::vector<std::complex<double>> local_psi6(const Frame& frame);
+
+// Per frame: |(1/N) sum_j psi6_j| (global) and (1/N) sum_j |psi6_j| (the mean local order).
+struct Psi6Series {
+  std::vector<double> t, global, local_mean;
+};
+Psi6Series psi6_series(const std::vector<Frame>& frames);
+
+struct AnalysisOptions {
+  RdfOptions rdf;
+  double contact_width = 0.0;  // the range above contact g(d+) is fitted on; 0: a tenth of d
+  double from_time = -1e300;   // frames before this time are left out (equilibration)
+};
+
+// Everything carom analyze computes, for its JSON and its report page. An analysis that does
+// not apply (psi6 of spheres, the MSD without image flags, the contact value of a polydisperse
+// or walled system) is absent, with the reason in `warnings`.
+struct Analysis {
+  std::string trajectory;
+  TrajectoryShape shape;
+  std::size_t frames_in_file = 0;
+  std::vector<double> time;  // of the frames analysed
+  Rdf rdf;
+  std::optional<ContactValue> contact;
+  std::optional<Msd> msd;
+  std::optional<Psi6Series> psi6;
+  Frame snapshot;                                   // the last frame analysed
+  std::vector<std::complex<double>> snapshot_psi6;  // its local psi6 (disks only)
+  std::optional<LogTable> log;
+  std::vector<std::string> warnings;
+};
+
+// Analyses the frames of the trajectory named `name` from options.from_time on (a frame within a
+// billionth of that time counts as at it). Throws std::invalid_argument when no frame is left,
+// when the frames do not share one box, or for options the trajectory cannot have.
+Analysis analyze(std::vector<Frame> frames, const std::string& name,
+                 const AnalysisOptions& options = {});
+
+// The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,
+// periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
+// time, rdf {r, g, bin_width, r_max, contact {r, g, Z} or null}, msd {t, msd} or null, psi6 {t,
+// global, local_mean, bonds} or null, snapshot {time, position, radius, psi6_modulus,
+// psi6_phase}, log {file, columns, rows} or null, warnings.
+void write_analysis_json(std::ostream& out, const Analysis& analysis);
+
+// The report: one self-contained HTML page (no network) with the summary and plots of g(r), the
+// MSD, psi6(t), the log's Z, and a snapshot coloured by the phase of the local psi6.
+void write_report_html(std::ostream& out, const Analysis& analysis);
+
+}  // namespace carom

@@ -1,0 +1,101 @@
+// What a run counts and accumulates, event by event: over the whole run, and over the
+// measurement window the observables are computed from.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "carom/core/event.hpp"
+#include "carom/core/fluxes.hpp"
+#include "carom/core/transport.hpp"
+
+namespace carom {
+
+struct Counts {
+  std::uint64_t events = 0;  // processed collisions: wall_collisions + pair_collisions
+  std::uint64_t wall_collisions = 0;
+  std::uint64_t pair_collisions = 0;
+  std::uint64_t elastic_by_tc = 0;  // inelastic collisions made elastic by the TC model
+  double virial = 0.0;              // sum over pair collisions of r_ij . (momentum given to i)
+  double wall_momentum = 0.0;       // total momentum given to the walls
+  // The momentum and energy fluxes (fluxes.hpp): a run's are kept event by event; a window's
+  // follow from them (Measurement::flux_origin).
+  std::optional<Fluxes> fluxes;
+
+  friend bool operator==(const Counts&, const Counts&) = default;
+
+  void add(const Event& event) {
+    ++events;
+    if (event.is_wall()) {
+      ++wall_collisions;
+      wall_momentum += event.impulse;
+    } else {
+      ++pair_collisions;
+      virial += event.impulse;
+      elastic_by_tc += event.elastic_by_tc ? 1 : 0;
+    }
+  }
+};
+
+// What was counted between two running totals (of a time-series row, of a drift interval).
+inline Counts difference(const Counts& later, const Counts& earlier) {
+  return {later.events - earlier.events,
+          later.wall_collisions - earlier.wall_collisions,
+          later.pair_collisions - earlier.pair_collisions,
+          later.elastic_by_tc - earlier.elastic_by_tc,
+          later.virial - earlier.virial,
+          later.wall_momentum - earlier.wall_momentum,
+          later.fluxes && earlier.fluxes
+              ? std::optional<Fluxes>(flux_difference(*later.fluxes, *earlier.fluxes))
+              : std::nullopt};
+}
+
+// The measurement window: observables are measured from `start_time`, when the kinetic energy
+// was `kinetic_energy_initial`, with the counts since then. Resetting it (after equilibration,
+// say) changes nothing in the dynamics.
+struct Measurement {
+  double start_time = 0.0;
+  double kinetic_energy_initial = 0.0;
+  Counts counts;
+  // The run's fluxes when the window opened: the window's are the run's since (Simulation keeps
+  // one set event by event, and measurement() gives the window's as the difference).
+  std::optional<Fluxes> flux_origin;
+
+  friend bool operator==(const Measurement&, const Measurement&) = default;
+};
+
+// Where the drift verdict of a run's summary stands (ZDrift, time_series.hpp): Z (and the
+// pressure tensor) over each interval of length `every` of the measurement window so far, and
+// the last interval's start.
+// A checkpoint keeps it, so that a run continued from one gives the verdict of a run in one piece.
+struct DriftRecord {
+  double every = 0.0;
+  std::optional<double> last_time;  // the start of the interval under way
+  Counts last_totals;               // the run's counts then
+  std::vector<double> z;
+  // The pressure tensor over each of those intervals, for a run that keeps its fluxes.
+  std::vector<SymmetricTensor> pressure_tensors;
+
+  friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
+};
+
+// What the measurements over a run's window have gathered so far, beyond its counts: every
+// checkpoint keeps them (one saved at the run's end too), so that a run continued from one
+// reports what a run in one piece would, even a run resumed where its end is already reached.
+struct WindowRecords {
+  // The measurement they are of: the window's start and the run's end time (absent from older
+  // checkpoints, which kept records only of a run stopped on its way to its end).
+  std::optional<double> window_start, end_time;
+  std::optional<DriftRecord> drift;          // the drift verdict's (ZDrift)
+  std::optional<TransportRecord> transport;  // the transport coefficients' (TransportMeter)
+  // Whether a run measuring from `start` to `end` goes on with them: the same measurement, not
+  // one resumed to another end or with its window opened afresh (whose intervals and blocks are
+  // others: mixing them would report a verdict on two windows).
+  bool continued_by(double start, double end) const {
+    return !window_start || (*window_start == start && end_time == end);
+  }
+  friend bool operator==(const WindowRecords&, const WindowRecords&) = default;
+};
+
+}  // namespace carom

@@ -1,0 +1,70 @@
+// Thermodynamic observables measured from a run: energies, temperature, pressure, collision
+// rate. Reduced units: lengths in the units of the input, masses in units of the particle mass
+// (1 in the classic format), kT in units of mass x velocity^2.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+
+#include "carom/core/measurement.hpp"
+#include "carom/core/physics.hpp"
+#include "carom/core/system.hpp"
+
+namespace carom {
+
+template <std::size_t D>
+double kinetic_energy(const System<D>& system);
+
+template <std::size_t D>
+Vec<D> momentum(const System<D>& system);
+
+// Fraction of the box covered by the particles (area in 2D, volume in 3D).
+template <std::size_t D>
+double packing_fraction(const System<D>& system);
+
+// Kinetic degrees of freedom: D N with walls; D (N - 1) in a periodic box, where the total
+// momentum is conserved and the motion of the centre of mass carries no temperature.
+template <std::size_t D>
+double degrees_of_freedom(const System<D>& system);
+
+// The total momentum relative to the streaming profile of a sheared box (else momentum()):
+// what a sheared run without a thermostat conserves, as long as no momentum flows along y.
+template <std::size_t D>
+Vec<D> peculiar_momentum(const System<D>& system);
+
+// kT from the kinetic energy in the centre-of-mass frame over the degrees of freedom (0 for a
+// single particle in a periodic box, which has none); in a sheared box, from the velocities
+// relative to the streaming profile.
+template <std::size_t D>
+double kinetic_temperature(const System<D>& system);
+
+template <std::size_t D>
+struct Observables {
+  double elapsed = 0.0;  // the time over which rates and pressures are measured
+  double kinetic_energy_initial = 0.0;
+  double kinetic_energy_final = 0.0;
+  Vec<D> momentum_final;  // relative to the streaming profile in a sheared box
+  double degrees_of_freedom = 0.0;
+  double temperature = 0.0;  // kinetic_temperature() at the end
+  // From the collision virial: P V = N kT + (sum over collisions of r_ij . dp_i) / (D elapsed).
+  // With the D (N - 1) temperature in a periodic box this is the exact-N pressure that Monte
+  // Carlo gives at the same N (Li et al. 2022), not one biased by 1/N.
+  double pressure = 0.0;
+  double compressibility_factor = 0.0;  // Z = P V / (N kT); NaN (undefined) when kT = 0
+  // Box with walls: the momentum given to the walls per unit time and unit wall length (area).
+  double wall_pressure = 0.0;
+  double collision_rate = 0.0;     // pair collisions per particle per unit time: 2 C / (N elapsed)
+  double mean_free_time = kNever;  // 1 / collision_rate; never (json null) before a collision
+  double packing_fraction = 0.0;
+  // When the run keeps its fluxes (Simulation::track_fluxes): the pressure tensor averaged over
+  // the window (from when the fluxes began, if later), kinetic plus collisional (fluxes.hpp).
+  // Its trace over D is the pressure but for the kinetic part, which here is the lab frame's
+  // sum m v v averaged in time rather than N kT.
+  std::optional<SymmetricTensor> pressure_tensor;
+};
+
+// The observables of `system` at time `now` over the window `measurement` opened.
+template <std::size_t D>
+Observables<D> measure(const System<D>& system, const Measurement& measurement, double now);
+
+}  // namespace carom

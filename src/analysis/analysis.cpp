@@ -1,0 +1,447 @@
+#include "carom/analysis/analysis.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <nanoflann.hpp>
+#include <numbers>
+#include <stdexcept>
+
+namespace carom {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The particles of one frame in a k-d tree (nanoflann), for the pairs within a range (g(r)) and
+// the nearest neighbours (psi6). Its cost does not depend on how the particles are spread: a
+// cluster in a corner of a huge box (a clustering granular gas) costs what a uniform fluid does,
+// O(log N) a query, where cells sized from the mean density held the cluster in one cell.
+// Searches give candidates; distances are then taken by separation(), the minimum image, so the
+// results do not depend on the tree's own rounding.
+template <std::size_t D>
+class Neighbours {
+ public:
+  explicit Neighbours(const Frame& frame)
+      : frame_(frame), points_{wrapped(frame)}, tree_(D, points_), seen_(frame.position.size(), 0) {
+    tree_.buildIndex();
+  }
+
+  std::size_t size() const { return points_.at.size(); }
+
+  // The displacement from particle i to particle j (minimum image in a periodic box; in a
+  // sheared one, y first, whose image carries the shift along x).
+  Vec<D> separation(std::size_t i, std::size_t j) const {
+    Vec<D> r;
+    for (std::size_t k = 0; k < D; ++k) r[k] = frame_.position[j][k] - frame_.position[i][k];
+    if (frame_.periodic) {
+      const double layers = std::nearbyint(r[1] / frame_.box[1]);
+      r[1] -= layers * frame_.box[1];
+      r[0] -= layers * frame_.shear_shift;
+      for (std::size_t k = 0; k < D; ++k) {
+        if (k != 1) r[k] -= frame_.box[k] * std::nearbyint(r[k] / frame_.box[k]);
+      }
+    }
+    return r;
+  }
+
+  // Calls f(j) once for every particle j other than i that may be within `reach` of it (every
+  // one that is, and maybe a few just beyond): in a periodic box, the images of i whose ball
+  // reaches into the box are searched too.
+  template <class F>
+  void for_each_candidate(std::size_t i, double reach, F&& f) {
+    // Slack for the difference between the tree's distances and separation()'s.
+    const double r = reach * (1.0 + 1e-9) + 1e-300;
+    ++stamp_;
+    std::array<int, D> shift{};
+    shift.fill(frame_.periodic ? -1 : 0);
+    const int last = frame_.periodic ? 1 : 0;
+    while (true) {
+      std::array<double, D> q{};
+      bool reaches = true;
+      for (std::size_t k = 0; k < D; ++k) q[k] = points_.at[i][k] + shift[k] * frame_.box[k];
+      // A sheared box's images one box up lie shear_shift further along x (within half a side of
+      // 0 as carom writes it, so that shifts of -1, 0 and 1 sides along x still cover the box).
+      q[0] += shift[1] * wrapped_shift_;
+      for (std::size_t k = 0; k < D; ++k) {
+        reaches = reaches && q[k] + r >= 0.0 && q[k] - r <= frame_.box[k];
+      }
+      if (reaches) {
+        found_.clear();
+        tree_.radiusSearch(q.data(), r * r, found_, nanoflann::SearchParams(32, 0.0, false));
+        for (const auto& [j, distance2] : found_) {
+          if (j == i || seen_[j] == stamp_) continue;
+          seen_[j] = stamp_;
+          f(static_cast<std::size_t>(j));
+        }
+      }
+      std::size_t k = 0;
+      while (k < D && shift[k] == last) shift[k++] = frame_.periodic ? -1 : 0;
+      if (k == D) break;
+      ++shift[k];
+    }
+  }
+
+  // A distance within which particle i has at least `k` other particles (its k-th nearest in
+  // the tree, which the minimum image can only bring closer); infinite with fewer than k others.
+  double reach_of_nearest(std::size_t i, std::size_t k) const {
+    if (size() <= k) return std::numeric_limits<double>::infinity();
+    nearest_.resize(k + 1);
+    distance2_.resize(k + 1);
+    tree_.knnSearch(points_.at[i].data(), k + 1, nearest_.data(), distance2_.data());
+    return std::sqrt(*std::max_element(distance2_.begin(), distance2_.end()));
+  }
+
+ private:
+  // The positions as the tree reads them: in [0, L) in a periodic box.
+  struct Points {
+    std::vector<std::array<double, D>> at;
+    std::size_t kdtree_get_point_count() const { return at.size(); }
+    double kdtree_get_pt(std::size_t i, std::size_t k) const { return at[i][k]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const {
+      return false;
+    }
+  };
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Points>,
+                                                   Points, static_cast<int>(D), std::uint32_t>;
+
+  // In a sheared box, the images' shift within half a side of 0 (any multiple of Lx names the
+  // same lattice), so that for_each_candidate's images along x reach every part of the box.
+  static double nearest_shift(const Frame& frame) {
+    return frame.shear_shift - frame.box[0] * std::nearbyint(frame.shear_shift / frame.box[0]);
+  }
+
+  static Points wrapped(const Frame& frame) {
+    Points points;
+    points.at.resize(frame.position.size());
+    for (std::size_t i = 0; i < frame.position.size(); ++i) {
+      std::array<double, D>& x = points.at[i];
+      for (std::size_t k = 0; k < D; ++k) x[k] = frame.position[i][k];
+      if (!frame.periodic) continue;
+      // y first: a move by whole layers of a sheared box moves x by the shift as well.
+      const double layers = std::floor(x[1] / frame.box[1]);
+      x[1] -= layers * frame.box[1];
+      x[0] -= layers * frame.shear_shift;
+      for (std::size_t k = 0; k < D; ++k) {
+        if (k != 1) x[k] -= frame.box[k] * std::floor(x[k] / frame.box[k]);
+      }
+    }
+    return points;
+  }
+
+  const Frame& frame_;
+  double wrapped_shift_ = nearest_shift(frame_);
+  Points points_;
+  Tree tree_;
+  std::vector<std::uint64_t> seen_;  // the stamp of the search that last found each particle
+  std::uint64_t stamp_ = 0;
+  std::vector<std::pair<std::uint32_t, double>> found_;
+  mutable std::vector<std::uint32_t> nearest_;
+  mutable std::vector<double> distance2_;
+};
+
+double ball_volume(int dimension, double r) {
+  return dimension == 2 ? kPi * r * r : 4.0 / 3.0 * kPi * r * r * r;
+}
+
+// The volume two copies of a box of sides `a` share, one shifted by a distance r in a uniformly
+// random direction (the isotropic set covariance; exact for r up to the smallest side).
+double set_covariance(const std::vector<double>& a, double r) {
+  if (a.size() == 2) return a[0] * a[1] - 2.0 * r * (a[0] + a[1]) / kPi + r * r / kPi;
+  return a[0] * a[1] * a[2] - r * (a[0] * a[1] + a[0] * a[2] + a[1] * a[2]) / 2.0 +
+         2.0 * r * r * (a[0] + a[1] + a[2]) / (3.0 * kPi) - r * r * r / (4.0 * kPi);
+}
+
+template <std::size_t D>
+void count_pairs(const Frame& frame, double bin_width, double r_max,
+                 std::vector<double>& histogram) {
+  Neighbours<D> neighbours(frame);
+  const double reach2 = r_max * r_max;
+  for (std::size_t i = 0; i < neighbours.size(); ++i) {
+    // Each pair is counted from its lower index.
+    neighbours.for_each_candidate(i, r_max, [&](std::size_t j) {
+      if (j <= i) return;
+      const double r2 = norm2(neighbours.separation(i, j));
+      if (r2 >= reach2) return;
+      const auto bin = static_cast<std::size_t>(std::sqrt(r2) / bin_width);
+      if (bin < histogram.size()) histogram[bin] += 1.0;
+    });
+  }
+}
+
+template <std::size_t D>
+std::vector<std::complex<double>> local_psi6_in(const Frame& frame) {
+  Neighbours<D> neighbours(frame);
+  const std::size_t n = neighbours.size();
+  std::vector<std::complex<double>> psi(n);
+  struct Candidate {
+    double r2;
+    std::size_t j;
+    Vec<D> bond;
+    bool operator<(const Candidate& o) const { return r2 < o.r2 || (r2 == o.r2 && j < o.j); }
+  };
+  std::vector<Candidate> candidates;
+  for (std::size_t i = 0; i < n; ++i) {
+    // Every particle as near as the sixth nearest, ties included: the six nearest by distance
+    // and then index, whatever order the tree finds them in.
+    candidates.clear();
+    neighbours.for_each_candidate(i, neighbours.reach_of_nearest(i, 6), [&](std::size_t j) {
+      const Vec<D> bond = neighbours.separation(i, j);
+      candidates.push_back({norm2(bond), j, bond});
+    });
+    std::partial_sort(candidates.begin(), candidates.begin() + 6, candidates.end());
+    std::complex<double> sum = 0.0;
+    for (std::size_t m = 0; m < 6; ++m) {
+      const Vec<D>& b = candidates[m].bond;
+      sum += std::polar(1.0, 6.0 * std::atan2(b[1], b[0]));
+    }
+    psi[i] = sum / 6.0;
+  }
+  return psi;
+}
+
+}  // namespace
+
+TrajectoryShape shape_of(const Frame& frame) {
+  TrajectoryShape shape;
+  shape.dimension = frame.dimension;
+  shape.particles = frame.radius.size();
+  shape.periodic = frame.periodic;
+  double volume = 1.0, filled = 0.0, diameters = 0.0;
+  for (int k = 0; k < frame.dimension; ++k) {
+    shape.box.push_back(frame.box[static_cast<std::size_t>(k)]);
+    volume *= frame.box[static_cast<std::size_t>(k)];
+  }
+  for (const double r : frame.radius) {
+    filled += ball_volume(frame.dimension, r);
+    diameters += 2.0 * r;
+    shape.monodisperse = shape.monodisperse && r == frame.radius.front();
+  }
+  shape.mean_diameter = diameters / static_cast<double>(frame.radius.size());
+  shape.packing_fraction = filled / volume;
+  return shape;
+}
+
+Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& options) {
+  if (frames.empty()) throw std::invalid_argument("g(r) needs at least one frame");
+  const TrajectoryShape shape = shape_of(frames.front());
+  if (shape.particles < 2) throw std::invalid_argument("g(r) needs two particles or more");
+  const double d = shape.mean_diameter;
+  // Where pair centres can be: the whole box when periodic, the box less a diameter between walls.
+  std::vector<double> window = shape.box;
+  if (!shape.periodic) {
+    for (double& side : window) side -= d;
+  }
+  const double smallest = *std::min_element(window.begin(), window.end());
+  // Minimum image sees every pair up to half the smallest side; the set covariance holds up to
+  // the smallest side, and half of it keeps the correction small.
+  const double most = 0.5 * smallest;
+  Rdf rdf;
+  rdf.bin_width = options.bin_width > 0.0 ? options.bin_width : d / 50.0;
+  double r_max = options.r_max > 0.0 ? options.r_max : std::min(5.0 * d, most);
+  if (!(most > 0.0) || r_max > most * (1.0 + 1e-12)) {
+    throw std::invalid_argument(fmt::format(
+        "g(r) reaches r = {:g} at most in this box (half its smallest side{}), not {:g}", most,
+        shape.periodic ? "" : " less a diameter", r_max));
+  }
+  const double bin_count = std::floor(r_max / rdf.bin_width * (1.0 + 1e-12));
+  if (!(bin_count >= 1.0 && bin_count <= 1e7)) {
+    throw std::invalid_argument(
+        fmt::format("a bin width of {:g} gives {:g} bins up to r = {:g} "
+                    "(1 to 10^7)",
+                    rdf.bin_width, bin_count, r_max));
+  }
+  const auto bins = static_cast<std::size_t>(bin_count);
+  rdf.r_max = static_cast<double>(bins) * rdf.bin_width;
+  std::vector<double> histogram(bins, 0.0);
+  for (const Frame& frame : frames) {
+    if (shape.dimension == 2) {
+      count_pairs<2>(frame, rdf.bin_width, rdf.r_max, histogram);
+    } else {
+      count_pairs<3>(frame, rdf.bin_width, rdf.r_max, histogram);
+    }
+  }
+  const auto n = static_cast<double>(shape.particles);
+  double window_volume = 1.0;
+  for (const double side : window) window_volume *= side;
+  const double pairs = static_cast<double>(frames.size()) * n * (n - 1.0) / 2.0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    const double lo = static_cast<double>(b) * rdf.bin_width, hi = lo + rdf.bin_width;
+    const double r = lo + 0.5 * rdf.bin_width;
+    const double shell = ball_volume(shape.dimension, hi) - ball_volume(shape.dimension, lo);
+    // The chance that an ideal pair's separation falls in the shell.
+    const double share = shape.periodic
+                             ? shell / window_volume
+                             : shell * set_covariance(window, r) / (window_volume * window_volume);
+    rdf.r.push_back(r);
+    rdf.g.push_back(histogram[b] / (pairs * share));
+  }
+  return rdf;
+}
+
+std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int dimension,
+                                          double packing_fraction, double width) {
+  // Least squares for g = c0 + c1 x + c2 x^2, x = r - d, over the bins wholly in [d, d + width].
+  std::array<std::array<double, 4>, 3> normal{};  // the normal equations, augmented
+  std::size_t used = 0;
+  for (std::size_t b = 0; b < rdf.r.size(); ++b) {
+    const double lo = rdf.r[b] - 0.5 * rdf.bin_width, hi = rdf.r[b] + 0.5 * rdf.bin_width;
+    if (lo < diameter * (1.0 - 1e-9) || hi > (diameter + width) * (1.0 + 1e-9)) continue;
+    const double x = rdf.r[b] - diameter;
+    const std::array<double, 3> basis = {1.0, x, x * x};
+    for (std::size_t p = 0; p < 3; ++p) {
+      for (std::size_t q = 0; q < 3; ++q) normal[p][q] += basis[p] * basis[q];
+      normal[p][3] += basis[p] * rdf.g[b];
+    }
+    ++used;
+  }
+  if (used < 3) return std::nullopt;
+  // Gaussian elimination with partial pivoting, then back substitution.
+  for (std::size_t p = 0; p < 3; ++p) {
+    std::size_t pivot = p;
+    for (std::size_t q = p + 1; q < 3; ++q) {
+      if (std::abs(normal[q][p]) > std::abs(normal[pivot][p])) pivot = q;
+    }
+    std::swap(normal[p], normal[pivot]);
+    for (std::size_t q = p + 1; q < 3; ++q) {
+      const double factor = normal[q][p] / normal[p][p];
+      for (std::size_t c = p; c < 4; ++c) normal[q][c] -= factor * normal[p][c];
+    }
+  }
+  std::array<double, 3> c{};
+  for (std::size_t p = 3; p-- > 0;) {
+    double rest = normal[p][3];
+    for (std::size_t q = p + 1; q < 3; ++q) rest -= normal[p][q] * c[q];
+    c[p] = rest / normal[p][p];
+  }
+  ContactValue contact;
+  contact.r = diameter;
+  contact.g = c[0];
+  contact.z = 1.0 + (dimension == 2 ? 2.0 : 4.0) * packing_fraction * contact.g;
+  return contact;
+}
+
+Msd mean_square_displacement(const std::vector<Frame>& frames) {
+  if (frames.empty()) throw std::invalid_argument("the MSD needs at least one frame");
+  const Frame& first = frames.front();
+  const std::size_t count = frames.size(), n = first.position.size();
+  const auto d = static_cast<std::size_t>(first.dimension);
+  if (first.periodic) {
+    for (std::size_t f = 0; f < count; ++f) {
+      if (frames[f].image.size() != n) {
+        throw std::invalid_argument(fmt::format(
+            "the MSD of a periodic trajectory needs image flags, and frame {} (t = {:g}) has none "
+            "(carom 1.2 and later write them in .gsd and .xyz dumps; HOOMD in every frame of a "
+            "GSD file written with dynamic=['property', 'momentum'])",
+            f, frames[f].time));
+      }
+    }
+  }
+  const double spacing =
+      count > 1 ? (frames.back().time - first.time) / static_cast<double>(count - 1) : 0.0;
+  if (count > 1 && !(spacing > 0.0)) {
+    throw std::invalid_argument(fmt::format(
+        "the MSD needs frames evenly spaced in time, and these go from t = {:g} to t = {:g}",
+        first.time, frames.back().time));
+  }
+  for (std::size_t f = 0; f < count; ++f) {
+    const double expected = first.time + static_cast<double>(f) * spacing;
+    if (std::abs(frames[f].time - expected) > 1e-6 * spacing + 1e-12 * std::abs(expected)) {
+      throw std::invalid_argument(fmt::format(
+          "the MSD needs frames evenly spaced in time, and frame {} is at t = {:g}, not {:g}", f,
+          frames[f].time, expected));
+    }
+  }
+  // Unwrapped positions, frame after frame.
+  std::vector<double> unwrapped(count * n * d);
+  for (std::size_t f = 0; f < count; ++f) {
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < d; ++k) {
+        double x = frames[f].position[i][k];
+        if (first.periodic) {
+          const std::array<std::int32_t, 3>& image = frames[f].image[i];
+          x += frames[f].box[k] * static_cast<double>(image[k]);
+          // A sheared box's images one box up lie the shift further along x.
+          if (k == 0) x += frames[f].shear_shift * static_cast<double>(image[1]);
+        }
+        unwrapped[(f * n + i) * d + k] = x;
+      }
+    }
+  }
+  // Every lag up to 200 frames; beyond, 100 steps evenly spaced in log up to the longest.
+  constexpr std::size_t kEveryLag = 200;
+  std::vector<std::size_t> lags;
+  for (std::size_t lag = 0; lag < count && lag <= kEveryLag; ++lag) lags.push_back(lag);
+  if (count > kEveryLag + 1) {
+    const double from = std::log(static_cast<double>(kEveryLag));
+    const double to = std::log(static_cast<double>(count - 1));
+    for (int m = 1; m <= 100; ++m) {
+      const double lag = std::round(std::exp(from + (to - from) * m / 100.0));
+      if (lag > static_cast<double>(lags.back())) lags.push_back(static_cast<std::size_t>(lag));
+    }
+  }
+  Msd msd;
+  for (const std::size_t lag : lags) {
+    double sum = 0.0;
+    for (std::size_t f = 0; f + lag < count; ++f) {
+      const double* from = &unwrapped[f * n * d];
+      const double* to = &unwrapped[(f + lag) * n * d];
+      for (std::size_t c = 0; c < n * d; ++c) sum += (to[c] - from[c]) * (to[c] - from[c]);
+    }
+    msd.t.push_back(static_cast<double>(lag) * spacing);
+    msd.msd.push_back(sum / (static_cast<double>(count - lag) * static_cast<double>(n)));
+  }
+  return msd;
+}
+
+std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension) {
+  if (msd.t.size() < 5) return std::nullopt;
+  // The lag nearest to `t` (the lags are increasing).
+  const auto nearest = [&](double t) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < msd.t.size(); ++k) {
+      if (std::abs(msd.t[k] - t) < std::abs(msd.t[best] - t)) best = k;
+    }
+    return best;
+  };
+  const std::size_t upper = nearest(0.5 * msd.t.back()), lower = nearest(0.25 * msd.t.back());
+  if (upper <= lower) return std::nullopt;
+  return (msd.msd[upper] - msd.msd[lower]) /
+         (2.0 * static_cast<double>(dimension) * (msd.t[upper] - msd.t[lower]));
+}
+
+std::vector<std::complex<double>> local_psi6(const Frame& frame) {
+  if (frame.dimension != 2) {
+    throw std::invalid_argument("psi6, the hexatic order, is defined for disks (2D)");
+  }
+  if (frame.position.size() < 7) {
+    throw std::invalid_argument(fmt::format(
+        "psi6 needs six neighbours a disk: 7 disks or more, not {}", frame.position.size()));
+  }
+  return local_psi6_in<2>(frame);
+}
+
+Psi6Series psi6_series(const std::vector<Frame>& frames) {
+  Psi6Series series;
+  for (const Frame& frame : frames) {
+    const std::vector<std::complex<double>> psi = local_psi6(frame);
+    std::complex<double> sum = 0.0;
+    double moduli = 0.0;
+    for (const std::complex<double>& p : psi) {
+      sum += p;
+      moduli += std::abs(p);
+    }
+    const auto n = static_cast<double>(psi.size());
+    series.t.push_back(frame.time);
+    series.global.push_back(std::abs(sum) / n);
+    series.local_mean.push_back(moduli / n);
+  }
+  return series;
+}
+
+}  // namespace carom

@@ -1,0 +1,213 @@
+// carom analyze's results: running every analysis that applies, and writing them as JSON or as
+// the report page.
+#include <fmt/format.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string_view>
+
+#include "carom/analysis/analysis.hpp"
+#include "carom/report_html.hpp"
+#include "carom/version.hpp"
+#include "io/json_text.hpp"
+
+namespace carom {
+
+namespace {
+
+// Whether g(r) counts pairs clearly closer than contact (bins wholly below 0.98 d): soft
+// particles, or a diameter the file does not give.
+bool overlapping(const Rdf& rdf, double diameter) {
+  for (std::size_t b = 0; b < rdf.r.size(); ++b) {
+    if (rdf.r[b] + 0.5 * rdf.bin_width <= 0.98 * diameter && rdf.g[b] > 0.0) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+Analysis analyze(std::vector<Frame> frames, const std::string& name,
+                 const AnalysisOptions& options) {
+  if (frames.empty()) throw std::invalid_argument("the trajectory has no frames");
+  // Every frame must share the first one's box: g(r) and the MSD are normalised by it.
+  const Frame& first = frames.front();
+  for (std::size_t f = 1; f < frames.size(); ++f) {
+    const Frame& frame = frames[f];
+    bool same = frame.periodic == first.periodic && frame.dimension == first.dimension &&
+                frame.radius.size() == first.radius.size();
+    for (int k = 0; k < first.dimension; ++k) {
+      same =
+          same && frame.box[static_cast<std::size_t>(k)] == first.box[static_cast<std::size_t>(k)];
+    }
+    if (!same) {
+      throw std::invalid_argument(fmt::format(
+          "frame {} (t = {:g}) has another box than frame 0: carom analyze needs a fixed box", f,
+          frame.time));
+    }
+  }
+  const std::size_t in_file = frames.size();
+  const double last_time = frames.back().time;
+  // A frame written at the time asked for may carry it with a rounding (0.8999999999999999
+  // for 0.9): within a billionth of the time it counts as at it.
+  const double from = options.from_time - 1e-9 * std::max(1.0, std::abs(options.from_time));
+  std::erase_if(frames, [&](const Frame& frame) { return frame.time < from; });
+  if (frames.empty()) {
+    throw std::invalid_argument(fmt::format(
+        "no frame at or after t = {:g} (the last is at t = {:g})", options.from_time, last_time));
+  }
+  Analysis analysis;
+  analysis.trajectory = name;
+  analysis.shape = shape_of(frames.front());
+  analysis.frames_in_file = in_file;
+  for (const Frame& frame : frames) analysis.time.push_back(frame.time);
+  const TrajectoryShape& shape = analysis.shape;
+
+  analysis.rdf = radial_distribution(frames, options.rdf);
+  const double d = shape.mean_diameter;
+  if (!shape.monodisperse) {
+    analysis.warnings.emplace_back(
+        "no contact value: the particles' diameters differ (g(r) mixes every pair of sizes)");
+  } else if (overlapping(analysis.rdf, shape.mean_diameter)) {
+    analysis.warnings.emplace_back(
+        "no contact value: pairs closer than a diameter (by more than 2 %) are counted, so these "
+        "are not hard particles of that diameter");
+  } else if (!shape.periodic) {
+    analysis.warnings.emplace_back(
+        "no Z from the contact value: between walls the fluid is not uniform, so Z = 1 + 2^(D-1) "
+        "eta g(d+) does not hold");
+  } else {
+    analysis.contact = contact_value(analysis.rdf, d, shape.dimension, shape.packing_fraction,
+                                     options.contact_width > 0.0 ? options.contact_width : 0.1 * d);
+    if (!analysis.contact) {
+      analysis.warnings.emplace_back(
+          "no contact value: fewer than three g(r) bins lie within the fitted range above contact "
+          "(a smaller --bin or a larger --contact-width)");
+    }
+  }
+  try {
+    analysis.msd = mean_square_displacement(frames);
+  } catch (const std::invalid_argument& e) {
+    analysis.warnings.push_back(std::string("no MSD: ") + e.what());
+  }
+  analysis.snapshot = frames.back();
+  if (shape.dimension == 2) {
+    try {
+      analysis.psi6 = psi6_series(frames);
+      analysis.snapshot_psi6 = local_psi6(frames.back());
+    } catch (const std::invalid_argument& e) {
+      analysis.warnings.push_back(std::string("no psi6: ") + e.what());
+    }
+  }
+  return analysis;
+}
+
+namespace {
+
+// A number, or null for what is not one (JSON has no NaN).
+nlohmann::json number(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+nlohmann::json to_json(const Analysis& a) {
+  using nlohmann::json;
+  const TrajectoryShape& shape = a.shape;
+  json out = {
+      {"carom_version", kVersion},
+      {"trajectory", a.trajectory},
+      {"dimension", shape.dimension},
+      {"particles", shape.particles},
+      {"box", shape.box},
+      {"periodic", shape.periodic},
+      {"packing_fraction", shape.packing_fraction},
+      {"diameter", shape.mean_diameter},
+      {"monodisperse", shape.monodisperse},
+      {"frames",
+       {{"count", a.time.size()},
+        {"in_file", a.frames_in_file},
+        {"first_time", a.time.front()},
+        {"last_time", a.time.back()}}},
+      {"time", a.time},
+  };
+  out["rdf"] = {
+      {"r", a.rdf.r},
+      {"g", a.rdf.g},
+      {"bin_width", a.rdf.bin_width},
+      {"r_max", a.rdf.r_max},
+      {"contact", a.contact ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
+                            : json(nullptr)}};
+  if (a.msd) {
+    const std::optional<double> d =
+        self_diffusion(*a.msd, static_cast<std::size_t>(a.snapshot.dimension));
+    out["msd"] = json{
+        {"t", a.msd->t}, {"msd", a.msd->msd}, {"self_diffusion", d ? json(*d) : json(nullptr)}};
+  } else {
+    out["msd"] = nullptr;
+  }
+  out["psi6"] = a.psi6 ? json{{"t", a.psi6->t},
+                              {"global", a.psi6->global},
+                              {"local_mean", a.psi6->local_mean},
+                              {"bonds", "6 nearest neighbours"}}
+                       : json(nullptr);
+  json position = json::array(), radius = json::array();
+  for (std::size_t i = 0; i < a.snapshot.position.size(); ++i) {
+    for (int k = 0; k < shape.dimension; ++k) {
+      position.push_back(a.snapshot.position[i][static_cast<std::size_t>(k)]);
+    }
+    radius.push_back(a.snapshot.radius[i]);
+  }
+  json modulus = nullptr, phase = nullptr;
+  if (!a.snapshot_psi6.empty()) {
+    modulus = json::array();
+    phase = json::array();
+    for (const std::complex<double>& p : a.snapshot_psi6) {
+      modulus.push_back(std::abs(p));
+      phase.push_back(std::arg(p));
+    }
+  }
+  out["snapshot"] = {{"time", a.snapshot.time},
+                     {"position", position},
+                     {"radius", radius},
+                     {"psi6_modulus", modulus},
+                     {"psi6_phase", phase}};
+  if (a.log) {
+    json rows = json::array();
+    for (const std::vector<double>& row : a.log->rows) {
+      json values = json::array();
+      for (const double v : row) values.push_back(number(v));
+      rows.push_back(values);
+    }
+    out["log"] = {{"file", a.log->file}, {"columns", a.log->columns}, {"rows", rows}};
+  } else {
+    out["log"] = nullptr;
+  }
+  out["warnings"] = a.warnings;
+  return out;
+}
+
+}  // namespace
+
+// A name that is not UTF-8 (a file name in Latin-1, say) is written as json_text.hpp says.
+void write_analysis_json(std::ostream& out, const Analysis& analysis) {
+  out << dump_json(to_json(analysis), 1) << '\n';
+}
+
+void write_report_html(std::ostream& out, const Analysis& analysis) {
+  constexpr std::string_view kSlot = "/*CAROM_DATA*/";
+  const std::size_t slot = kReportHtml.find(kSlot);
+  // No "<" reaches the page as such: a file name holding "</script>" or "<!--" would otherwise
+  // end or derail the page's script. JSON reads \u003c as "<".
+  const std::string json = dump_json(to_json(analysis));
+  std::string data;
+  data.reserve(json.size());
+  for (const char c : json) {
+    if (c == '<') {
+      data += "\\u003c";
+    } else {
+      data += c;
+    }
+  }
+  out << kReportHtml.substr(0, slot) << data << kReportHtml.substr(slot + kSlot.size());
+}
+
+}  // namespace carom

@@ -1,0 +1,52 @@
+#include "carom/core/statistics.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace carom {
+
+std::pair<double, double> mean_and_variance_of_mean(std::span<const double> values) {
+  const auto n = static_cast<double>(values.size());
+  double mean = 0.0, squares = 0.0;
+  for (const double x : values) mean += x / n;
+  for (const double x : values) squares += (x - mean) * (x - mean);
+  return {mean, squares / (n - 1.0) / n};
+}
+
+void BlockAverage::add(double value) {
+  for (std::size_t level = 0;; ++level) {
+    if (level == levels_.size()) levels_.emplace_back();
+    Level& here = levels_[level];
+    here.sum += value;
+    here.sum_of_squares += value * value;
+    ++here.count;
+    if (!here.has_waiting) {
+      here.waiting = value;
+      here.has_waiting = true;
+      return;
+    }
+    value = 0.5 * (here.waiting + value);  // a block of the next level
+    here.has_waiting = false;
+  }
+}
+
+double BlockAverage::mean() const {
+  if (count() == 0) return std::numeric_limits<double>::quiet_NaN();
+  return levels_.front().sum / static_cast<double>(levels_.front().count);
+}
+
+double BlockAverage::error() const {
+  const auto standard_error = [](const Level& level) {
+    const auto n = static_cast<double>(level.count);
+    const double variance = (level.sum_of_squares - level.sum * level.sum / n) / (n - 1.0);
+    return std::sqrt(std::max(variance, 0.0) / n);
+  };
+  if (count() < 2) return std::numeric_limits<double>::quiet_NaN();
+  double largest = standard_error(levels_.front());
+  for (const Level& level : levels_) {
+    if (level.count >= kLeastBlocks) largest = std::max(largest, standard_error(level));
+  }
+  return largest;
+}
+
+}  // namespace carom

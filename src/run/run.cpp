@@ -1,0 +1,483 @@
+#include "carom/run/run.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "carom/io/atomic_file.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/engine/invariant_check.hpp"
+#include "carom/io/time_series.hpp"
+#include "carom/io/trajectory.hpp"
+#include "run_outputs.hpp"
+#include "transport_meter.hpp"
+
+namespace carom {
+
+namespace {
+
+constexpr const char* kCannotStream =
+    "cannot write the trajectory, the event log or the time series (is the disk full?)";
+
+// Beyond this many frames or rows a cadence is a mistake (or fills a disk), not a measurement.
+constexpr double kMostRows = 1e7;
+
+// The files a spec writes, named by their options.
+std::vector<NamedFile> output_files(const RunSpec& spec) {
+  return {{"--summary", spec.summary},
+          {"--checkpoint", spec.checkpoint},
+          {"--dump", spec.dump},
+          {"--events", spec.events},
+          {"--log", spec.log}};
+}
+
+// Refuses an output of about `bytes` that its disk cannot hold (free space unknown: the write
+// itself will tell).
+void check_fits(const std::string& option, const std::string& path, double bytes,
+                const std::string& detail, const std::string& remedy) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::absolute(path).parent_path();
+  std::error_code error;
+  const fs::space_info space = fs::space(folder, error);
+  if (error || bytes <= static_cast<double>(space.available)) return;
+  throw RequestError(fmt::format(
+      "{} {} would take about {:.3g} GB ({}) but {} has {:.3g} GB free: {}", option, path,
+      bytes / 1e9, detail, folder.string(), static_cast<double>(space.available) / 1e9, remedy));
+}
+
+// The frames still to come times the size of one (measured on up to 1000 particles and scaled
+// to all of them), and the rows of the time series (a generous 400 bytes each), against the free
+// space of their disks.
+template <std::size_t D>
+void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
+  const double now = simulation.time();
+  if (!spec.dump.empty()) {
+    const System<D>& state = simulation.state();
+    System<D> sample;
+    sample.box = state.box;
+    sample.epoch = state.epoch;
+    const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
+    sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
+    sample.records.assign(state.records.begin(), state.records.begin() + taken);
+    std::ostringstream one;
+    try {
+      const auto format = trajectory_format_for<D>(spec.dump);
+      // Every particle's numbers as the format stores them (a .gsd file's single precision):
+      // refused now rather than as the frames go (where the run's speeds, which a thermostat or
+      // a shear may raise, are checked frame by frame).
+      format->check_frame(state, now);
+      format->frame(one, 0, now, sample);
+    } catch (const std::invalid_argument& e) {
+      throw RequestError(e.what());
+    } catch (const std::range_error& e) {
+      throw RequestError(fmt::format("--dump {}: {}", spec.dump, e.what()));
+    }
+    const double frame_bytes = static_cast<double>(one.tellp()) *
+                               static_cast<double>(state.size()) / static_cast<double>(taken);
+    const double frames =
+        std::floor(spec.end_time / spec.dump_every) - std::floor(now / spec.dump_every) + 1.0;
+    check_fits("--dump", spec.dump, frames * frame_bytes,
+               fmt::format("{:.0f} frames of {:.3g} MB", frames, frame_bytes / 1e6),
+               "raise --every or lower END_TIME");
+  }
+  if (!spec.log.empty()) {
+    constexpr double kRowBytes = 400.0;
+    const double rows = (spec.end_time - now) / spec.log_every + 1.0;
+    check_fits("--log", spec.log, rows * kRowBytes, fmt::format("{:.0f} rows", rows),
+               "raise --log-every or lower END_TIME");
+  }
+}
+
+// Creating (and dropping) a temporary file beside `path` checks it before the run.
+void probe(const std::string& path) {
+  try {
+    const AtomicFile file(path);
+  } catch (const std::runtime_error& e) {
+    throw RequestError(e.what());
+  }
+}
+
+// Calls the caller's progress function every kProgressEvents events.
+template <std::size_t D>
+class ProgressCall final : public Observer<D> {
+ public:
+  ProgressCall(const AnySimulation& any, const RunHooks& hooks, double end_time)
+      : Observer<D>(Trigger::every_events(kProgressEvents)), any_(any), call_(hooks.progress) {
+    progress_.start_time = any.time();
+    progress_.end_time = end_time;
+  }
+  void observe(const Simulation<D>&) override {
+    progress_.events += kProgressEvents;
+    progress_.wall_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - began_).count();
+    call_(any_, progress_);
+  }
+
+ private:
+  const AnySimulation& any_;
+  const std::function<void(const AnySimulation&, const RunProgress&)>& call_;
+  RunProgress progress_;
+  std::chrono::steady_clock::time_point began_ = std::chrono::steady_clock::now();
+};
+
+// Appends every collision to a caller's list.
+template <std::size_t D>
+class CollisionCollector final : public Observer<D> {
+ public:
+  explicit CollisionCollector(std::vector<Event>& out)
+      : Observer<D>(Trigger::each_event()), out_(out) {}
+  void observe(const Simulation<D>& simulation) override {
+    out_.push_back(simulation.last_event());
+  }
+
+ private:
+  std::vector<Event>& out_;
+};
+
+// The observers of one run() (checks, checkpoints, the drift verdict, the caller's hooks):
+// detached when it returns, however it returns.
+template <std::size_t D>
+class RunObservers {
+ public:
+  explicit RunObservers(Simulation<D>& simulation) : simulation_(simulation) {}
+  ~RunObservers() {
+    for (const auto& observer : added_) simulation_.remove_observer(observer.get());
+    simulation_.set_stop_flag(nullptr);
+  }
+  RunObservers(const RunObservers&) = delete;
+  RunObservers& operator=(const RunObservers&) = delete;
+  template <class O>
+  std::shared_ptr<O> add(std::shared_ptr<O> observer) {
+    simulation_.add_observer(observer);
+    added_.push_back(observer);
+    return observer;
+  }
+
+ private:
+  Simulation<D>& simulation_;
+  std::vector<std::shared_ptr<Observer<D>>> added_;
+};
+
+}  // namespace
+
+SavedRunError::SavedRunError(const std::string& cause, std::string checkpoint, double time)
+    : std::runtime_error(
+          fmt::format("{}; the run so far (t = {}) is saved in {}", cause, time, checkpoint)),
+      checkpoint_(std::move(checkpoint)),
+      time_(time) {}
+
+Trigger checkpoint_cadence(const std::string& every) {
+  const bool seconds = !every.empty() && every.back() == 's';
+  double value = 0.0;
+  try {
+    value = parse_finite_double(seconds ? every.substr(0, every.size() - 1) : every);
+  } catch (const std::invalid_argument& e) {
+    throw RequestError(fmt::format("--checkpoint-every: {}", e.what()));
+  }
+  if (!(value > 0.0)) throw RequestError("--checkpoint-every must be greater than 0");
+  if (seconds) return Trigger::every_seconds(value);
+  if (value < 1.0 || value != std::floor(value)) {
+    throw RequestError("--checkpoint-every counts events: a whole number, or seconds as 600s");
+  }
+  // Beyond this a double no longer holds every whole number, and no run has so many events.
+  constexpr double kMostEvents = 9007199254740992.0;  // 2^53
+  if (value > kMostEvents) {
+    throw RequestError(
+        fmt::format("--checkpoint-every {} is more events than a run can have (at most 2^53 = {})",
+                    every, kMostEvents));
+  }
+  return Trigger::every_events(static_cast<std::uint64_t>(value));
+}
+
+void check_run_spec(const RunSpec& spec) {
+  const auto positive = [](double dt) { return dt > 0.0 && std::isfinite(dt); };
+  if (!spec.dump.empty() && !positive(spec.dump_every)) {
+    throw RequestError("--dump needs --every DT > 0: the time between frames");
+  }
+  if (spec.dump.empty() && spec.dump_every != 0.0) {
+    throw RequestError("--every needs --dump FILE");
+  }
+  if (!spec.log.empty() && !positive(spec.log_every)) {
+    throw RequestError("--log needs --log-every DT > 0: the time between rows");
+  }
+  if (spec.log.empty() && spec.log_every != 0.0) {
+    throw RequestError("--log-every needs --log FILE");
+  }
+  if (spec.checkpoint_every && spec.checkpoint.empty()) {
+    throw RequestError("--checkpoint-every needs --checkpoint FILE: where to save");
+  }
+  if (spec.measure_from && !(*spec.measure_from >= 0.0 && std::isfinite(*spec.measure_from))) {
+    throw RequestError(fmt::format("--equilibrate must be >= 0, got {}", *spec.measure_from));
+  }
+  check_files_apart({}, output_files(spec));
+}
+
+void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared) {
+  check_latest_time(spec.end_time);
+  if (!spec.dump.empty() && (spec.end_time - now) / spec.dump_every > kMostRows) {
+    throw RequestError(fmt::format("--every {} would write more than 10^7 frames up to {}",
+                                   spec.dump_every, spec.end_time));
+  }
+  if (!spec.log.empty() && (spec.end_time - now) / spec.log_every > kMostRows) {
+    throw RequestError(fmt::format("--log-every {} would write more than 10^7 rows up to {}",
+                                   spec.log_every, spec.end_time));
+  }
+  if (spec.transport && !periodic) {
+    throw RequestError(
+        "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
+        "the coefficients come from");
+  }
+  if (spec.transport && sheared) {
+    throw RequestError(
+        "--transport measures the coefficients of a fluid at rest (Einstein-Helfand); a sheared "
+        "run gives its viscosity directly, in the summary's \"shear_viscosity\"");
+  }
+}
+
+struct Runner::State {
+  explicit State(Start s) : start(std::move(s)), records(start.records) {}
+  Start start;
+  // What the measurements of the last run() gathered (before any, the resumed checkpoint's):
+  // what a checkpoint saved now holds with the state, and the next run() goes on with when it
+  // measures the same window to the same end.
+  WindowRecords records;
+  // RunOutputs<2> or <3>, as the simulation is; made by the first run().
+  std::shared_ptr<void> outputs;
+  double wall_seconds = 0.0;                             // in run(), over the Runner's life
+  std::uint64_t events = 0;                              // the events of that time
+  std::optional<DriftVerdict> drift;                     // of the last run
+  std::optional<SymmetricTensor> pressure_tensor_error;  // of the last run
+  std::optional<TransportEstimate> transport;            // of the last run
+
+  template <std::size_t D>
+  RunOutputs<D>& outputs_of(Simulation<D>& simulation) {
+    if (!outputs) outputs = std::make_shared<RunOutputs<D>>(simulation, start.resumed);
+    return *static_cast<RunOutputs<D>*>(outputs.get());
+  }
+
+  // The checkpoint of `simulation` with what its run keeps beyond the state: the seed its
+  // summary reports and the window's records.
+  template <std::size_t D>
+  Checkpoint<D> checkpoint_of(const Simulation<D>& simulation,
+                              const WindowRecords& window_records) const {
+    Checkpoint<D> checkpoint = simulation.checkpoint(start.source);
+    checkpoint.seed = start.seed;
+    checkpoint.records = window_records;
+    return checkpoint;
+  }
+  template <std::size_t D>
+  void check(const Simulation<D>& simulation, const RunSpec& spec,
+             const std::vector<NamedFile>& others) const;
+  template <std::size_t D>
+  RunOutcome run(Simulation<D>& simulation, const RunSpec& spec, const RunHooks& hooks);
+};
+
+template <std::size_t D>
+void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
+                          const std::vector<NamedFile>& others) const {
+  check_run_spec(spec);
+  std::vector<NamedFile> outputs = others;
+  const std::vector<NamedFile> own = output_files(spec);
+  outputs.insert(outputs.end(), own.begin(), own.end());
+  // A resumed run may save its checkpoint where it read it.
+  check_files_apart(
+      {{"the input FILE", start_file_path(start.input), start.resumed ? "--checkpoint" : ""}},
+      outputs);
+
+  simulation.check_target(spec.end_time);
+  const double now = simulation.time();
+  check_run_in_box(spec, now, simulation.state().box.periodic(), simulation.state().box.sheared());
+  check_outputs_fit(simulation, spec);
+  if (spec.measure_from) {
+    const double from = *spec.measure_from;
+    if (from < now && start.resumed) {
+      throw RequestError(fmt::format(
+          "--equilibrate {} is before the checkpoint's time {}: the measurement can only start "
+          "from there on",
+          from, now));
+    }
+    // A checkpointed run may stop before its equilibration ends: the resumed run finishes it.
+    if (from < now || (from > spec.end_time && spec.checkpoint.empty())) {
+      throw RequestError(fmt::format("--equilibrate must be between {} and END_TIME ({}), got {}",
+                                     now, spec.end_time, from));
+    }
+  }
+  if (!spec.checkpoint.empty()) probe(spec.checkpoint);
+  if (!spec.summary.empty() && spec.summary != "-") probe(spec.summary);
+}
+
+template <std::size_t D>
+RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
+                              const RunHooks& hooks) {
+  check(simulation, spec, {});
+  if (spec.measure_from) simulation.measure_from(*spec.measure_from);
+  std::unique_ptr<AtomicFile> summary;
+  if (!spec.summary.empty()) summary = std::make_unique<AtomicFile>(spec.summary);
+  RunOutputs<D>& outputs = outputs_of(simulation);
+  outputs.update(spec);
+
+  RunObservers<D> observers(simulation);
+  std::shared_ptr<TraceWriter<D>> trace;
+  if (hooks.trace) {
+    trace = std::make_shared<TraceWriter<D>>(*hooks.trace);
+    trace->start(start.input, spec.end_time, simulation);
+    observers.add(trace);
+  }
+  if (hooks.collisions) {
+    observers.add(std::make_shared<CollisionCollector<D>>(*hooks.collisions));
+  }
+  if (spec.check) {
+    const std::uint64_t every = spec.check_every > 0
+                                    ? spec.check_every
+                                    : std::max<std::uint64_t>(1000, simulation.state().size());
+    observers.add(std::make_shared<InvariantCheck<D>>(every));
+  }
+  // Z over 20 intervals of the measurement window, first half against second; a run resumed
+  // from a checkpoint goes on with the intervals (and transport blocks) it holds when it measures
+  // the same window to the same end: one resumed at its end rebuilds its summary from them.
+  const double window_start =
+      simulation.pending_measurement().value_or(simulation.measurement().start_time);
+  const WindowRecords earlier =
+      records.continued_by(window_start, spec.end_time) ? records : WindowRecords{};
+  std::shared_ptr<ZDrift<D>> z_drift;
+  if (spec.end_time > window_start) {
+    z_drift = observers.add(std::make_shared<ZDrift<D>>(
+        (spec.end_time - window_start) / ZDrift<D>::kIntervals, earlier.drift));
+  }
+  std::shared_ptr<TransportMeter<D>> transport_meter;
+  if (spec.transport && spec.end_time > window_start) {
+    simulation.keep_heat_flux();
+    transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
+        TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
+        earlier.transport));
+  }
+  const auto records_now = [&] {
+    WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};
+    if (z_drift) now.drift = z_drift->record();
+    if (transport_meter) now.transport = transport_meter->record();
+    return now;
+  };
+  // Every checkpoint holds what the summary needs beyond the state, whenever it is saved: on the
+  // run's way, stopped, failed or at its end (a stop may land after the end is reached and
+  // before the summary is written, and the resumed run must write the summary this one would).
+  const auto checkpoint_now = [&] { return checkpoint_of(simulation, records_now()); };
+  if (spec.checkpoint_every) {
+    const auto flush_outputs = [&outputs] {
+      if (!outputs.flush()) throw std::runtime_error(kCannotStream);
+    };
+    observers.add(std::make_shared<CheckpointWriter<D>>(spec.checkpoint, *spec.checkpoint_every,
+                                                        checkpoint_now, flush_outputs));
+  }
+  if (hooks.progress) {
+    observers.add(std::make_shared<ProgressCall<D>>(start.simulation, hooks, spec.end_time));
+  }
+  simulation.set_stop_flag(hooks.stop);
+
+  const auto began = std::chrono::steady_clock::now();
+  const std::uint64_t events_before = simulation.counts().events;
+  const auto account = [&] {
+    wall_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    events += simulation.counts().events - events_before;
+  };
+  RunStatus status = RunStatus::reached;
+  try {
+    status = simulation.run_until(spec.end_time);
+  } catch (const std::runtime_error& e) {
+    account();
+    records = records_now();
+    // A write that failed as the run went (a full disk): the state the run has reached is sound
+    // and worth keeping when there is somewhere to keep it. A jam or a broken invariant is not.
+    const bool broken = dynamic_cast<const JamError*>(&e) != nullptr ||
+                        dynamic_cast<const InvariantError*>(&e) != nullptr;
+    if (spec.checkpoint.empty() || broken) throw;
+    save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
+    throw SavedRunError(e.what(), spec.checkpoint, simulation.time());
+  }
+  account();
+  records = records_now();
+  drift = z_drift ? z_drift->verdict() : std::nullopt;
+  pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
+  transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
+  // The streamed files are complete (or the failure is known) before any result is written.
+  const bool streamed_ok = outputs.flush();
+  if (!spec.checkpoint.empty()) {
+    save_checkpoint(spec.checkpoint, checkpoint_of(simulation, records));
+  }
+  if (!streamed_ok) {
+    throw std::runtime_error(
+        fmt::format("{}{}", kCannotStream,
+                    spec.checkpoint.empty()
+                        ? std::string()
+                        : fmt::format("; the run's end state is saved in {}", spec.checkpoint)));
+  }
+  // A stop asked for once the end was reached still stops: nothing more is written (the
+  // checkpoint just saved holds what the summary needs: a run resumed from it writes it).
+  if (hooks.stop && hooks.stop->load() != 0) status = RunStatus::stopped;
+  RunOutcome outcome{status, RunReport{}};
+  if (status == RunStatus::stopped) return outcome;
+  if (trace) trace->finish(simulation);
+  outcome.report.input = start.source;
+  outcome.report.wall_seconds = wall_seconds;
+  outcome.report.events = events;
+  outcome.report.seed = start.seed;
+  outcome.report.drift = drift;
+  outcome.report.pressure_tensor_error = pressure_tensor_error;
+  outcome.report.transport = transport;
+  if (summary) {
+    write_json(summary->stream(), simulation, outcome.report, false);
+    summary->commit();
+  }
+  return outcome;
+}
+
+Runner::Runner(Start start) : state_(std::make_unique<State>(std::move(start))) {}
+Runner::~Runner() = default;
+Runner::Runner(Runner&&) noexcept = default;
+Runner& Runner::operator=(Runner&&) noexcept = default;
+
+void Runner::check(const RunSpec& spec, const std::vector<NamedFile>& other_outputs) const {
+  state_->start.simulation.visit([&](const auto& s) { state_->check(s, spec, other_outputs); });
+}
+
+RunOutcome Runner::run(const RunSpec& spec, const RunHooks& hooks) {
+  return state_->start.simulation.visit([&](auto& s) { return state_->run(s, spec, hooks); });
+}
+
+void Runner::save(const std::string& path) const {
+  state_->start.simulation.visit(
+      [&](const auto& s) { save_checkpoint(path, state_->checkpoint_of(s, state_->records)); });
+}
+
+void Runner::close_outputs() {
+  state_->outputs.reset();
+}
+
+AnySimulation& Runner::simulation() {
+  return state_->start.simulation;
+}
+const AnySimulation& Runner::simulation() const {
+  return state_->start.simulation;
+}
+const Start& Runner::start() const {
+  return state_->start;
+}
+
+RunReport Runner::report() const {
+  RunReport report;
+  report.input = state_->start.source;
+  report.wall_seconds = state_->wall_seconds;
+  report.events = state_->events;
+  report.seed = state_->start.seed;
+  report.drift = state_->drift;
+  report.pressure_tensor_error = state_->pressure_tensor_error;
+  report.transport = state_->transport;
+  return report;
+}
+
+}  // namespace carom
