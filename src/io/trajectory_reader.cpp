@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "carom/io/classic_input.hpp"
+#include "carom/io/input_error.hpp"
 
 namespace carom {
 
