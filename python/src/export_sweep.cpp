@@ -228,6 +228,15 @@ void export_sweep(py::module_& m) {
       .def("release", &HeldLock::release)
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](HeldLock& lock, const py::args&) { lock.release(); });
+  // carom.sweep's first step and last, as every runner's (prepare_sweep, finish_sweep): the
+  // prepared sweep is a context manager, whose end lets go of the folder's lock.
+  py::class_<PreparedSweep>(m, "PreparedSweep")
+      .def_readonly("waiting", &PreparedSweep::waiting)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PreparedSweep& sweep, const py::args&) { sweep.folder_lock.release(); });
+  m.def("prepare_sweep", &prepare_sweep, "plan"_a, "out_dir"_a, "report"_a = "");
+  m.def("returned_results", &returned_results, "plan"_a, "out_dir"_a, "waiting"_a, "returned"_a);
+  m.def("finish_sweep", &finish_sweep, "plan"_a, "out_dir"_a, "results"_a, "report"_a = "");
   m.def("lock_sweep_folder", &lock_sweep_folder, "out_dir"_a);
   m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
   m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a, "report"_a = "");
