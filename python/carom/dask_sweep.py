@@ -113,12 +113,11 @@ def sweep(plan, out_dir, client=None):
     if client is not None and not isinstance(client, distributed.Client):
         raise ValueError(f"client must be a dask.distributed Client or None, got {client!r}")
     core = _carom.SweepPlan.read(_os.fsencode(plan))
-    _carom.check_sweep_folder(core, out_dir)
-    _os.makedirs(out_dir, exist_ok=True)
-    # No other sweep (carom.sweep, carom sweep or carom_mpi) runs in out_dir meanwhile.
-    with _carom.lock_sweep_folder(out_dir):
-        waiting = [i for i, result in enumerate(_carom.read_task_results(core, out_dir))
-                   if result.status != "done"]
+    # The folder checked, made and locked (no other sweep, carom.sweep, carom sweep or carom_mpi,
+    # runs in it meanwhile), as by every runner of a sweep.
+    with _carom.prepare_sweep(core, out_dir) as prepared:
+        waiting = prepared.waiting
+        returned = []
         if waiting:
             if client is None:
                 with distributed.LocalCluster(n_workers=_os.cpu_count() or 1,
@@ -127,16 +126,10 @@ def sweep(plan, out_dir, client=None):
                     returned = _run_tasks(own, core, out_dir, waiting)
             else:
                 returned = _run_tasks(client, core, out_dir, waiting)
-        results = _carom.read_task_results(core, out_dir)
-        if waiting:
-            # What the workers returned, as `carom sweep` keeps what its tasks returned, so that
-            # results.csv is the same whatever ran them: a failure that never reached error.txt
-            # included. A task's folder, where it agrees, gives its measures too.
-            for index, (status, error) in zip(waiting, returned):
-                if (results[index].status, results[index].error) != (status, error):
-                    results[index] = _carom.TaskResult(status, _os.fsencode(error))
-        _carom.write_sweep_tables(core, out_dir, results)
-        _carom.write_sweep_report(core, results, _os.path.join(out_dir, b"report.html"))
+        results = _carom.returned_results(
+            core, out_dir, waiting,
+            [_carom.TaskResult(status, _os.fsencode(error)) for status, error in returned])
+        _carom.finish_sweep(core, out_dir, results)
     return _results_table(core, _os.path.join(out_dir, b"results.csv"))
 
 

@@ -1,6 +1,6 @@
-// carom._carom's sweep: SweepPlan, and the steps of a sweep that carom.sweep hands out (check
-// the folder, run a task, read the tasks' results, write the tables and the report). A bad plan
-// (PlanError) or a folder holding other tasks (RequestError) is a std::invalid_argument, which
+// carom._carom's sweep: SweepPlan, and the steps of a sweep that carom.sweep takes around its
+// Dask workers (prepare_sweep, run a task, stop the tasks, returned_results, finish_sweep). A bad
+// plan (PlanError) or a folder holding other tasks (RequestError) is a std::invalid_argument, which
 // pybind11 raises as ValueError.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -16,7 +16,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "carom/io/atomic_file.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "exports.hpp"
 
@@ -224,10 +223,6 @@ void export_sweep(py::module_& m) {
       [](const std::string& sweep_id) { SweepStops::of_this_process().stop(sweep_id); },
       "sweep_id"_a);
   m.def("wait_for_tasks", &wait_for_tasks, "plan"_a, "out_dir"_a, "indices"_a);
-  py::class_<HeldLock>(m, "HeldLock")
-      .def("release", &HeldLock::release)
-      .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](HeldLock& lock, const py::args&) { lock.release(); });
   // carom.sweep's first step and last, as every runner's (prepare_sweep, finish_sweep): the
   // prepared sweep is a context manager, whose end lets go of the folder's lock.
   py::class_<PreparedSweep>(m, "PreparedSweep")
@@ -237,19 +232,6 @@ void export_sweep(py::module_& m) {
   m.def("prepare_sweep", &prepare_sweep, "plan"_a, "out_dir"_a, "report"_a = "");
   m.def("returned_results", &returned_results, "plan"_a, "out_dir"_a, "waiting"_a, "returned"_a);
   m.def("finish_sweep", &finish_sweep, "plan"_a, "out_dir"_a, "results"_a, "report"_a = "");
-  m.def("lock_sweep_folder", &lock_sweep_folder, "out_dir"_a);
-  m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
-  m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a, "report"_a = "");
-  m.def("write_sweep_tables", &write_sweep_tables, "plan"_a, "out_dir"_a, "results"_a);
-  m.def(
-      "write_sweep_report",
-      [](const SweepPlan& plan, const std::vector<TaskResult>& results, const std::string& path) {
-        check_task_results(plan, results);
-        AtomicFile page(path);
-        write_sweep_report(page.stream(), plan, results);
-        page.commit();
-      },
-      "plan"_a, "results"_a, "path"_a);
 }
 
 }  // namespace carom::python
