@@ -241,7 +241,7 @@ struct SweepHooks {
 // run_sweep_mpi's ranks, carom.sweep's Dask workers. Each runner calls prepare_sweep, runs the
 // waiting tasks as it can, and calls finish_sweep with every task's result.
 struct PreparedSweep {
-  HeldLock folder_lock;              // out_dir's sweep.lock, held until the sweep is finished
+  HeldLock folder_lock;              // out_dir's sweep.lock: kept until finish_sweep has returned
   std::vector<TaskResult> results;   // every task's, as its folder held it (read_task_results)
   std::vector<std::size_t> waiting;  // the tasks not done, in the plan's order: to run
 };
@@ -263,7 +263,8 @@ void finish_sweep(const SweepPlan& plan, const std::string& out_dir,
 // Dask workers: what they return must pickle): `returned[k]` is task waiting[k]'s. What the tasks'
 // folders hold now where they agree (their measures included), else what was returned: a failure
 // that never reached error.txt (a task folder that could not be written) counts, as with the
-// other runners, so that results.csv is the same whatever ran the tasks.
+// other runners, so that results.csv is the same whatever ran the tasks. Throws
+// std::invalid_argument unless there is one returned result for each waiting task.
 std::vector<TaskResult> returned_results(const SweepPlan& plan, const std::string& out_dir,
                                          const std::vector<std::size_t>& waiting,
                                          const std::vector<TaskResult>& returned);
