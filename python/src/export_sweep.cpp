@@ -185,7 +185,8 @@ void export_sweep(py::module_& m) {
           "index"_a, "folder"_a);
 
   py::class_<TaskResult>(m, "TaskResult")
-      // A result as a Dask worker returned it: its status's name and its error's bytes.
+      // A result as a Dask worker returned it, its status's name and its error's bytes, for
+      // returned_results.
       .def(py::init([](const std::string& status, const std::string& error) {
              for (const TaskStatus s : {TaskStatus::done, TaskStatus::failed, TaskStatus::stopped,
                                         TaskStatus::pending}) {
@@ -193,20 +194,7 @@ void export_sweep(py::module_& m) {
              }
              throw std::invalid_argument(fmt::format("no task status is named '{}'", status));
            }),
-           "status"_a, "error"_a)
-      .def_property_readonly("status",
-                             [](const TaskResult& r) { return std::string(status_name(r.status)); })
-      .def_property_readonly("error", [](const TaskResult& r) { return error_text(r.error); })
-      .def_readonly("dimension", &TaskResult::dimension)
-      .def_property_readonly("measures",
-                             [](const TaskResult& r) {
-                               py::dict measures;
-                               for (const auto& [name, value] : r.measures) {
-                                 measures[py::str(name)] = value;
-                               }
-                               return measures;
-                             })
-      .def_readonly("wall_seconds", &TaskResult::wall_seconds);
+           "status"_a, "error"_a);
 
   // (status, error): what a Dask task sends back, plain Python that pickles. `sweep_id`: the
   // token stop_tasks stops it by ("" for none).
