@@ -3,9 +3,8 @@
 #include <fmt/format.h>
 
 #include <iostream>
-#include <stdexcept>
 
-#include "carom/analysis/analysis.hpp"
+#include "carom/analysis/analysis_spec.hpp"
 #include "cli_support.hpp"
 
 namespace carom::cli {
@@ -112,36 +111,35 @@ void analyze_command(const AnalyzeArguments& args) {
   if (args.output == "-" && args.html == "-") {
     throw UsageError("-o and --html cannot both write to standard output");
   }
-  check_files_apart({{"the input TRAJECTORY", args.trajectory}, {"--log", args.log}},
-                    {{"-o", args.output}, {"--html", args.html}});
-  AnalysisOptions options;
+  AnalysisSpec spec;
+  spec.trajectory.path = args.trajectory;
+  spec.log.path = args.log;
+  // "-" is standard output, written here once the library has written the files.
+  spec.json.path = args.output == "-" ? "" : args.output;
+  spec.html.path = args.html == "-" ? "" : args.html;
+  AnalysisOptions& options = spec.options;
   options.from_time = option_number(args.from_time, "--equilibrate", options.from_time);
   options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);
   options.rdf.r_max = option_number(args.r_max, "--r-max", 0.0);
   options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
-  std::optional<LogTable> log;
-  if (!args.log.empty()) log = read_log_table(args.log);
   Analysis analysis;
   try {
-    analysis = analyze(read_trajectory_frames(args.trajectory), args.trajectory, options);
-  } catch (const std::invalid_argument& e) {
+    analysis = analyze(spec);
+  } catch (const AnalysisError& e) {
     throw UsageError(fmt::format("cannot analyse {}: {}", args.trajectory, e.what()));
   }
-  analysis.log = std::move(log);
-  stop_if_asked("nothing was written");
   for (const std::string& warning : analysis.warnings)
     std::cerr << "carom: note: " << warning << '\n';
-  // The summary keeps out of a result written to standard output.
-  if (args.output != "-" && args.html != "-") print_summary(std::cout, analysis);
-  if (!args.output.empty()) {
+  if (args.output == "-") {
     Output out(args.output);
     write_analysis_json(out.stream(), analysis);
     out.commit();
-  }
-  if (!args.html.empty()) {
+  } else if (args.html == "-") {
     Output out(args.html);
     write_report_html(out.stream(), analysis);
     out.commit();
+  } else {
+    print_summary(std::cout, analysis);  // kept out of a result written to standard output
   }
 }
 

@@ -101,8 +101,6 @@ std::string status_text(const SweepProgress& p) {
 
 int finish(const SweepArguments& args, const SweepPlan& plan, const std::string& folder,
            const std::vector<TaskResult>& results, double seconds) {
-  const std::string page =
-      args.html.empty() ? (std::filesystem::path(folder) / kReportPage).string() : args.html;
   std::size_t done = 0, failed = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done) ++done;
@@ -122,7 +120,7 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
     std::cerr << fmt::format(
         "carom: {} of {} tasks done{} in {}: {}/results.csv, summary.csv; {}\n", done,
         results.size(), failed > 0 ? fmt::format(", {} failed", failed) : "", clock_time(seconds),
-        folder, "report " + page);
+        folder, "report " + sweep_report_page(folder, args.html));
   }
   constexpr std::size_t kMostCounted = 27;  // 100 + 27 = 127, below the signals' 128 + N
   return failed == 0 ? 0 : 100 + static_cast<int>(std::min(failed, kMostCounted));

@@ -7,7 +7,7 @@
 
 #include "carom/core/physics.hpp"
 #include "engine/event_calendar.hpp"
-#include "engine/event_queue.hpp"
+#include "event_queue.hpp"
 
 namespace carom {
 namespace {

@@ -9,10 +9,11 @@
 #include <random>
 #include <sstream>
 
-#include "carom/io/classic_input.hpp"
-#include "carom/io/gsd.hpp"
+#include "carom/analysis/analysis_spec.hpp"
 #include "carom/engine/initial.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/gsd.hpp"
 #include "carom/io/trajectory.hpp"
 
 namespace carom {
@@ -476,6 +477,49 @@ TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
       }
       EXPECT_NEAR(gsd[f].radius[i], xyz[f].radius[i], 1e-7);
     }
+  }
+  std::filesystem::remove_all(folder);
+}
+
+// carom analyze whole: what analyze(AnalysisSpec) writes is what it returns, and it refuses an
+// output that is an input before any work, apart from frames it cannot analyse.
+TEST(AnalysisSpec, WritesTheJsonAndThePageOfWhatItReturns) {
+  const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_spec_test";
+  std::filesystem::create_directories(folder);
+  InitialOptions init;
+  init.n = 60;
+  init.packing_fraction = 0.4;
+  init.boundary = Boundary::periodic;
+  AnalysisSpec spec;
+  spec.trajectory.path = (folder / "run.gsd").string();
+  dump_run(make_initial<2>(init), spec.trajectory.path, 0.25, 5.0);
+  spec.json.path = (folder / "analysis.json").string();
+  spec.html.path = (folder / "report.html").string();
+  spec.options.from_time = 1.0;
+  const Analysis analysis = analyze(spec);
+  EXPECT_EQ(analysis.time.front(), 1.0);
+  EXPECT_EQ(analysis.frames_in_file, 21u);
+  const auto read = [](const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+  };
+  std::ostringstream json, page;
+  write_analysis_json(json, analysis);
+  write_report_html(page, analysis);
+  EXPECT_EQ(read(spec.json.path), json.str());
+  EXPECT_EQ(read(spec.html.path), page.str());
+
+  spec.options.from_time = 100.0;
+  EXPECT_THROW(analyze(spec), AnalysisError);
+  spec.html.path = spec.trajectory.path;
+  try {
+    analyze(spec);
+    ADD_FAILURE() << "the page would overwrite the trajectory";
+  } catch (const RequestError& e) {
+    EXPECT_NE(std::string(e.what()).find("the input TRAJECTORY and --html"), std::string::npos)
+        << e.what();
   }
   std::filesystem::remove_all(folder);
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -416,6 +417,44 @@ phi = [0.2, 0.7]
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
   EXPECT_NE(table.find("\n0.7,failed,,,,,,,,random placement jammed"), std::string::npos) << table;
+}
+
+// The steps every runner takes, as carom.sweep takes them around Dask workers that return only a
+// status and an error: the tasks' folders give the measures where they agree with what returned.
+TEST(SweepTask, PreparedReturnedAndFinishedTasksMakeTheTables) {
+  const Folder folder;
+  const SweepPlan plan = parse(R"([start]
+n = 400
+random = true
+boundary = "periodic"
+[run]
+end_time = 1
+[sweep]
+phi = [0.2, 0.7]
+)");
+  const std::string out = folder / "out";
+  std::vector<TaskResult> returned;
+  {
+    PreparedSweep sweep = prepare_sweep(plan, out);
+    EXPECT_EQ(sweep.waiting, (std::vector<std::size_t>{0, 1}));
+    EXPECT_THROW(prepare_sweep(plan, out), RequestError);  // the folder is locked meanwhile
+    for (const std::size_t index : sweep.waiting) {
+      const TaskResult result = run_task(plan, index, out);
+      returned.push_back(TaskResult::with(result.status, result.error));
+    }
+    // A failure that reached no error.txt is kept as it returned.
+    returned[1].error = "lost on the way";
+    const std::vector<TaskResult> results = returned_results(plan, out, sweep.waiting, returned);
+    EXPECT_EQ(results[0].status, TaskStatus::done);
+    EXPECT_FALSE(std::isnan(results[0].measure("Z")));  // from the task's summary
+    EXPECT_EQ(results[1].error, "lost on the way");
+    EXPECT_THROW(returned_results(plan, out, {0}, returned), std::invalid_argument);
+    finish_sweep(plan, out, results);
+  }
+  const std::string table = read(fs::path(out) / "results.csv");
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,lost on the way"), std::string::npos) << table;
+  EXPECT_TRUE(fs::exists(sweep_report_page(out)));
+  EXPECT_EQ(prepare_sweep(plan, out).waiting, (std::vector<std::size_t>{1}));  // lock let go
 }
 
 // As carom compress exits 1 for it, a compression that jams before its target is a failed task,

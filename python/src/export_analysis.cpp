@@ -2,14 +2,11 @@
 // turns into a dict of numpy arrays.
 #include <pybind11/stl.h>
 
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
 
-#include "carom/analysis/analysis.hpp"
-#include "carom/io/atomic_file.hpp"
-#include "carom/run/request.hpp"
+#include "carom/analysis/analysis_spec.hpp"
 #include "exports.hpp"
 
 namespace carom::python {
@@ -26,25 +23,15 @@ void export_analysis(py::module_& m) {
         {
           // Reading and analysing a long trajectory takes a while: other threads may run.
           py::gil_scoped_release release;
-          AnalysisOptions options;
-          options.from_time = equilibrate;
-          options.rdf = {bin_width, r_max};
-          options.contact_width = contact_width;
-          // What can fail at once does so before the work, as on the command line.
-          check_files_apart({{"trajectory", trajectory}, {"log", log.value_or("")}},
-                            {{"html", html.value_or("")}});
-          std::optional<LogTable> table;
-          if (log) table = read_log_table(*log);
-          std::optional<AtomicFile> page;
-          if (html) page.emplace(*html);
-          Analysis analysis = analyze(read_trajectory_frames(trajectory), trajectory, options);
-          analysis.log = std::move(table);
-          if (page) {
-            write_report_html(page->stream(), analysis);
-            page->commit();
-          }
+          AnalysisSpec spec;
+          spec.trajectory = {"trajectory", trajectory};
+          spec.log = {"log", log.value_or("")};
+          spec.html = {"html", html.value_or("")};
+          spec.options.from_time = equilibrate;
+          spec.options.rdf = {bin_width, r_max};
+          spec.options.contact_width = contact_width;
           std::ostringstream out;
-          write_analysis_json(out, analysis);
+          write_analysis_json(out, analyze(spec));
           json = out.str();
         }
         return json;

@@ -1,6 +1,6 @@
-// carom._carom's sweep: SweepPlan, and the steps of a sweep that carom.sweep hands out (check
-// the folder, run a task, read the tasks' results, write the tables and the report). A bad plan
-// (PlanError) or a folder holding other tasks (RequestError) is a std::invalid_argument, which
+// carom._carom's sweep: SweepPlan, and the steps of a sweep that carom.sweep takes around its
+// Dask workers (prepare_sweep, run a task, stop the tasks, returned_results, finish_sweep). A bad
+// plan (PlanError) or a folder holding other tasks (RequestError) is a std::invalid_argument, which
 // pybind11 raises as ValueError.
 #include <fmt/format.h>
 #include <pybind11/stl.h>
@@ -16,7 +16,6 @@
 #include <stdexcept>
 #include <thread>
 
-#include "carom/io/atomic_file.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "exports.hpp"
 
@@ -186,7 +185,8 @@ void export_sweep(py::module_& m) {
           "index"_a, "folder"_a);
 
   py::class_<TaskResult>(m, "TaskResult")
-      // A result as a Dask worker returned it: its status's name and its error's bytes.
+      // A result as a Dask worker returned it, its status's name and its error's bytes, for
+      // returned_results.
       .def(py::init([](const std::string& status, const std::string& error) {
              for (const TaskStatus s : {TaskStatus::done, TaskStatus::failed, TaskStatus::stopped,
                                         TaskStatus::pending}) {
@@ -194,20 +194,7 @@ void export_sweep(py::module_& m) {
              }
              throw std::invalid_argument(fmt::format("no task status is named '{}'", status));
            }),
-           "status"_a, "error"_a)
-      .def_property_readonly("status",
-                             [](const TaskResult& r) { return std::string(status_name(r.status)); })
-      .def_property_readonly("error", [](const TaskResult& r) { return error_text(r.error); })
-      .def_readonly("dimension", &TaskResult::dimension)
-      .def_property_readonly("measures",
-                             [](const TaskResult& r) {
-                               py::dict measures;
-                               for (const auto& [name, value] : r.measures) {
-                                 measures[py::str(name)] = value;
-                               }
-                               return measures;
-                             })
-      .def_readonly("wall_seconds", &TaskResult::wall_seconds);
+           "status"_a, "error"_a);
 
   // (status, error): what a Dask task sends back, plain Python that pickles. `sweep_id`: the
   // token stop_tasks stops it by ("" for none).
@@ -224,23 +211,15 @@ void export_sweep(py::module_& m) {
       [](const std::string& sweep_id) { SweepStops::of_this_process().stop(sweep_id); },
       "sweep_id"_a);
   m.def("wait_for_tasks", &wait_for_tasks, "plan"_a, "out_dir"_a, "indices"_a);
-  py::class_<HeldLock>(m, "HeldLock")
-      .def("release", &HeldLock::release)
+  // carom.sweep's first step and last, as every runner's (prepare_sweep, finish_sweep): the
+  // prepared sweep is a context manager, whose end lets go of the folder's lock.
+  py::class_<PreparedSweep>(m, "PreparedSweep")
+      .def_readonly("waiting", &PreparedSweep::waiting)
       .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](HeldLock& lock, const py::args&) { lock.release(); });
-  m.def("lock_sweep_folder", &lock_sweep_folder, "out_dir"_a);
-  m.def("read_task_results", &read_task_results, "plan"_a, "out_dir"_a);
-  m.def("check_sweep_folder", &check_sweep_folder, "plan"_a, "out_dir"_a, "report"_a = "");
-  m.def("write_sweep_tables", &write_sweep_tables, "plan"_a, "out_dir"_a, "results"_a);
-  m.def(
-      "write_sweep_report",
-      [](const SweepPlan& plan, const std::vector<TaskResult>& results, const std::string& path) {
-        check_task_results(plan, results);
-        AtomicFile page(path);
-        write_sweep_report(page.stream(), plan, results);
-        page.commit();
-      },
-      "plan"_a, "results"_a, "path"_a);
+      .def("__exit__", [](PreparedSweep& sweep, const py::args&) { sweep.folder_lock.release(); });
+  m.def("prepare_sweep", &prepare_sweep, "plan"_a, "out_dir"_a, "report"_a = "");
+  m.def("returned_results", &returned_results, "plan"_a, "out_dir"_a, "waiting"_a, "returned"_a);
+  m.def("finish_sweep", &finish_sweep, "plan"_a, "out_dir"_a, "results"_a, "report"_a = "");
 }
 
 }  // namespace carom::python

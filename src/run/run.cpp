@@ -454,10 +454,6 @@ void Runner::save(const std::string& path) const {
       [&](const auto& s) { save_checkpoint(path, state_->checkpoint_of(s, state_->records)); });
 }
 
-void Runner::close_outputs() {
-  state_->outputs.reset();
-}
-
 AnySimulation& Runner::simulation() {
   return state_->start.simulation;
 }

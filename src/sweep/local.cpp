@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <condition_variable>
-#include <filesystem>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 #include "carom/sweep/sweep.hpp"
 
@@ -13,14 +13,9 @@ namespace carom {
 
 std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
                                   const SweepHooks& hooks, const std::string& report) {
-  check_sweep_folder(plan, out_dir, report);
-  std::filesystem::create_directories(out_dir);
-  const HeldLock folder_lock = lock_sweep_folder(out_dir);
-  std::vector<TaskResult> results = read_task_results(plan, out_dir);
-  std::vector<std::size_t> waiting;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    if (results[i].status != TaskStatus::done) waiting.push_back(i);
-  }
+  PreparedSweep sweep = prepare_sweep(plan, out_dir, report);
+  std::vector<TaskResult>& results = sweep.results;
+  const std::vector<std::size_t>& waiting = sweep.waiting;
   const auto stopped = [&] { return hooks.stop != nullptr && hooks.stop->load() != 0; };
 
   std::mutex mutex;
@@ -100,9 +95,8 @@ std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_
   }
   for (std::thread& thread : pool) thread.join();
   tell_progress();
-  write_sweep_tables(plan, out_dir, results);
-  write_sweep_report(plan, out_dir, results, report);
-  return results;
+  finish_sweep(plan, out_dir, results, report);
+  return std::move(results);
 }
 
 }  // namespace carom

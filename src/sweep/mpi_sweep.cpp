@@ -6,11 +6,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "io/json_text.hpp"
 
@@ -77,7 +77,8 @@ double number_in(const nlohmann::json& json) {
 // dump_json and parse_json: an error may name a file whose name is not UTF-8.
 std::string encode(const Report& report) {
   nlohmann::json measures = nlohmann::json::array();
-  for (const auto& [name, value] : report.result.measures) measures.push_back({name, number(value)});
+  for (const auto& [name, value] : report.result.measures)
+    measures.push_back({name, number(value)});
   return dump_json(nlohmann::json{{"task", report.task},
                                   {"status", static_cast<int>(report.result.status)},
                                   {"error", report.result.error},
@@ -112,15 +113,11 @@ std::string encode_surely(const Report& report) {
   }
 }
 
-// Rank 0: hands the tasks not yet done out to the ranks as they ask, until every rank has left;
-// returns every task's result (what its folder held before, or what its worker reported).
-std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_dir, int ranks,
-                                 const SweepHooks& hooks) {
-  std::vector<TaskResult> results = read_task_results(plan, out_dir);
-  std::vector<int> waiting;
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    if (results[i].status != TaskStatus::done) waiting.push_back(static_cast<int>(i));
-  }
+// Rank 0: hands the sweep's waiting tasks out to the ranks as they ask, until every rank has
+// left; each task's result becomes what its worker reported.
+void hand_out(PreparedSweep& sweep, int ranks, const SweepHooks& hooks) {
+  std::vector<TaskResult>& results = sweep.results;
+  const std::vector<std::size_t>& waiting = sweep.waiting;
   SweepProgress progress;
   progress.total = results.size();
   // The counter a result's status adds to, if any: the counts are kept as results arrive, since
@@ -171,14 +168,13 @@ std::vector<TaskResult> hand_out(const SweepPlan& plan, const std::string& out_d
     }
     int task = kNoMoreTasks;
     if (next < waiting.size() && !stopped(hooks) && !leaving) {
-      task = waiting[next++];
+      task = static_cast<int>(waiting[next++]);
       ++progress.running;
     } else {
       --workers;
     }
     MPI_Send(&task, 1, MPI_INT, status.MPI_SOURCE, kAssignTag, MPI_COMM_WORLD);
   }
-  return results;
 }
 
 void work(const SweepPlan& plan, const std::string& out_dir, const SweepHooks& hooks) {
@@ -233,12 +229,10 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
   std::string text = plan.text();
   int go_on = 1;
   // Rank 0 holds the sweep's lock from its checks to its last table, as run_sweep does.
-  std::optional<HeldLock> folder_lock;
+  std::optional<PreparedSweep> sweep;
   if (outcome.rank == 0) {
     try {
-      check_sweep_folder(plan, out_dir, report);
-      std::filesystem::create_directories(out_dir);
-      folder_lock = lock_sweep_folder(out_dir);
+      sweep = prepare_sweep(plan, out_dir, report);
     } catch (...) {
       go_on = 0;
       broadcast(text, go_on);
@@ -248,9 +242,9 @@ MpiSweepOutcome run_sweep_mpi(const SweepPlan& plan, const std::string& out_dir,
   broadcast(text, go_on);
   if (go_on == 0) return outcome;
   if (outcome.rank == 0) {
-    outcome.results = hand_out(plan, out_dir, outcome.ranks, hooks);
-    write_sweep_tables(plan, out_dir, outcome.results);
-    write_sweep_report(plan, out_dir, outcome.results, report);
+    hand_out(*sweep, outcome.ranks, hooks);
+    finish_sweep(plan, out_dir, sweep->results, report);
+    outcome.results = std::move(sweep->results);
   } else {
     work(SweepPlan::parse(text, plan.name(), plan.folder()), out_dir, hooks);
   }

@@ -106,13 +106,4 @@ void write_sweep_tables(const SweepPlan& plan, const std::string& out_dir,
   file.commit();
 }
 
-void write_sweep_report(const SweepPlan& plan, const std::string& out_dir,
-                        const std::vector<TaskResult>& results, const std::string& report) {
-  check_task_results(plan, results);
-  AtomicFile page(report.empty() ? (std::filesystem::path(out_dir) / kReportPage).string()
-                                 : report);
-  write_sweep_report(page.stream(), plan, results);
-  page.commit();
-}
-
 }  // namespace carom

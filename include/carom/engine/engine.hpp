@@ -23,7 +23,8 @@ class JamError : public std::runtime_error {
 };
 
 enum class EngineKind {
-  fast,       // cell grid, one pending event per particle in a calendar, O(1) per event
+  fast,       // neighbour lists for a dense system they suit, else a cell grid (make_engine
+              // picks); one pending event per particle in a calendar, O(1) per event
   reference,  // the classic assignment's algorithm done right: every pair predicted again after
               // every event
 };
@@ -167,6 +168,8 @@ class Engine {
   void restart_at(double t);
 };
 
+// The engine of `kind` for `system`. For EngineKind::fast: neighbour lists (ListEngine) when they
+// suit the system (dense, not growing, not sheared; ListEngine::suits), else the cell grid.
 template <std::size_t D>
 std::unique_ptr<Engine<D>> make_engine(EngineKind kind, System<D> system, const CollisionRule& rule,
                                        const Growth& growth = {});

@@ -133,8 +133,6 @@ class Runner {
   // holds when saved at that instant, the last run()'s window records with the state, so that a
   // run resumed from it to the same end reports that run's summary.
   void save(const std::string& path) const;
-  // Closes the streamed files (run() closes those the next spec does not name).
-  void close_outputs();
 
   AnySimulation& simulation();
   const AnySimulation& simulation() const;

@@ -237,16 +237,42 @@ struct SweepHooks {
   std::function<void(const SweepProgress&)> progress;
 };
 
-// Runs every task not yet done on `jobs` threads of this process, then writes the tables and the
-// report (to `report`, empty for out_dir/report.html). Refuses first what check_sweep_folder
-// refuses, and a folder another sweep runs in (lock_sweep_folder, held to the end). Returns every
-// task's result, in the plan's order.
+// A sweep from its first step to its last, whatever hands its tasks out: run_sweep's threads,
+// run_sweep_mpi's ranks, carom.sweep's Dask workers. Each runner calls prepare_sweep, runs the
+// waiting tasks as it can, and calls finish_sweep with every task's result.
+struct PreparedSweep {
+  HeldLock folder_lock;              // out_dir's sweep.lock: kept until finish_sweep has returned
+  std::vector<TaskResult> results;   // every task's, as its folder held it (read_task_results)
+  std::vector<std::size_t> waiting;  // the tasks not done, in the plan's order: to run
+};
+
+// Refuses what check_sweep_folder refuses, makes out_dir, takes its lock (lock_sweep_folder:
+// refused while another sweep runs there) and reads what the tasks' folders hold.
+PreparedSweep prepare_sweep(const SweepPlan& plan, const std::string& out_dir,
+                            const std::string& report = {});
+
+// Where the report of a sweep into out_dir goes: `report`, or out_dir/report.html if empty.
+std::string sweep_report_page(const std::string& out_dir, const std::string& report = {});
+
+// Writes the tables (write_sweep_tables) and the report page (sweep_report_page) of `results`,
+// every task's in the plan's order, each whole or not at all.
+void finish_sweep(const SweepPlan& plan, const std::string& out_dir,
+                  const std::vector<TaskResult>& results, const std::string& report = {});
+
+// The results of tasks whose runner got back only each one's status and error (carom.sweep's
+// Dask workers: what they return must pickle): `returned[k]` is task waiting[k]'s. What the tasks'
+// folders hold now where they agree (their measures included), else what was returned: a failure
+// that never reached error.txt (a task folder that could not be written) counts, as with the
+// other runners, so that results.csv is the same whatever ran the tasks. Throws
+// std::invalid_argument unless there is one returned result for each waiting task.
+std::vector<TaskResult> returned_results(const SweepPlan& plan, const std::string& out_dir,
+                                         const std::vector<std::size_t>& waiting,
+                                         const std::vector<TaskResult>& returned);
+
+// Runs every task not yet done on `jobs` threads of this process, between prepare_sweep and
+// finish_sweep (the lock held to the end). Returns every task's result, in the plan's order.
 std::vector<TaskResult> run_sweep(const SweepPlan& plan, const std::string& out_dir, unsigned jobs,
                                   const SweepHooks& hooks = {}, const std::string& report = {});
-
-// Writes the report of `results` to `report` (empty for out_dir/report.html), whole or not at all.
-void write_sweep_report(const SweepPlan& plan, const std::string& out_dir,
-                        const std::vector<TaskResult>& results, const std::string& report = {});
 
 // The swept observables against the first swept axis other than `seed`, with error bars, and
 // the equation of state of hard disks (Henderson) or spheres (Kolafa, Labik and Malijevsky)

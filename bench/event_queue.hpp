@@ -3,8 +3,9 @@
 // Entries are 16 bytes (time and particle), four siblings to a cache line; the tie-break order of
 // equal times lives beside the heap, as it is needed only for exact ties.
 //
-// The engine uses the calendar (event_calendar.hpp), which is faster at every size; the heap stays
-// as the microbenchmarks' baseline and as a second, simpler ordering the tests hold it to.
+// The engine uses the calendar (src/engine/event_calendar.hpp), which is faster at every size; the
+// heap is no library code: it stays here as the microbenchmarks' baseline and as a second, simpler
+// ordering the tests hold the calendar to.
 #pragma once
 
 #include <cstdint>

@@ -1,0 +1,100 @@
+"""The checks of Python arguments the library cannot make (types, shapes, numpy dtypes), and
+the forms in which the library takes them."""
+
+import math as _math
+import numbers as _numbers
+import os as _os
+
+import numpy as _np
+
+from . import _carom
+
+# Every default a signature shows is the library's, read from it here.
+_D = _carom.defaults
+
+
+def _float_array(name, value, shape=None):
+    """value as a C-contiguous float64 array of `shape` (None: any; an entry None: any length),
+    or ValueError."""
+    if isinstance(value, _np.ndarray) and value.dtype != _np.float64:
+        raise ValueError(f"{name} must be a float64 array, got dtype {value.dtype}")
+    try:
+        array = _np.ascontiguousarray(value, dtype=_np.float64)
+    except (TypeError, ValueError) as error:
+        raise ValueError(f"{name} must be an array of numbers: {error}") from None
+    if shape is None:
+        return array
+    if array.ndim != len(shape) or any(s is not None and s != a for s, a in zip(shape, array.shape)):
+        wanted = ", ".join("N" if s is None else str(s) for s in shape)
+        wanted = f"({wanted},)" if len(shape) == 1 else f"({wanted})"
+        raise ValueError(f"{name} must have shape {wanted}, got {array.shape}")
+    return array
+
+
+def _per_particle(name, value, n, default):
+    """A number or an (N,) array as an (N,) float64 array."""
+    if value is None:
+        value = default
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number or an array of {n} numbers, got {value!r}")
+    if isinstance(value, _numbers.Real):
+        return _np.full(n, float(value))
+    return _float_array(name, value, (n,))
+
+
+def _number(name, value):
+    """A finite float, as the command line reads numbers."""
+    if isinstance(value, bool) or not isinstance(value, _numbers.Real):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    value = float(value)
+    if not _math.isfinite(value):
+        raise ValueError(f"{name} must be a finite number, got {value}")
+    return value
+
+
+def _whole(name, value, least=0, most=2**63 - 1):
+    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
+        raise ValueError(f"{name} must be a whole number, got {value!r}")
+    if value < least:
+        raise ValueError(f"{name} must be at least {least}, got {value}")
+    if value > most:
+        raise ValueError(f"{name} must be at most {most}, got {value}")
+    return int(value)
+
+
+def _choice(name, value, names):
+    if not isinstance(value, str) or value not in names:
+        raise ValueError(f"{name} must be one of {', '.join(names)}, got {value!r}")
+    return value
+
+
+def _flag(name, value):
+    if not isinstance(value, (bool, _np.bool_)):
+        raise ValueError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
+def _path(value):
+    """A file name (str, bytes or os.PathLike) as the bytes that name the file; None as b"" (no
+    file). Bytes, not str: a name that is not UTF-8 (os.fsdecode's surrogate escapes) reaches the
+    library as the file's own name."""
+    if value is None:
+        return b""
+    return _os.fsencode(value if isinstance(value, (str, bytes, _os.PathLike)) else str(value))
+
+
+def _output(name, path, every_name, every):
+    """A streamed output and its cadence, both or neither: (_path(path) or b"", every or 0.0)."""
+    if path is None:
+        if every is not None:
+            raise ValueError(f"{every_name} needs {name}: the file to write to")
+        return b"", 0.0
+    if every is None:
+        raise ValueError(f"{name} needs {every_name}: the time between "
+                         f"{'frames' if name == 'dump' else 'rows'}")
+    return _path(path), _number(every_name, every)
+
+
+_RULES = ("swap", "elastic")
+_BOUNDARIES = ("walls", "periodic")
+_ENGINES = ("fast", "reference")

@@ -1,0 +1,287 @@
+"""carom.Simulation, a run held in Python, and carom.compress, which makes one from another."""
+
+import json as _json
+
+import numpy as _np
+
+from . import _carom
+from ._arguments import (_BOUNDARIES, _D, _ENGINES, _RULES, _choice, _flag, _float_array,
+                         _number, _output, _path, _per_particle, _whole)
+
+
+class Simulation:
+    """A run of hard disks (dim 2) or spheres (dim 3): its state, its engine and its measurement.
+
+    positions, velocities: (N, D) float64 arrays at t = 0 (D = 2 or 3); box: the D sides (the box
+    is [0, Lx] x [0, Ly] [x [0, Lz]]); radii, masses: a number or an (N,) array. boundary:
+    "walls" (hard walls on every face) or "periodic". rule: "elastic" (momentum exchanged along
+    the line of centres, with masses: real hard particles) or "swap" (the classic assignment's:
+    touching particles exchange whole velocities); restitution < 1 makes elastic collisions inelastic, and a particle that
+    collided less than `tc` ago collides elastically (the TC model against inelastic collapse).
+    engine: "fast" (O(1) per event) or "reference" (the classic assignment's O(N^2) algorithm, for checking).
+
+    The start is checked as `carom run` checks a file: finite numbers, positive radii and
+    masses, particles inside the box, clear of the walls and of each other (touching is fine);
+    anything else is a ValueError saying what and which particle.
+
+    carom.read, carom.init and carom.resume make Simulations from a file, from `carom init`'s
+    options, and from a checkpoint.
+    """
+
+    def __init__(self, positions, velocities, box, radii=_D["radius"], masses=_D["mass"],
+                 boundary=_D["boundary"], rule=_D["rule"], restitution=_D["restitution"],
+                 tc=_D["tc"], engine=_D["engine"]):
+        positions = _float_array("positions", positions)
+        if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
+            raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
+                             f"got {positions.shape}")
+        n, d = positions.shape
+        velocities = _float_array("velocities", velocities, (n, d))
+        box = _float_array("box", box, (d,))
+        radii = _per_particle("radii", radii, n, _D["radius"])
+        masses = _per_particle("masses", masses, n, _D["mass"])
+        self._running = False
+        self._core = _carom.Simulation.from_arrays(
+            positions, velocities, box, radii, masses, _choice("boundary", boundary, _BOUNDARIES),
+            _choice("rule", rule, _RULES), _number("restitution", restitution), _number("tc", tc),
+            _choice("engine", engine, _ENGINES))
+
+    @classmethod
+    def _wrap(cls, core):
+        simulation = cls.__new__(cls)
+        simulation._running = False
+        simulation._core = core
+        return simulation
+
+    @property
+    def _idle(self):
+        """The engine, when no run is under way (in another thread, with the GIL released)."""
+        if self._running:
+            raise RuntimeError("this simulation is running (in another thread): wait for run()")
+        return self._core
+
+    def run(self, t, dump=None, every=None, log=None, log_every=None, events=None,
+            checkpoint=None, checkpoint_every=None, summary=None, check=False, check_every=None,
+            equilibrate=None, transport=False, collisions=False):
+        """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
+
+        Every event up to t is processed in time order; any sequence of runs ends exactly as one
+        run to the last time would. The GIL is released while the engine works. The options are
+        `carom run`'s, with the same meaning and the same files, byte for byte:
+
+        dump, every: a trajectory written as the run goes, a frame every `every` time units (at
+        multiples of `every`, so frames stay evenly spaced: a new dump's first frame is at
+        sim.time when that is a multiple, else at the next one): ".xyz" (extended XYZ, for ASE
+        and OVITO), ".lammpstrj" or ".gsd".
+        log, log_every: the time series (csv; `carom run --log`). events: every collision (csv).
+        checkpoint: saved at the end, on Ctrl-C, and every checkpoint_every (a number of events,
+        or seconds as "600s"). summary: the json of observables() written at the end.
+        check: verify as the run goes that event times never decrease and, every check_every
+        events, that nothing overlaps. equilibrate: open the measurement window at that time.
+        transport: measure the self-diffusion coefficient, shear viscosity and thermal
+        conductivity over the measurement window (a periodic box; observables()["transport"]).
+        A file named again by the next run with the same cadence goes on; a Simulation from
+        carom.resume continues its files as `carom run --resume` does (cut at its time, then
+        appended to); otherwise a file begins anew.
+        collisions: when True, returns a numpy structured array of this run's collisions with
+        fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
+        bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
+        """
+        t = _number("t", t)
+        dump, every = _output("dump", dump, "every", every)
+        log, log_every = _output("log", log, "log_every", log_every)
+        if checkpoint_every is not None:
+            if checkpoint is None:
+                raise ValueError("checkpoint_every needs checkpoint: the file to save to")
+            if isinstance(checkpoint_every, str):
+                checkpoint_every = checkpoint_every.strip()
+            else:
+                checkpoint_every = str(_whole("checkpoint_every", checkpoint_every, 1))
+        if check_every is not None and not check:
+            raise ValueError("check_every needs check=True")
+        check_every = 0 if check_every is None else _whole("check_every", check_every, 1)
+        core = self._idle
+        self._running = True
+        try:
+            core.run(t, dump, every, log, log_every, _path(events), _path(checkpoint),
+                     checkpoint_every, _path(summary), _flag("check", check), check_every,
+                     None if equilibrate is None else _number("equilibrate", equilibrate),
+                     _flag("transport", transport), _flag("collisions", collisions))
+        finally:
+            self._running = False
+        return core.collisions() if collisions else None
+
+    def advance(self, dt, **options):
+        """Runs for dt more time units (HOOMD's sim.run(steps) habit): sim.run(sim.time + dt, ...).
+        The end time is the double sim.time + dt, so many small advances can land a hair off
+        round times; run(t) names a time exactly. The options are run()'s."""
+        dt = _number("dt", dt)
+        if not dt >= 0.0:
+            raise ValueError(f"dt must be >= 0, got {dt}")
+        return self.run(self.time + dt, **options)
+
+    def collisions(self):
+        """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""
+        return self._idle.collisions()
+
+    @property
+    def time(self):
+        """The time the run has reached."""
+        return self._idle.time
+
+    @property
+    def events(self):
+        """Collisions processed since the run began (across checkpoints)."""
+        return self._idle.events
+
+    @property
+    def n(self):
+        """The number of particles."""
+        return self._idle.n
+
+    @property
+    def dim(self):
+        """2 for disks, 3 for spheres."""
+        return self._idle.dim
+
+    @property
+    def box(self):
+        """The box's sides, a (D,) float64 array."""
+        return self._idle.box
+
+    @property
+    def boundary(self):
+        """"walls" (hard walls on every face) or "periodic" (minimum image, no walls)."""
+        return self._idle.boundary
+
+    @property
+    def rule(self):
+        """"elastic" (momentum exchanged along the line of centres, with masses) or "swap" (the
+        classic assignment's: whole velocities exchanged)."""
+        return self._idle.rule
+
+    @property
+    def restitution(self):
+        """The coefficient of normal restitution: 1 elastic, below 1 inelastic (granular)."""
+        return self._idle.restitution
+
+    @property
+    def tc(self):
+        """The TC model's time: a particle that collided less than tc ago collides elastically
+        (against inelastic collapse; no effect at restitution 1)."""
+        return self._idle.tc
+
+    @property
+    def engine(self):
+        """"fast" (neighbour lists or cells and an event calendar) or "reference" (every pair
+        checked after every event: O(N^2), for checking); both give the same events, bit for
+        bit."""
+        return self._idle.engine
+
+    @property
+    def positions(self):
+        """Every particle's centre at sim.time, wrapped into a periodic box: (N, D) float64 (a copy)."""
+        return self._idle.positions
+
+    @property
+    def images(self):
+        """Every particle's image flags at sim.time: (N, D) int32, the box sides it has crossed
+        (HOOMD's and LAMMPS' convention; zero with walls). In a sheared box the image one box up
+        lies at (sim.shear_shift, Ly), as in HOOMD's tilted box of tilt xy = shear_shift / Ly."""
+        return self._idle.images
+
+    @property
+    def shear_shift(self):
+        """In a sheared box (shear=), the x shift of the images one box up at sim.time, within
+        half a side of 0; 0.0 otherwise."""
+        return self._idle.shear_shift
+
+    @property
+    def unwrapped_positions(self):
+        """positions + images * box (plus images_y * shear_shift along x in a sheared box): where
+        each particle would be had the box not wrapped it, (N, D) float64 (for displacements and
+        the mean squared displacement)."""
+        core = self._idle
+        unwrapped = core.positions + core.images * _np.asarray(core.box)
+        unwrapped[:, 0] += core.images[:, 1] * core.shear_shift
+        return unwrapped
+
+    @property
+    def velocities(self):
+        """Every particle's velocity at sim.time: (N, D) float64 (a copy)."""
+        return self._idle.velocities
+
+    @property
+    def radii(self):
+        """Each particle's radius: (N,) float64 (a copy)."""
+        return self._idle.radii
+
+    @property
+    def masses(self):
+        """Each particle's mass: (N,) float64 (a copy)."""
+        return self._idle.masses
+
+    @property
+    def wall_collisions(self):
+        """Each particle's wall collisions so far: (N,) uint64."""
+        return self._idle.wall_collisions
+
+    @property
+    def pair_collisions(self):
+        """Each particle's collisions with other particles so far: (N,) uint64."""
+        return self._idle.pair_collisions
+
+    def observables(self):
+        """The json summary of `carom run --summary` as a dict: the same keys and values.
+
+        Pressure (collision virial), Z = PV/NkT, kT (over D(N - 1) degrees of freedom in a
+        periodic box), wall pressure, collision rate and mean free time, measured over the
+        window opened by reset_measurement or measure_from (from t = 0 by default).
+        """
+        return _json.loads(self._idle.json(False))
+
+    def reset_measurement(self):
+        """Opens the measurement window now: counts from zero, the kinetic energy now."""
+        self._idle.reset_measurement()
+
+    def measure_from(self, t):
+        """Opens the measurement window at time t (as `carom run --equilibrate t`)."""
+        self._idle.measure_from(_number("measure_from", t))
+
+    def format(self, kind="table"):
+        """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""
+        return self._idle.text(_choice("format", kind, ("table", "csv", "json")))
+
+    def save(self, path):
+        """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""
+        self._idle.save(_path(path))
+
+    def __repr__(self):
+        kind = "disks" if self.dim == 2 else "spheres"
+        return (f"<carom.Simulation: {self.n} {kind}, t = {self.time}, {self.events} events, "
+                f"{self.boundary}, {self.rule}>")
+
+
+def compress(sim, phi=None, jam=False, rate=_D["rate"], kT=_D["compress_kT"],
+             jam_pressure=_D["jam_pressure"], unit_diameter=False):
+    """`carom compress` of sim's particles at sim.time: a new Simulation (sim's rule, restitution,
+    tc and engine; time 0) and the summary `carom compress --summary` writes, as a dict (status,
+    packing_fraction, compressibility_factor, rate, kT, jam_pressure, time, events,
+    mean_diameter, unit_diameter, box, ...). sim is left as it was.
+
+    The diameters grow, so the packing's unit of length is the start's and its mean diameter is
+    larger than the start's; unit_diameter=True rescales it (box, positions, radii) to a mean
+    diameter of 1, as `carom compress --unit-diameter`.
+
+    Every radius grows as r(t) = r(0) (1 + rate t), size ratios kept, while the particles move and
+    collide (Lubachevsky-Stillinger); the velocities are rescaled to kT every N collisions. Give
+    phi (stop exactly at that packing fraction) or jam=True (grow until the compressibility factor
+    passes jam_pressure). Impossible requests (phi beyond close packing, overlapping particles)
+    raise ValueError; Ctrl-C raises KeyboardInterrupt.
+    """
+    if (phi is None) == (not _flag("jam", jam)):
+        raise ValueError("give phi (a packing fraction to stop at) or jam=True, not both")
+    core, summary = sim._idle.compress(
+        None if phi is None else _number("phi", phi), _number("rate", rate), _number("kT", kT),
+        _number("jam_pressure", jam_pressure), _flag("unit_diameter", unit_diameter))
+    return Simulation._wrap(core), _json.loads(summary)
