@@ -3,11 +3,71 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 namespace carom {
+
+MessagePiece option(std::string key, std::string value) {
+  MessagePiece piece(std::move(key));
+  piece.is_option = true;
+  piece.value = std::move(value);
+  return piece;
+}
+
+std::string command_line_option(std::string_view key) {
+  // The keys whose option is not "--" and the key with '-' for '_'.
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 4> kRenamed{{
+      {"temperature", "--kT"},
+      {"dump_every", "--every"},
+      {"measure_from", "--equilibrate"},
+      {"end_time", "END_TIME"},
+  }};
+  for (const auto& [renamed, spelled] : kRenamed) {
+    if (renamed == key) return std::string(spelled);
+  }
+  std::string spelled = "--";
+  for (const char c : key) spelled += c == '_' ? '-' : c;
+  return spelled;
+}
+
+namespace {
+
+std::string joined(const std::vector<MessagePiece>& pieces, const RequestError::Spelling& spell) {
+  std::string message;
+  for (const MessagePiece& piece : pieces) {
+    message += piece.is_option ? spell(piece.text, piece.value) : piece.text;
+  }
+  return message;
+}
+
+std::string command_line_spelling(std::string_view key, std::string_view value) {
+  return value.empty() ? command_line_option(key)
+                       : fmt::format("{} {}", command_line_option(key), value);
+}
+
+}  // namespace
+
+RequestError::RequestError(const std::string& message)
+    : std::invalid_argument(message), pieces_{MessagePiece(message)} {}
+
+RequestError::RequestError(std::vector<MessagePiece> pieces)
+    : std::invalid_argument(joined(pieces, command_line_spelling)), pieces_(std::move(pieces)) {}
+
+std::vector<std::string> RequestError::keys() const {
+  std::vector<std::string> keys;
+  for (const MessagePiece& piece : pieces_) {
+    if (piece.is_option) keys.push_back(piece.text);
+  }
+  return keys;
+}
+
+std::string RequestError::worded(const Spelling& spell) const {
+  return joined(pieces_, spell);
+}
 
 void check_writable(const std::string& path) {
   namespace fs = std::filesystem;
