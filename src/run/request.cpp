@@ -100,11 +100,12 @@ void check_files_apart(const std::vector<NamedFile>& inputs,
   for (const NamedFile& input : inputs) {
     if (!names_a_file(input)) continue;
     for (const NamedFile& output : outputs) {
-      if (names_a_file(output) && output.option != input.saved_over_by &&
+      if (names_a_file(output) && output.option.text != input.saved_over_by &&
           same_file(input.path, output.path)) {
-        throw RequestError(fmt::format(
-            "{} and {} name the same file ({} and {}): writing it would destroy what is read",
-            input.option, output.option, input.path, output.path));
+        throw RequestError({input.option, " and ", output.option,
+                            fmt::format(" name the same file ({} and {}): writing it would "
+                                        "destroy what is read",
+                                        input.path, output.path)});
       }
     }
   }
@@ -112,9 +113,10 @@ void check_files_apart(const std::vector<NamedFile>& inputs,
     for (std::size_t j = i + 1; j < outputs.size(); ++j) {
       if (names_a_file(outputs[i]) && names_a_file(outputs[j]) &&
           same_file(outputs[i].path, outputs[j].path)) {
-        throw RequestError(
-            fmt::format("{} and {} name the same file ({} and {}): one would overwrite the other",
-                        outputs[i].option, outputs[j].option, outputs[i].path, outputs[j].path));
+        throw RequestError({outputs[i].option, " and ", outputs[j].option,
+                            fmt::format(" name the same file ({} and {}): one would overwrite "
+                                        "the other",
+                                        outputs[i].path, outputs[j].path)});
       }
     }
   }

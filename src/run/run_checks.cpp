@@ -22,11 +22,11 @@ constexpr double kMostRows = 1e7;
 
 // The files a spec writes, named by their options.
 std::vector<NamedFile> output_files(const RunSpec& spec) {
-  return {{"--summary", spec.summary},
-          {"--checkpoint", spec.checkpoint},
-          {"--dump", spec.dump},
-          {"--events", spec.events},
-          {"--log", spec.log}};
+  return {{option("summary"), spec.summary},
+          {option("checkpoint"), spec.checkpoint},
+          {option("dump"), spec.dump},
+          {option("events"), spec.events},
+          {option("log"), spec.log}};
 }
 
 // Refuses an output of about `bytes`, written to `path` by the option `key`, that its disk cannot
@@ -184,7 +184,7 @@ void check_run(const Simulation<D>& simulation, const Start& start, const RunSpe
   outputs.insert(outputs.end(), own.begin(), own.end());
   // A resumed run may save its checkpoint where it read it.
   check_files_apart(
-      {{"the input FILE", start_file_path(start.input), start.resumed ? "--checkpoint" : ""}},
+      {{"the input FILE", start_file_path(start.input), start.resumed ? "checkpoint" : ""}},
       outputs);
 
   simulation.check_target(spec.end_time);

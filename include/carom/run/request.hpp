@@ -55,13 +55,13 @@ void check_writable(const std::string& path);
 // spellings included), else the same absolute path once symbolic links are resolved.
 bool same_file(const std::string& a, const std::string& b);
 
-// A file a command reads or writes, with what names it in messages: the option ("-o", "--html")
-// or the argument ("the input FILE").
+// A file a command reads or writes, with what names it in messages: the option ("-o", "--html",
+// or a key: option("dump")) or the argument ("the input FILE").
 struct NamedFile {
-  std::string option;
+  MessagePiece option;
   std::string path;
-  // For an input, the one output option allowed to save over it ("" for none): a resumed run's
-  // checkpoint, saved again by --checkpoint.
+  // For an input, the one output option allowed to save over it, as `option` names it ("" for
+  // none): a resumed run's checkpoint, saved again by --checkpoint.
   std::string saved_over_by = {};
 };
 
