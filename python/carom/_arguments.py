@@ -54,12 +54,6 @@ def _number(name, value):
     return value
 
 
-def _choice(name, value, names):
-    if not isinstance(value, str) or value not in names:
-        raise ValueError(f"{name} must be one of {', '.join(names)}, got {value!r}")
-    return value
-
-
 def _flag(name, value):
     if not isinstance(value, (bool, _np.bool_)):
         raise ValueError(f"{name} must be True or False, got {value!r}")
@@ -73,11 +67,6 @@ def _path(value):
     if value is None:
         return b""
     return _os.fsencode(value if isinstance(value, (str, bytes, _os.PathLike)) else str(value))
-
-
-def _choice_of(name, value):
-    """value, one of the library's names for the choice `name` ("rule", "boundary", ...)."""
-    return _choice(name, value, _carom.names[name])
 
 
 def _keywords(spec, *leading, **more):

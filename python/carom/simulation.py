@@ -5,7 +5,7 @@ import json as _json
 import numpy as _np
 
 from . import _carom
-from ._arguments import (_D, _choice_of, _flag, _float_array, _given, _keywords, _number, _path,
+from ._arguments import (_D, _flag, _float_array, _given, _keywords, _number, _path,
                          _per_particle)
 
 
@@ -42,9 +42,8 @@ class Simulation:
         masses = _per_particle("masses", masses, n, _D["mass"])
         self._running = False
         self._core = _carom.Simulation.from_arrays(
-            positions, velocities, box, radii, masses, _choice_of("boundary", boundary),
-            _choice_of("rule", rule), _number("restitution", restitution), _number("tc", tc),
-            _choice_of("engine", engine))
+            positions, velocities, box, radii, masses, boundary, rule,
+            _number("restitution", restitution), _number("tc", tc), engine)
 
     @classmethod
     def _wrap(cls, core):
@@ -237,7 +236,7 @@ class Simulation:
 
     def format(self, kind="table"):
         """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""
-        return self._idle.text(_choice_of("format", kind))
+        return self._idle.text(kind)
 
     def save(self, path):
         """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""

@@ -12,15 +12,7 @@ namespace carom::python {
 
 namespace {
 
-template <class E>
-E choice(const std::string& option, const std::string& name) {
-  if (const auto value = from_name<E>(name)) return *value;
-  throw std::invalid_argument(
-      fmt::format("{} must be {}, got '{}'", option, names_list<E>(), name));
-}
-
-Settings settings_from(const std::string& rule, double restitution, double tc,
-                       const std::string& engine) {
+Settings settings_from(py::handle rule, double restitution, double tc, py::handle engine) {
   Settings settings;
   settings.rule = {choice<Rule>("rule", rule), restitution, tc};
   settings.engine = choice<EngineKind>("engine", engine);
@@ -85,8 +77,8 @@ void export_simulation(py::module_& m) {
           "from_arrays",
           [](const py::array_t<double>& positions, const py::array_t<double>& velocities,
              const py::array_t<double>& box, const py::array_t<double>& radii,
-             const py::array_t<double>& masses, const std::string& boundary,
-             const std::string& rule, double restitution, double tc, const std::string& engine) {
+             const py::array_t<double>& masses, py::handle boundary, py::handle rule,
+             double restitution, double tc, py::handle engine) {
             return PythonSimulation::from_arrays(positions, velocities, box, radii, masses,
                                                  choice<Boundary>("boundary", boundary),
                                                  settings_from(rule, restitution, tc, engine));
@@ -163,7 +155,7 @@ void export_simulation(py::module_& m) {
           "particles"_a)
       .def(
           "text",
-          [](const PythonSimulation& s, const std::string& format) {
+          [](const PythonSimulation& s, py::handle format) {
             return s.text(choice<Format>("format", format));
           },
           "format"_a)

@@ -87,15 +87,6 @@ std::string file_name(py::handle value) {
       .cast<std::string>();
 }
 
-template <class E>
-E choice(const std::string& keyword, py::handle value) {
-  if (py::isinstance<py::str>(value)) {
-    if (const auto chosen = from_name<E>(value.cast<std::string>())) return *chosen;
-  }
-  throw py::value_error(
-      fmt::format("{} must be {}, got {}", keyword, names_list<E>(), std::string(py::repr(value))));
-}
-
 // A Python value as a field of type T: None leaves an optional field empty.
 template <class T>
 struct From;
