@@ -230,7 +230,7 @@ Keywords<RunSpec> run_keywords() {
 
 // The thermostat and the shear as asked, before thermostat_request and shear_request make them
 // (with the start's temperature and seed).
-struct HeldAt {
+struct AskedThermostatAndShear {
   ThermostatKind thermostat = Thermostat{}.kind;
   std::optional<double> thermostat_every, thermostat_rate, shear;
   bool velocity_profile = ShearRequest{}.profile;
@@ -241,19 +241,20 @@ struct HeldAt {
   ShearRequest shear_request() const { return carom::shear_request(shear, velocity_profile); }
 };
 
-// The keywords of HeldAt, in a request R that has one as `held`.
+// The keywords of AskedThermostatAndShear, in a request R that has one as `asked`.
 template <class R>
-void add_held_at(Keywords<R>& k) {
-  k.field("thermostat", "thermostat", &R::held, &HeldAt::thermostat)
-      .field("thermostat_every", "thermostat_every", &R::held, &HeldAt::thermostat_every)
-      .field("thermostat_rate", "thermostat_rate", &R::held, &HeldAt::thermostat_rate)
-      .field("shear", "shear", &R::held, &HeldAt::shear)
-      .field("velocity_profile", "velocity_profile", &R::held, &HeldAt::velocity_profile);
+void add_thermostat_and_shear(Keywords<R>& k) {
+  using A = AskedThermostatAndShear;
+  k.field("thermostat", "thermostat", &R::asked, &A::thermostat)
+      .field("thermostat_every", "thermostat_every", &R::asked, &A::thermostat_every)
+      .field("thermostat_rate", "thermostat_rate", &R::asked, &A::thermostat_rate)
+      .field("shear", "shear", &R::asked, &A::shear)
+      .field("velocity_profile", "velocity_profile", &R::asked, &A::velocity_profile);
 }
 
 struct StartRequest {
   StartSpec spec;
-  HeldAt held;
+  AskedThermostatAndShear asked;
 };
 
 // StartSpec's keywords are carom.read's.
@@ -269,14 +270,14 @@ Keywords<StartRequest> start_keywords() {
       .field("engine", "engine", &R::spec, &S::engine)
       .field("kT", "temperature", &R::spec, &S::temperature)
       .field("seed", "seed", &R::spec, &S::seed);
-  add_held_at(k);
+  add_thermostat_and_shear(k);
   return k;
 }
 
 struct InitRequest {
   InitSpec spec;
   Settings settings;
-  HeldAt held;
+  AskedThermostatAndShear asked;
 };
 
 // InitSpec's keywords are carom.init's.
@@ -305,7 +306,7 @@ Keywords<InitRequest> init_keywords() {
              &CollisionRule::restitution)
       .field("tc", "tc", &R::settings, &Settings::rule, &CollisionRule::elastic_within)
       .field("engine", "engine", &R::settings, &Settings::engine);
-  add_held_at(k);
+  add_thermostat_and_shear(k);
   return k;
 }
 
@@ -333,14 +334,14 @@ std::string python_keyword(std::string_view key, std::string_view value) {
 void export_specs(py::module_& m) {
   bind_request<RunSpec>(m, "RunSpec", run_keywords(), [](RunSpec spec) { return spec; });
   bind_request<StartSpec>(m, "StartSpec", start_keywords(), [](StartRequest r) {
-    r.spec.thermostat = r.held.thermostat_at(r.spec.temperature, r.spec.seed);
-    r.spec.shear = r.held.shear_request();
+    r.spec.thermostat = r.asked.thermostat_at(r.spec.temperature, r.spec.seed);
+    r.spec.shear = r.asked.shear_request();
     return r.spec;
   });
   bind_request<InitStart>(m, "InitSpec", init_keywords(), [](InitRequest r) {
     r.settings.rule.rule = r.spec.rule;
-    r.settings.thermostat = r.held.thermostat_at(r.spec.options.temperature, r.spec.options.seed);
-    return InitStart{r.spec, r.settings, r.held.shear_request()};
+    r.settings.thermostat = r.asked.thermostat_at(r.spec.options.temperature, r.spec.options.seed);
+    return InitStart{r.spec, r.settings, r.asked.shear_request()};
   });
 }
 

@@ -57,14 +57,6 @@ RequestError::RequestError(const std::string& message)
 RequestError::RequestError(std::vector<MessagePiece> pieces)
     : std::invalid_argument(joined(pieces, command_line_spelling)), pieces_(std::move(pieces)) {}
 
-std::vector<std::string> RequestError::keys() const {
-  std::vector<std::string> keys;
-  for (const MessagePiece& piece : pieces_) {
-    if (piece.is_option) keys.push_back(piece.text);
-  }
-  return keys;
-}
-
 std::string RequestError::worded(const Spelling& spell) const {
   return joined(pieces_, spell);
 }

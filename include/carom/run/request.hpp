@@ -38,8 +38,6 @@ class RequestError : public std::invalid_argument {
   explicit RequestError(const std::string& message);
   // A message whose option pieces are spelled, in what(), as the command line spells them.
   explicit RequestError(std::vector<MessagePiece> pieces);
-  // The keys of the options the message names, in order.
-  std::vector<std::string> keys() const;
   // The message with each option spelled by `spell` (what() spells them "--rule elastic").
   std::string worded(const Spelling& spell) const;
 
