@@ -4,10 +4,10 @@
 
 #include <numeric>
 
+#include "carom/core/observables.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/core/observables.hpp"
 #include "cli_support.hpp"
 
 namespace carom::cli {
@@ -32,9 +32,9 @@ Examples:
   carom init --n 1000 --phi 0.3 --polydispersity 0.1 --boundary periodic --seed 7 -o poly.txt
   carom init --n 100 --phi 0.2 --box 40 20 -o sparse.txt
   carom init --dim 3 --n 4000 --phi 0.45 --boundary periodic -o spheres.txt)");
-  InitialOptions& o = args.options;
-  add_whole_option(init, "--dim", args.dimension, 2, "2: disks; 3: spheres", std::optional(3))
-      ->default_str("2");
+  InitialOptions& o = args.spec.options;
+  add_whole_option(init, "--dim", args.spec.dimension, 2, "2: disks; 3: spheres", std::optional(3))
+      ->default_str(std::to_string(args.spec.dimension));
   add_whole_option(init, "--n", o.n, std::uint64_t{1}, "Number of particles")->required();
   init->add_option("--phi", o.packing_fraction,
                    "Packing fraction: particle area (volume) / box area (volume)")
@@ -75,29 +75,29 @@ namespace {
 // Makes the start, then writes it: the output file is created only once there is something to
 // put in it, so a stop during the work (init installs no signal handler) leaves nothing behind.
 template <std::size_t D>
-void write_initial(const InitialOptions& o, const std::string& path) {
+void write_initial(const InitSpec& spec, const std::string& path) {
   System<D> system;
   try {
-    system = make_initial<D>(o);
+    system = make_initial<D>(spec.options);
   } catch (const InitialError& e) {
     throw UsageError(e.what());
   }
   Output out(path);
-  write_start(out.stream(), system, Rule::elastic);
+  write_start(out.stream(), system, spec.rule);
   out.commit();
 }
 
 }  // namespace
 
 void init_command(InitArguments args) {
-  InitialOptions& o = args.options;
+  InitialOptions& o = args.spec.options;
   if (args.lattice) o.placement = Placement::lattice;
   if (args.random) o.placement = Placement::random;
   if (!args.output.empty() && args.output != "-") check_writable(args.output);
-  if (args.dimension == 3) {
-    write_initial<3>(o, args.output);
+  if (args.spec.dimension == 3) {
+    write_initial<3>(args.spec, args.output);
   } else {
-    write_initial<2>(o, args.output);
+    write_initial<2>(args.spec, args.output);
   }
 }
 

@@ -3,13 +3,12 @@
 #include <CLI/CLI.hpp>
 #include <string>
 
-#include "carom/engine/initial.hpp"
+#include "carom/run/start.hpp"
 
 namespace carom::cli {
 
 struct InitArguments {
-  InitialOptions options;
-  int dimension = 2;
+  InitSpec spec;
   bool lattice = false;
   bool random = false;
   std::string output;

@@ -48,9 +48,10 @@ void check(const RunArguments& args) {
   }
   if (!args.resume) {
     try {
-      check_settings({{args.rule.value_or(args.restitution < 1.0 ? Rule::elastic : Rule::swap),
-                       args.restitution, args.tc},
-                      args.engine});
+      // The file is not read yet: the rule its record may name is left to load_start.
+      const Rule rule = args.rule.value_or(
+          default_rule({}, args.boundary.value_or(Boundary::walls), args.restitution));
+      check_settings({{rule, args.restitution, args.tc}, args.engine});
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }

@@ -21,7 +21,8 @@ command line's results bit for bit::
     table = carom.sweep("eos.toml", "eos")                 # `carom sweep`, its tasks on Dask
 
 Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the module is built for.
-Bad arguments raise ``ValueError`` with the command line's messages; a broken file raises
+Bad arguments raise ``ValueError`` with the command line's messages, naming the options as
+keywords (``kT=`` where the command line says ``--kT``); a broken file raises
 ``carom.InputError`` (a ``ValueError``) naming the file and line; a run that cannot go on (jammed
 particles) raises ``carom.JamError`` (a ``RuntimeError``). Ctrl-C during ``run`` raises
 ``KeyboardInterrupt`` within a fraction of a second and leaves the simulation whole: it can be

@@ -1,6 +1,8 @@
-"""The checks of Python arguments the library cannot make (types, shapes, numpy dtypes), and
-the forms in which the library takes them."""
+"""The checks of Python arguments the library cannot make (types, shapes, numpy dtypes), the
+forms in which the library takes them, and the signatures of functions that pass keywords on to
+the library's requests."""
 
+import inspect as _inspect
 import math as _math
 import numbers as _numbers
 import os as _os
@@ -52,22 +54,6 @@ def _number(name, value):
     return value
 
 
-def _whole(name, value, least=0, most=2**63 - 1):
-    if isinstance(value, bool) or not isinstance(value, _numbers.Integral):
-        raise ValueError(f"{name} must be a whole number, got {value!r}")
-    if value < least:
-        raise ValueError(f"{name} must be at least {least}, got {value}")
-    if value > most:
-        raise ValueError(f"{name} must be at most {most}, got {value}")
-    return int(value)
-
-
-def _choice(name, value, names):
-    if not isinstance(value, str) or value not in names:
-        raise ValueError(f"{name} must be one of {', '.join(names)}, got {value!r}")
-    return value
-
-
 def _flag(name, value):
     if not isinstance(value, (bool, _np.bool_)):
         raise ValueError(f"{name} must be True or False, got {value!r}")
@@ -83,18 +69,20 @@ def _path(value):
     return _os.fsencode(value if isinstance(value, (str, bytes, _os.PathLike)) else str(value))
 
 
-def _output(name, path, every_name, every):
-    """A streamed output and its cadence, both or neither: (_path(path) or b"", every or 0.0)."""
-    if path is None:
-        if every is not None:
-            raise ValueError(f"{every_name} needs {name}: the file to write to")
-        return b"", 0.0
-    if every is None:
-        raise ValueError(f"{name} needs {every_name}: the time between "
-                         f"{'frames' if name == 'dump' else 'rows'}")
-    return _path(path), _number(every_name, every)
+def _keywords(spec, *leading, **more):
+    """Gives the function a signature: its `leading` arguments, then the keywords of the
+    library's request `spec` with the defaults a default-made request holds, then `more`."""
+    def sign(function):
+        shown = {**spec.keywords(), **more}
+        parameters = [_inspect.Parameter(name, _inspect.Parameter.POSITIONAL_OR_KEYWORD)
+                      for name in leading]
+        parameters += [_inspect.Parameter(name, _inspect.Parameter.KEYWORD_ONLY, default=default)
+                       for name, default in shown.items() if name not in leading]
+        function.__signature__ = _inspect.Signature(parameters)
+        return function
+    return sign
 
 
-_RULES = ("swap", "elastic")
-_BOUNDARIES = ("walls", "periodic")
-_ENGINES = ("fast", "reference")
+def _given(options):
+    """The options given: None is the default."""
+    return {name: value for name, value in options.items() if value is not None}

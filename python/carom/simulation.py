@@ -5,8 +5,8 @@ import json as _json
 import numpy as _np
 
 from . import _carom
-from ._arguments import (_BOUNDARIES, _D, _ENGINES, _RULES, _choice, _flag, _float_array,
-                         _number, _output, _path, _per_particle, _whole)
+from ._arguments import (_D, _flag, _float_array, _given, _keywords, _number, _path,
+                         _per_particle)
 
 
 class Simulation:
@@ -42,9 +42,8 @@ class Simulation:
         masses = _per_particle("masses", masses, n, _D["mass"])
         self._running = False
         self._core = _carom.Simulation.from_arrays(
-            positions, velocities, box, radii, masses, _choice("boundary", boundary, _BOUNDARIES),
-            _choice("rule", rule, _RULES), _number("restitution", restitution), _number("tc", tc),
-            _choice("engine", engine, _ENGINES))
+            positions, velocities, box, radii, masses, boundary, rule,
+            _number("restitution", restitution), _number("tc", tc), engine)
 
     @classmethod
     def _wrap(cls, core):
@@ -60,9 +59,8 @@ class Simulation:
             raise RuntimeError("this simulation is running (in another thread): wait for run()")
         return self._core
 
-    def run(self, t, dump=None, every=None, log=None, log_every=None, events=None,
-            checkpoint=None, checkpoint_every=None, summary=None, check=False, check_every=None,
-            equilibrate=None, transport=False, collisions=False):
+    @_keywords(_carom.RunSpec, "self", "t", collisions=False)
+    def run(self, t, collisions=False, **options):
         """Runs to time t (absolute: not before sim.time) and returns the collision log if asked.
 
         Every event up to t is processed in time order; any sequence of runs ends exactly as one
@@ -87,26 +85,14 @@ class Simulation:
         fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
         bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
         """
-        t = _number("t", t)
-        dump, every = _output("dump", dump, "every", every)
-        log, log_every = _output("log", log, "log_every", log_every)
-        if checkpoint_every is not None:
-            if checkpoint is None:
-                raise ValueError("checkpoint_every needs checkpoint: the file to save to")
-            if isinstance(checkpoint_every, str):
-                checkpoint_every = checkpoint_every.strip()
-            else:
-                checkpoint_every = str(_whole("checkpoint_every", checkpoint_every, 1))
-        if check_every is not None and not check:
+        options = _given(options)
+        if "check_every" in options and not options.get("check"):
             raise ValueError("check_every needs check=True")
-        check_every = 0 if check_every is None else _whole("check_every", check_every, 1)
+        spec = _carom.RunSpec(t=t, **options)
         core = self._idle
         self._running = True
         try:
-            core.run(t, dump, every, log, log_every, _path(events), _path(checkpoint),
-                     checkpoint_every, _path(summary), _flag("check", check), check_every,
-                     None if equilibrate is None else _number("equilibrate", equilibrate),
-                     _flag("transport", transport), _flag("collisions", collisions))
+            core.run(spec, _flag("collisions", collisions))
         finally:
             self._running = False
         return core.collisions() if collisions else None
@@ -250,7 +236,7 @@ class Simulation:
 
     def format(self, kind="table"):
         """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""
-        return self._idle.text(_choice("format", kind, ("table", "csv", "json")))
+        return self._idle.text(kind)
 
     def save(self, path):
         """Writes a checkpoint (atomically) that carom.resume and `carom run --resume` continue."""

@@ -2,14 +2,12 @@
 carom.resume (a checkpoint)."""
 
 from . import _carom
-from ._arguments import (_BOUNDARIES, _D, _ENGINES, _RULES, _choice, _flag, _float_array,
-                         _number, _path, _whole)
+from ._arguments import _given, _keywords, _path
 from .simulation import Simulation
 
 
-def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["tc"],
-         engine=_D["engine"], kT=None, seed=_D["seed"], thermostat="none", thermostat_every=None,
-         thermostat_rate=None, shear=None, velocity_profile=False):
+@_keywords(_carom.StartSpec, "path")
+def read(path, **options):
     """A Simulation from a classic input file (two box sides: disks; three: spheres), or from a
     frame of a GSD file: "movie.gsd" (the last frame) or "movie.gsd:K" (periodic, as HOOMD's).
 
@@ -25,21 +23,12 @@ def read(path, rule=None, boundary=None, restitution=_D["restitution"], tc=_D["t
     streaming profile to the velocities, as `carom run --shear RATE --velocity-profile`. A
     broken file raises carom.InputError naming the file and line.
     """
-    return Simulation._wrap(_carom.Simulation.read(
-        _path(path), None if boundary is None else _choice("boundary", boundary, _BOUNDARIES),
-        None if rule is None else _choice("rule", rule, _RULES),
-        _number("restitution", restitution), _number("tc", tc),
-        _choice("engine", engine, _ENGINES), None if kT is None else _number("kT", kT),
-        _whole("seed", seed, 0, 2**64 - 1), *_thermostat(thermostat, thermostat_every,
-                                                         thermostat_rate),
-        *_shear(shear, velocity_profile)))
+    spec = _carom.StartSpec(path=path, **_given(options))
+    return Simulation._wrap(_carom.Simulation.read(spec))
 
 
-def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_D["rule"],
-         box=None, aspect=_D["aspect"], radius=None, polydispersity=_D["polydispersity"],
-         kT=_D["kT"], placement=_D["placement"], restitution=_D["restitution"], tc=_D["tc"],
-         engine=_D["engine"], thermostat="none", thermostat_every=None, thermostat_rate=None,
-         shear=None, velocity_profile=False):
+@_keywords(_carom.InitSpec, "n", "phi")
+def init(n, phi, **options):
     """A Simulation of `carom init`'s start: the same particles, bit for bit.
 
     n particles at packing fraction phi with Maxwell-Boltzmann velocities at kT (zero momentum,
@@ -51,30 +40,7 @@ def init(n, phi, seed=_D["seed"], dim=_D["dim"], boundary=_D["boundary"], rule=_
     thermostat_every, thermostat_rate holding the run at kT, and shear, velocity_profile) are
     `carom run`'s.
     """
-    box = [] if box is None else [float(side) for side in _float_array("box", box, (None,))]
-    return Simulation._wrap(_carom.Simulation.init(
-        _whole("dim", dim, 2, 3), _whole("n", n, 1), _number("phi", phi), box,
-        _number("aspect", aspect), None if radius is None else _number("radius", radius),
-        _number("polydispersity", polydispersity), _number("kT", kT),
-        _whole("seed", seed, 0, 2**64 - 1), _choice("boundary", boundary, _BOUNDARIES),
-        _choice("placement", placement, ("auto", "random", "lattice")), _choice("rule", rule, _RULES),
-        _number("restitution", restitution), _number("tc", tc),
-        _choice("engine", engine, _ENGINES),
-        *_thermostat(thermostat, thermostat_every, thermostat_rate),
-        *_shear(shear, velocity_profile)))
-
-
-def _shear(rate, profile):
-    """The shear's arguments, checked as the other options are."""
-    return (None if rate is None else _number("shear", rate),
-            _flag("velocity_profile", profile))
-
-
-def _thermostat(kind, every, rate):
-    """The thermostat's arguments, checked as the other options are."""
-    return (_choice("thermostat", kind, ("none", "rescale", "andersen")),
-            None if every is None else _number("thermostat_every", every),
-            None if rate is None else _number("thermostat_rate", rate))
+    return Simulation._wrap(_carom.Simulation.init(_carom.InitSpec(n=n, phi=phi, **options)))
 
 
 def resume(path):

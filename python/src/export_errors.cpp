@@ -1,11 +1,14 @@
 // carom's errors in Python: bad input and bad arguments are ValueErrors (InputError names the
-// file and line), a run that cannot go on is a RuntimeError (JamError).
+// file and line; a RequestError names the options as Python's keywords, kT=), a run that cannot
+// go on is a RuntimeError (JamError).
 #include <stdexcept>
-#include <string_view>
+#include <string>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/engine.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/run/request.hpp"
 #include "exports.hpp"
+#include "specs.hpp"
 
 namespace carom::python {
 
@@ -19,7 +22,8 @@ void export_errors(py::module_& m) {
   // pybind11 sets an exception's message with PyErr_SetString, which cannot decode one that is
   // not UTF-8 (a file name in Latin-1): the error would reach Python without its message. Such a
   // message is decoded as os.fsdecode decodes a name (surrogateescape), so the name survives, into
-  // the Python type pybind11 gives the exception. Registered last, this translator runs first.
+  // the Python type pybind11 gives the exception. A RequestError is worded with Python's keywords.
+  // Registered last, this translator runs first.
   py::register_exception_translator([](std::exception_ptr thrown) {
     try {
       std::rethrow_exception(thrown);
@@ -28,13 +32,12 @@ void export_errors(py::module_& m) {
     } catch (const py::builtin_exception&) {
       throw;
     } catch (const std::exception& e) {
-      const std::string_view what = e.what();
+      const auto* request = dynamic_cast<const RequestError*>(&e);
+      const std::string what = request != nullptr ? request->worded(python_keyword) : e.what();
       PyObject* strict =
           PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), nullptr);
-      if (strict != nullptr) {
-        Py_DECREF(strict);
-        throw;  // UTF-8: the usual translation
-      }
+      if (strict != nullptr) Py_DECREF(strict);
+      if (strict != nullptr && request == nullptr) throw;  // UTF-8: the usual translation
       PyErr_Clear();
       const py::object message = py::reinterpret_steal<py::object>(PyUnicode_DecodeUTF8(
           what.data(), static_cast<Py_ssize_t>(what.size()), "surrogateescape"));

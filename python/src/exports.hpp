@@ -6,6 +6,7 @@
 namespace carom::python {
 
 void export_errors(pybind11::module_& m);
+void export_specs(pybind11::module_& m);
 void export_simulation(pybind11::module_& m);
 void export_analysis(pybind11::module_& m);
 void export_sweep(pybind11::module_& m);

@@ -6,6 +6,7 @@ PYBIND11_MODULE(_carom, m) {
   m.doc() = "carom's engine (use the carom package, which documents it)";
   m.attr("__version__") = carom::kVersion;
   carom::python::export_errors(m);
+  carom::python::export_specs(m);
   carom::python::export_simulation(m);
   carom::python::export_analysis(m);
   carom::python::export_sweep(m);

@@ -169,8 +169,8 @@ BAD_RUNS = {
     "inf": (lambda s, d: s.run(math.inf), r"finite"),
     "beyond-1e12": (lambda s, d: s.run(2e12), r"beyond"),
     "string-time": (lambda s, d: s.run("3"), r"t must be a number"),
-    "dump-without-every": (lambda s, d: s.run(3.0, dump=d / "a.xyz"), r"dump needs every"),
-    "every-without-dump": (lambda s, d: s.run(3.0, every=0.5), r"every needs dump"),
+    "dump-without-every": (lambda s, d: s.run(3.0, dump=d / "a.xyz"), r"dump= needs every="),
+    "every-without-dump": (lambda s, d: s.run(3.0, every=0.5), r"every= needs dump="),
     "bad-dump-extension": (lambda s, d: s.run(3.0, dump=d / "a.txt", every=0.5),
                            r"a\.txt.*\.xyz.*\.lammpstrj"),
     "no-dump-extension": (lambda s, d: s.run(3.0, dump=d / "trajectory", every=0.5),
@@ -321,9 +321,9 @@ def test_a_refused_dump_leaves_the_open_trajectory_alone(tmp_path):
 @pytest.mark.parametrize("options,pattern", [
     (dict(dump="frames.xyz", every=1e-100), "more than 10\\^7 frames"),
     (dict(log="series.csv", log_every=1e-100), "more than 10\\^7 rows"),
-    (dict(dump="frames.xyz", every=0.0), "needs --every DT > 0"),
-    (dict(checkpoint_every=10), "checkpoint_every needs checkpoint"),
-    (dict(checkpoint="a.ckpt", checkpoint_every="soon"), "checkpoint-every"),
+    (dict(dump="frames.xyz", every=0.0), "needs every= DT > 0"),
+    (dict(checkpoint_every=10), "checkpoint_every= needs checkpoint="),
+    (dict(checkpoint="a.ckpt", checkpoint_every="soon"), "checkpoint_every="),
     (dict(dump="same.csv", every=1.0, log="same.csv", log_every=1.0), "name the same file"),
     (dict(dump="frames.dcd", every=1.0), "dcd"),
 ])
@@ -349,3 +349,39 @@ def test_save_refuses_the_start_file_it_read(cases, tmp_path):
     assert start.read_bytes() == (cases / "normal.txt").read_bytes()
     sim.save(tmp_path / "run.ckpt")
     carom.resume(tmp_path / "run.ckpt").save(tmp_path / "run.ckpt")
+
+
+# A refusal of the library names the options as Python spells them (kT=), not as the command line
+# does (--kT), which says the same of its own options.
+@pytest.mark.parametrize("call,named,cli_args,cli_named", [
+    (lambda path, d: carom.read(path, thermostat="rescale", thermostat_every=1.0),
+     ["thermostat=", "kT="], ["--thermostat", "rescale", "--thermostat-every", "1"],
+     ["--thermostat", "--kT"]),
+    (lambda path, d: carom.read(path, velocity_profile=True), ["velocity_profile=", "shear="],
+     ["--velocity-profile"], ["--velocity-profile", "--shear"]),
+    (lambda path, d: carom.read(path).run(10.0, dump=d / "a.xyz"), ["dump=", "every="],
+     None, None),
+    (lambda path, d: carom.read(path).run(10.0, log_every=1.0), ["log_every=", "log="],
+     ["--log-every", "1"], ["--log-every", "--log"]),
+    (lambda path, d: carom.read(path).run(10.0, equilibrate=20.0), ["equilibrate=", "t="],
+     ["--equilibrate", "20"], ["--equilibrate", "END_TIME"]),
+], ids=["thermostat-kT", "profile-shear", "dump-every", "log-every-log", "equilibrate-end"])
+def test_a_refusal_names_the_python_keywords(cli, cases, tmp_path, call, named, cli_args,
+                                              cli_named):
+    with pytest.raises(ValueError) as raised:
+        call(cases / "normal.txt", tmp_path)
+    message = str(raised.value)
+    for keyword in named:
+        assert keyword in message, message
+    assert "--" not in message, message
+    if cli_args is not None:
+        cli_message = cli.error("run", cases / "normal.txt", "10", *cli_args)
+        for option in cli_named:
+            assert option in cli_message, cli_message
+
+
+def test_an_unknown_keyword_is_a_type_error():
+    with pytest.raises(TypeError, match="'colour'"):
+        carom.init(n=10, phi=0.1, colour="red")
+    with pytest.raises(TypeError, match="'colour'"):
+        carom.Simulation(P2, V2, B2).run(1.0, colour="red")

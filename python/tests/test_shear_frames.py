@@ -96,5 +96,5 @@ def test_the_summarys_offset_is_the_one_at_the_end():
 
 def test_python_refuses_the_shears_the_command_line_refuses():
     for rate in (1e300, -1e101, 1e-300):
-        with pytest.raises(ValueError, match="--shear is out of range"):
+        with pytest.raises(ValueError, match="shear= is out of range"):
             sheared(2, rate)

@@ -3,18 +3,16 @@
 #include <fmt/format.h>
 
 #include <chrono>
-#include <cmath>
-#include <filesystem>
-#include <sstream>
 #include <stdexcept>
 
+#include "carom/engine/invariant_check.hpp"
 #include "carom/io/atomic_file.hpp"
 #include "carom/io/checkpoint.hpp"
-#include "carom/io/classic_output.hpp"
 #include "carom/io/classic_input.hpp"
-#include "carom/engine/invariant_check.hpp"
+#include "carom/io/classic_output.hpp"
 #include "carom/io/time_series.hpp"
 #include "carom/io/trajectory.hpp"
+#include "run_checks.hpp"
 #include "run_outputs.hpp"
 #include "transport_meter.hpp"
 
@@ -24,84 +22,6 @@ namespace {
 
 constexpr const char* kCannotStream =
     "cannot write the trajectory, the event log or the time series (is the disk full?)";
-
-// Beyond this many frames or rows a cadence is a mistake (or fills a disk), not a measurement.
-constexpr double kMostRows = 1e7;
-
-// The files a spec writes, named by their options.
-std::vector<NamedFile> output_files(const RunSpec& spec) {
-  return {{"--summary", spec.summary},
-          {"--checkpoint", spec.checkpoint},
-          {"--dump", spec.dump},
-          {"--events", spec.events},
-          {"--log", spec.log}};
-}
-
-// Refuses an output of about `bytes` that its disk cannot hold (free space unknown: the write
-// itself will tell).
-void check_fits(const std::string& option, const std::string& path, double bytes,
-                const std::string& detail, const std::string& remedy) {
-  namespace fs = std::filesystem;
-  const fs::path folder = fs::absolute(path).parent_path();
-  std::error_code error;
-  const fs::space_info space = fs::space(folder, error);
-  if (error || bytes <= static_cast<double>(space.available)) return;
-  throw RequestError(fmt::format(
-      "{} {} would take about {:.3g} GB ({}) but {} has {:.3g} GB free: {}", option, path,
-      bytes / 1e9, detail, folder.string(), static_cast<double>(space.available) / 1e9, remedy));
-}
-
-// The frames still to come times the size of one (measured on up to 1000 particles and scaled
-// to all of them), and the rows of the time series (a generous 400 bytes each), against the free
-// space of their disks.
-template <std::size_t D>
-void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
-  const double now = simulation.time();
-  if (!spec.dump.empty()) {
-    const System<D>& state = simulation.state();
-    System<D> sample;
-    sample.box = state.box;
-    sample.epoch = state.epoch;
-    const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
-    sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
-    sample.records.assign(state.records.begin(), state.records.begin() + taken);
-    std::ostringstream one;
-    try {
-      const auto format = trajectory_format_for<D>(spec.dump);
-      // Every particle's numbers as the format stores them (a .gsd file's single precision):
-      // refused now rather than as the frames go (where the run's speeds, which a thermostat or
-      // a shear may raise, are checked frame by frame).
-      format->check_frame(state, now);
-      format->frame(one, 0, now, sample);
-    } catch (const std::invalid_argument& e) {
-      throw RequestError(e.what());
-    } catch (const std::range_error& e) {
-      throw RequestError(fmt::format("--dump {}: {}", spec.dump, e.what()));
-    }
-    const double frame_bytes = static_cast<double>(one.tellp()) *
-                               static_cast<double>(state.size()) / static_cast<double>(taken);
-    const double frames =
-        std::floor(spec.end_time / spec.dump_every) - std::floor(now / spec.dump_every) + 1.0;
-    check_fits("--dump", spec.dump, frames * frame_bytes,
-               fmt::format("{:.0f} frames of {:.3g} MB", frames, frame_bytes / 1e6),
-               "raise --every or lower END_TIME");
-  }
-  if (!spec.log.empty()) {
-    constexpr double kRowBytes = 400.0;
-    const double rows = (spec.end_time - now) / spec.log_every + 1.0;
-    check_fits("--log", spec.log, rows * kRowBytes, fmt::format("{:.0f} rows", rows),
-               "raise --log-every or lower END_TIME");
-  }
-}
-
-// Creating (and dropping) a temporary file beside `path` checks it before the run.
-void probe(const std::string& path) {
-  try {
-    const AtomicFile file(path);
-  } catch (const std::runtime_error& e) {
-    throw RequestError(e.what());
-  }
-}
 
 // Calls the caller's progress function every kProgressEvents events.
 template <std::size_t D>
@@ -172,74 +92,6 @@ SavedRunError::SavedRunError(const std::string& cause, std::string checkpoint, d
       checkpoint_(std::move(checkpoint)),
       time_(time) {}
 
-Trigger checkpoint_cadence(const std::string& every) {
-  const bool seconds = !every.empty() && every.back() == 's';
-  double value = 0.0;
-  try {
-    value = parse_finite_double(seconds ? every.substr(0, every.size() - 1) : every);
-  } catch (const std::invalid_argument& e) {
-    throw RequestError(fmt::format("--checkpoint-every: {}", e.what()));
-  }
-  if (!(value > 0.0)) throw RequestError("--checkpoint-every must be greater than 0");
-  if (seconds) return Trigger::every_seconds(value);
-  if (value < 1.0 || value != std::floor(value)) {
-    throw RequestError("--checkpoint-every counts events: a whole number, or seconds as 600s");
-  }
-  // Beyond this a double no longer holds every whole number, and no run has so many events.
-  constexpr double kMostEvents = 9007199254740992.0;  // 2^53
-  if (value > kMostEvents) {
-    throw RequestError(
-        fmt::format("--checkpoint-every {} is more events than a run can have (at most 2^53 = {})",
-                    every, kMostEvents));
-  }
-  return Trigger::every_events(static_cast<std::uint64_t>(value));
-}
-
-void check_run_spec(const RunSpec& spec) {
-  const auto positive = [](double dt) { return dt > 0.0 && std::isfinite(dt); };
-  if (!spec.dump.empty() && !positive(spec.dump_every)) {
-    throw RequestError("--dump needs --every DT > 0: the time between frames");
-  }
-  if (spec.dump.empty() && spec.dump_every != 0.0) {
-    throw RequestError("--every needs --dump FILE");
-  }
-  if (!spec.log.empty() && !positive(spec.log_every)) {
-    throw RequestError("--log needs --log-every DT > 0: the time between rows");
-  }
-  if (spec.log.empty() && spec.log_every != 0.0) {
-    throw RequestError("--log-every needs --log FILE");
-  }
-  if (spec.checkpoint_every && spec.checkpoint.empty()) {
-    throw RequestError("--checkpoint-every needs --checkpoint FILE: where to save");
-  }
-  if (spec.measure_from && !(*spec.measure_from >= 0.0 && std::isfinite(*spec.measure_from))) {
-    throw RequestError(fmt::format("--equilibrate must be >= 0, got {}", *spec.measure_from));
-  }
-  check_files_apart({}, output_files(spec));
-}
-
-void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared) {
-  check_latest_time(spec.end_time);
-  if (!spec.dump.empty() && (spec.end_time - now) / spec.dump_every > kMostRows) {
-    throw RequestError(fmt::format("--every {} would write more than 10^7 frames up to {}",
-                                   spec.dump_every, spec.end_time));
-  }
-  if (!spec.log.empty() && (spec.end_time - now) / spec.log_every > kMostRows) {
-    throw RequestError(fmt::format("--log-every {} would write more than 10^7 rows up to {}",
-                                   spec.log_every, spec.end_time));
-  }
-  if (spec.transport && !periodic) {
-    throw RequestError(
-        "--transport needs a periodic box: walls take momentum and energy out of the fluxes "
-        "the coefficients come from");
-  }
-  if (spec.transport && sheared) {
-    throw RequestError(
-        "--transport measures the coefficients of a fluid at rest (Einstein-Helfand); a sheared "
-        "run gives its viscosity directly, in the summary's \"shear_viscosity\"");
-  }
-}
-
 struct Runner::State {
   explicit State(Start s) : start(std::move(s)), records(start.records) {}
   Start start;
@@ -272,50 +124,13 @@ struct Runner::State {
     return checkpoint;
   }
   template <std::size_t D>
-  void check(const Simulation<D>& simulation, const RunSpec& spec,
-             const std::vector<NamedFile>& others) const;
-  template <std::size_t D>
   RunOutcome run(Simulation<D>& simulation, const RunSpec& spec, const RunHooks& hooks);
 };
 
 template <std::size_t D>
-void Runner::State::check(const Simulation<D>& simulation, const RunSpec& spec,
-                          const std::vector<NamedFile>& others) const {
-  check_run_spec(spec);
-  std::vector<NamedFile> outputs = others;
-  const std::vector<NamedFile> own = output_files(spec);
-  outputs.insert(outputs.end(), own.begin(), own.end());
-  // A resumed run may save its checkpoint where it read it.
-  check_files_apart(
-      {{"the input FILE", start_file_path(start.input), start.resumed ? "--checkpoint" : ""}},
-      outputs);
-
-  simulation.check_target(spec.end_time);
-  const double now = simulation.time();
-  check_run_in_box(spec, now, simulation.state().box.periodic(), simulation.state().box.sheared());
-  check_outputs_fit(simulation, spec);
-  if (spec.measure_from) {
-    const double from = *spec.measure_from;
-    if (from < now && start.resumed) {
-      throw RequestError(fmt::format(
-          "--equilibrate {} is before the checkpoint's time {}: the measurement can only start "
-          "from there on",
-          from, now));
-    }
-    // A checkpointed run may stop before its equilibration ends: the resumed run finishes it.
-    if (from < now || (from > spec.end_time && spec.checkpoint.empty())) {
-      throw RequestError(fmt::format("--equilibrate must be between {} and END_TIME ({}), got {}",
-                                     now, spec.end_time, from));
-    }
-  }
-  if (!spec.checkpoint.empty()) probe(spec.checkpoint);
-  if (!spec.summary.empty() && spec.summary != "-") probe(spec.summary);
-}
-
-template <std::size_t D>
 RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
                               const RunHooks& hooks) {
-  check(simulation, spec, {});
+  check_run(simulation, start, spec, {});
   if (spec.measure_from) simulation.measure_from(*spec.measure_from);
   std::unique_ptr<AtomicFile> summary;
   if (!spec.summary.empty()) summary = std::make_unique<AtomicFile>(spec.summary);
@@ -442,7 +257,8 @@ Runner::Runner(Runner&&) noexcept = default;
 Runner& Runner::operator=(Runner&&) noexcept = default;
 
 void Runner::check(const RunSpec& spec, const std::vector<NamedFile>& other_outputs) const {
-  state_->start.simulation.visit([&](const auto& s) { state_->check(s, spec, other_outputs); });
+  state_->start.simulation.visit(
+      [&](const auto& s) { check_run(s, state_->start, spec, other_outputs); });
 }
 
 RunOutcome Runner::run(const RunSpec& spec, const RunHooks& hooks) {

@@ -6,11 +6,11 @@
 #include <cctype>
 #include <fstream>
 
+#include "carom/core/observables.hpp"
+#include "carom/engine/validation.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/gsd.hpp"
-#include "carom/core/observables.hpp"
 #include "carom/run/request.hpp"
-#include "carom/engine/validation.hpp"
 
 namespace carom {
 
@@ -123,33 +123,52 @@ AnySystem read_start_system(const std::string& spec, std::optional<Boundary> bou
                     read_any_start_file(spec, boundary));
 }
 
+namespace {
+
+// check_number's verdict on the value of the option `key`, naming the option.
+void check_option_number(double value, const std::string& key) {
+  try {
+    check_number(value, "");
+  } catch (const std::invalid_argument& e) {
+    throw RequestError({option(key), e.what()});
+  }
+}
+
+}  // namespace
+
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
                               std::uint64_t seed) {
   if (kind == ThermostatKind::none) {
     if (every || rate) {
-      throw RequestError("--thermostat-every and --thermostat-rate need --thermostat KIND");
+      throw RequestError({option("thermostat_every"), " and ", option("thermostat_rate"), " need ",
+                          option("thermostat"), " KIND"});
     }
     return {};
   }
-  if (!kT) throw RequestError("--thermostat needs --kT T: the temperature to hold");
-  if (kind == ThermostatKind::andersen && !rate) {
+  if (!kT) {
     throw RequestError(
-        "--thermostat andersen needs --thermostat-rate NU: resets per particle per unit time");
+        {option("thermostat"), " needs ", option("temperature"), " T: the temperature to hold"});
+  }
+  if (kind == ThermostatKind::andersen && !rate) {
+    throw RequestError({option("thermostat", "andersen"), " needs ", option("thermostat_rate"),
+                        " NU: resets per particle per unit time"});
   }
   // Andersen's without an interval resets one particle at a time, as events.
   if (!every && kind != ThermostatKind::andersen) {
-    throw RequestError("--thermostat needs --thermostat-every DT: how often it acts");
+    throw RequestError(
+        {option("thermostat"), " needs ", option("thermostat_every"), " DT: how often it acts"});
   }
   if (kind != ThermostatKind::andersen && rate) {
-    throw RequestError("--thermostat-rate is Andersen's: --thermostat andersen");
+    throw RequestError(
+        {option("thermostat_rate"), " is Andersen's: ", option("thermostat", "andersen")});
   }
   const Thermostat thermostat{kind, *kT, every.value_or(0.0), rate.value_or(0.0), seed};
+  // The magnitudes the command line reads, from every front end.
+  check_option_number(*kT, "temperature");
+  if (every) check_option_number(*every, "thermostat_every");
+  if (rate) check_option_number(*rate, "thermostat_rate");
   try {
-    // The magnitudes the command line reads, from every front end.
-    check_number(*kT, "--kT");
-    if (every) check_number(*every, "--thermostat-every");
-    if (rate) check_number(*rate, "--thermostat-rate");
     check_thermostat(thermostat);
   } catch (const std::invalid_argument& e) {
     throw RequestError(e.what());
@@ -159,16 +178,15 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
 
 ShearRequest shear_request(std::optional<double> rate, bool profile) {
   if (!rate) {
-    if (profile) throw RequestError("--velocity-profile needs --shear RATE: the profile's slope");
+    if (profile) {
+      throw RequestError(
+          {option("velocity_profile"), " needs ", option("shear"), " RATE: the profile's slope"});
+    }
     return {};
   }
-  try {
-    check_number(*rate, "--shear");  // what the command line reads, from every front end
-  } catch (const std::invalid_argument& e) {
-    throw RequestError(e.what());
-  }
+  check_option_number(*rate, "shear");  // what the command line reads, from every front end
   if (*rate == 0.0 && profile) {
-    throw RequestError("--velocity-profile needs a shear rate other than 0");
+    throw RequestError({option("velocity_profile"), " needs a shear rate other than 0"});
   }
   return {*rate, profile};
 }
@@ -176,11 +194,12 @@ ShearRequest shear_request(std::optional<double> rate, bool profile) {
 void check_shear_box(const ShearRequest& shear, bool periodic, Rule rule) {
   if (shear.rate == 0.0) return;
   if (!periodic) {
-    throw RequestError(
-        "--shear needs a periodic box (--boundary periodic): walls cannot slide past each other");
+    throw RequestError({option("shear"), " needs a periodic box (", option("boundary", "periodic"),
+                        "): walls cannot slide past each other"});
   }
   if (rule != Rule::elastic) {
-    throw RequestError("--shear needs --rule elastic: the swap rule carries no stress");
+    throw RequestError({option("shear"), " needs ", option("rule", "elastic"),
+                        ": the swap rule carries no stress"});
   }
 }
 
@@ -214,7 +233,7 @@ Start load_start(const StartSpec& spec) {
           try {
             draw_velocities(input.system, *spec.temperature, spec.seed);
           } catch (const std::invalid_argument& e) {
-            throw RequestError(fmt::format("--kT: {}", e.what()));
+            throw RequestError({option("temperature"), fmt::format(": {}", e.what())});
           }
           seed = spec.seed;
         } else if (kinetic_energy(input.system) == 0.0 && !spec.shear.profile) {

@@ -2,13 +2,17 @@
 // fraction with Maxwell-Boltzmann velocities, reproducible bit for bit from a seed.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <pcg_random.hpp>
 #include <stdexcept>
+#include <string_view>
+#include <utility>
 #include <vector>
 
+#include "carom/core/names.hpp"
 #include "carom/core/random.hpp"
 #include "carom/core/system.hpp"
 
@@ -18,6 +22,14 @@ enum class Placement {
   automatic,  // random up to random_placement_limit unless it jams, else the lattice
   random,     // random sequential placement
   lattice,    // a triangular (2D) or face-centred cubic (3D) lattice: both reach close packing
+};
+
+template <>
+struct EnumNames<Placement> {
+  static constexpr std::array<std::pair<std::string_view, Placement>, 3> table{
+      {{"auto", Placement::automatic},
+       {"random", Placement::random},
+       {"lattice", Placement::lattice}}};
 };
 
 // The radius of a start whose box is not given: diameter 1, the unit of length.

@@ -7,9 +7,9 @@
 #include <optional>
 #include <string>
 
-#include "carom/run/any_simulation.hpp"
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/initial.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/run/any_simulation.hpp"
 
 namespace carom {
 
@@ -85,6 +85,15 @@ struct Start {
 Start load_start(const StartSpec& spec);
 // Continues the checkpoint at `path` exactly (its rule, boundary and engine apply).
 Start resume_start(const std::string& path);
+
+// What `carom init` makes: `options`'s particles in `dimension` (2: disks; 3: spheres), for a
+// run under `rule` (the rule its file records).
+struct InitSpec {
+  int dimension = 2;
+  InitialOptions options;
+  Rule rule = Rule::elastic;  // the physical rule, which the classic assignment's swap is not
+};
+
 // carom init's start of `dimension` (2 or 3), run with `settings`. Throws InitialError when the
 // options cannot be met, RequestError for another dimension.
 Start init_start(int dimension, const InitialOptions& options, const Settings& settings,
