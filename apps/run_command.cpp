@@ -49,14 +49,15 @@ void check(const RunArguments& args) {
   if (!args.resume) {
     try {
       // The file is not read yet: the rule its record may name is left to load_start.
-      const Rule rule = args.rule.value_or(
-          default_rule({}, args.boundary.value_or(Boundary::walls), args.restitution));
-      check_settings({{rule, args.restitution, args.tc}, args.engine});
+      const StartSpec& start = args.start;
+      const Rule rule = start.rule.value_or(
+          default_rule({}, start.boundary.value_or(Boundary::walls), start.restitution));
+      check_settings({{rule, start.restitution, start.tc}, start.engine});
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }
   }
-  if (!args.checkpoint_every.empty() && args.checkpoint.empty()) {
+  if (!args.checkpoint_every.empty() && args.run.checkpoint.empty()) {
     throw UsageError("--checkpoint-every needs --checkpoint FILE: where to save");
   }
   if (!args.checkpoint_every.empty()) checkpoint_cadence(args.checkpoint_every);
@@ -64,51 +65,34 @@ void check(const RunArguments& args) {
 }
 
 StartSpec start_spec(const RunArguments& args) {
-  return {args.input,
-          args.boundary,
-          args.rule,
-          args.restitution,
-          args.tc,
-          args.engine,
-          args.temperature,
-          args.seed,
-          thermostat_request(args.thermostat, args.temperature, args.thermostat_every,
-                             args.thermostat_rate, args.seed),
-          shear_request(args.shear, args.velocity_profile)};
+  StartSpec spec = args.start;
+  spec.thermostat = thermostat_request(args.thermostat, spec.temperature, args.thermostat_every,
+                                       args.thermostat_rate, spec.seed);
+  spec.shear = shear_request(args.shear, args.velocity_profile);
+  return spec;
 }
 
 RunSpec run_spec(const RunArguments& args, double end_time) {
-  RunSpec spec;
+  RunSpec spec = args.run;
   spec.end_time = end_time;
-  spec.measure_from = args.equilibrate;
-  spec.dump = args.dump;
-  spec.dump_every = args.every;
-  spec.events = args.events;
-  spec.log = args.log;
-  spec.log_every = args.log_every;
-  spec.summary = args.summary;
-  spec.transport = args.transport;
-  spec.checkpoint = args.checkpoint;
   if (!args.checkpoint_every.empty())
     spec.checkpoint_every = checkpoint_cadence(args.checkpoint_every);
-  spec.check = args.check;
-  spec.check_every = args.check_every;
   return spec;
 }
 
 // What an interrupted run says it kept.
-std::string interruption(const AnySimulation& simulation, const RunArguments& args) {
+std::string interruption(const AnySimulation& simulation, const RunSpec& spec) {
   std::string what = fmt::format("stopped at t = {} after {} events; ", simulation.time(),
                                  simulation.counts().events);
-  what += args.checkpoint.empty()
+  what += spec.checkpoint.empty()
               ? "nothing to resume from (give --checkpoint FILE to keep a run's state)"
               : fmt::format(
                     "the run so far is saved in {0}: continue it with 'carom run --resume {0} "
                     "END_TIME'",
-                    args.checkpoint);
-  if (!args.dump.empty()) what += fmt::format("; frames up to then are in {}", args.dump);
-  if (!args.events.empty()) what += fmt::format("; events up to then are in {}", args.events);
-  if (!args.log.empty()) what += fmt::format("; the time series up to then is in {}", args.log);
+                    spec.checkpoint);
+  if (!spec.dump.empty()) what += fmt::format("; frames up to then are in {}", spec.dump);
+  if (!spec.events.empty()) what += fmt::format("; events up to then are in {}", spec.events);
+  if (!spec.log.empty()) what += fmt::format("; the time series up to then is in {}", spec.log);
   return what;
 }
 
@@ -130,7 +114,7 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   CLI::App* run = app.add_subcommand(
       "run", "Simulate FILE from t = 0 to END_TIME and print every particle's final state.");
   run->footer(std::string(kFormatHelp) + "\n\n" + kExamples);
-  run->add_option("FILE", args.input,
+  run->add_option("FILE", args.start.path,
                   "Input in the classic format (see below); - reads stdin; FILE.gsd or "
                   "FILE.gsd:K starts from the last frame or frame K of a GSD file (periodic)")
       ->required();
@@ -147,73 +131,73 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "Write to this file (atomically: it appears complete or not at all) instead of "
                   "stdout");
   run->add_option(
-      "--dump", args.dump,
+      "--dump", args.run.dump,
       "Write frames of every particle at t = 0, DT, 2 DT, ... (--every DT) to this file "
       "as the run goes: .xyz (extended XYZ, for OVITO and ASE), .lammpstrj (LAMMPS "
       "text dump) or .gsd (HOOMD-blue's GSD, for HOOMD, OVITO and freud). A resumed run "
       "continues the same file");
-  run->add_option("--every", args.every, "Time between --dump frames")->check(finite_number());
+  run->add_option("--every", args.run.dump_every, "Time between --dump frames")->check(finite_number());
   run->add_option(
-      "--events", args.events,
+      "--events", args.run.events,
       "Write every collision to this csv file as the run goes: "
       "time,kind,first,partner (kind wall or pair; partner a particle or a wall label)");
-  run->add_option("--log", args.log,
+  run->add_option("--log", args.run.log,
                   "Write a time series to this csv file as the run goes, a row every --log-every "
                   "DT: the temperature, and the pressure, Z and collision rate over each "
                   "interval, with running means and block-average errors over the measurement "
                   "window (like LAMMPS' thermo). A resumed run continues the same file");
-  run->add_option("--log-every", args.log_every, "Time between --log rows")->check(finite_number());
-  run->add_option("--summary", args.summary,
+  run->add_option("--log-every", args.run.log_every, "Time between --log rows")->check(finite_number());
+  run->add_option("--summary", args.run.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
-  run->add_flag("--transport", args.transport,
+  run->add_flag("--transport", args.run.transport,
                 "Measure the self-diffusion coefficient, shear viscosity and thermal "
                 "conductivity over the measurement window (Einstein-Helfand at a lag of 50 "
                 "collision times, errors from blocks; 3D also Yeh-Hummer's finite-size correction "
                 "and Enskog's values) into "
                 "the summary's \"transport\" (periodic box)");
-  add_choice<Rule>(run, "--rule", args.rule,
+  add_choice<Rule>(run, "--rule", args.start.rule,
                    "swap: touching disks exchange whole velocities (the classic assignment's "
                    "rule); elastic: they exchange momentum along the line of centres, with "
                    "masses (real hard disks). Default: what the file records (carom init and "
                    "compress record elastic), else swap with walls and elastic in a periodic box")
       ->default_str("from the file");
-  run->add_option("--restitution", args.restitution,
+  run->add_option("--restitution", args.start.restitution,
                   "Coefficient of normal restitution E in (0, 1] for --rule elastic; E < 1 makes "
                   "collisions inelastic (granular gas)")
       ->check(finite_number())
       ->default_str("1");
-  run->add_option("--tc", args.tc,
+  run->add_option("--tc", args.start.tc,
                   "TC model against inelastic collapse: a collision of a disk that collided less "
                   "than this long ago is elastic")
       ->check(finite_number())
       ->default_str(fmt::format("{}", kDefaultTc));
-  add_choice<Boundary>(run, "--boundary", args.boundary,
+  add_choice<Boundary>(run, "--boundary", args.start.boundary,
                        "walls: hard walls on every side (the classic assignment's box); periodic: "
                        "the box repeats, no walls (sides must exceed two diameters). Default: what "
                        "the file records (carom init and compress record theirs), else walls")
       ->default_str("from the file");
-  run->add_option("--equilibrate", args.equilibrate,
+  run->add_option("--equilibrate", args.run.measure_from,
                   "Measure observables only from this time on (the dynamics are unchanged); with "
                   "--resume, from this time on in the resumed run")
       ->check(finite_number())
       ->default_str("0");
   run->add_flag(
-      "--check", args.check,
+      "--check", args.run.check,
       "Verify during the run that event times never decrease and, every --check-every "
       "events, that no particles overlap or leave the box; a violation stops the run (exit 1)");
-  add_whole_option(run, "--check-every", args.check_every, std::uint64_t{1},
+  add_whole_option(run, "--check-every", args.run.check_every, std::uint64_t{1},
                    "Events between overlap checks (default: N, at least 1000)");
   run->add_flag("-q,--quiet", args.quiet,
                 "No progress line (shown on stderr during long runs when it is a terminal) and "
                 "no notes");
   add_progress_option(run, args.progress);
-  run->add_option("--kT", args.temperature,
+  run->add_option("--kT", args.start.temperature,
                   "Give every particle a new velocity, Maxwell-Boltzmann at this temperature "
                   "(zero total momentum, kT exact), as carom init does: for a start without "
                   "velocities, or to rethermalise one")
       ->check(finite_number());
-  add_whole_option(run, "--seed", args.seed, std::uint64_t{0},
+  add_whole_option(run, "--seed", args.start.seed, std::uint64_t{0},
                    "Random seed of --kT's velocities (and Andersen's draws)")
       ->default_str("1");
   add_choice<ThermostatKind>(
@@ -238,12 +222,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_flag("--velocity-profile", args.velocity_profile,
                 "Add the streaming profile of --shear to the start's velocities, so that the "
                 "run begins in its steady flow rather than with a shock");
-  add_choice<EngineKind>(run, "--engine", args.engine,
+  add_choice<EngineKind>(run, "--engine", args.start.engine,
                          "fast: neighbour lists (dense systems) or a cell grid, and an event "
                          "calendar, O(1) per event; reference: the classic assignment's "
                          "algorithm, every pair checked after every event (O(N^2), for "
                          "checking)");
-  run->add_option("--checkpoint", args.checkpoint,
+  run->add_option("--checkpoint", args.run.checkpoint,
                   "Save the complete state of the run to this file at the end, every "
                   "--checkpoint-every, and on SIGINT, SIGTERM or SIGHUP (then stop)");
   run->add_option("--checkpoint-every", args.checkpoint_every,
@@ -269,7 +253,7 @@ void run_command(const RunArguments& args) {
   check(args);
   const RunSpec spec = run_spec(args, end_time);
   check_run_spec(spec);
-  Runner runner(args.resume ? resume_start(args.input) : load_start(start_spec(args)));
+  Runner runner(args.resume ? resume_start(args.start.path) : load_start(start_spec(args)));
   const AnySimulation& simulation = runner.simulation();
   try {
     runner.check(spec, {{"-o", args.output}});
@@ -297,7 +281,7 @@ void run_command(const RunArguments& args) {
   status.reset();
   if (outcome.status == RunStatus::stopped) {
     throw Interrupted(stop_signal().load(), describe_signal(stop_signal().load()) + ": " +
-                                                interruption(simulation, args));
+                                                interruption(simulation, spec));
   }
   const RunReport& report = outcome.report;
   if (report.drift && report.drift->drifted() && !args.quiet) {

@@ -5,41 +5,27 @@
 #include <optional>
 #include <string>
 
-#include "carom/engine/engine.hpp"
-#include "carom/io/classic_output.hpp"
-#include "carom/io/event_log.hpp"
+#include "carom/run/run.hpp"
 #include "carom/run/run_report.hpp"
+#include "carom/run/start.hpp"
 
 namespace carom::cli {
 
+// What `carom run` is asked: the library's own descriptions of the start and of the run, which
+// the options fill directly, and what only the command line knows.
 struct RunArguments {
-  std::string input;
+  StartSpec start;  // FILE, --rule, --restitution, --tc, --boundary, --engine, --kT, --seed
+  RunSpec run;      // the outputs, their cadences, --equilibrate, --transport, --check
   std::string end_time;
+  std::string checkpoint_every;  // a number of events or of seconds: checkpoint_cadence
   Format format = Format::table;
   bool trace = false;
   std::string output;
-  std::string summary;
-  bool transport = false;
-  std::string dump;
-  double every = 0.0;
-  std::string events;
-  std::string log;
-  double log_every = 0.0;
-  std::string checkpoint;
-  std::string checkpoint_every;
   bool resume = false;
-  bool check = false;
-  std::uint64_t check_every = 0;
-  std::optional<Rule> rule;  // default_rule
-  double restitution = 1.0;
-  double tc = kDefaultTc;
-  std::optional<Boundary> boundary;  // the file's record, else walls
-  std::optional<double> equilibrate;
-  EngineKind engine = EngineKind::fast;
   bool quiet = false;
-  std::optional<double> progress;     // seconds between status lines, whatever stderr is
-  std::optional<double> temperature;  // --kT: draw new velocities at this kT
-  std::uint64_t seed = 1;             // --seed: for them
+  std::optional<double> progress;  // seconds between status lines, whatever stderr is
+  // Made into StartSpec's thermostat and shear by the library's requests (thermostat_request,
+  // shear_request), which check them together.
   ThermostatKind thermostat = ThermostatKind::none;
   std::optional<double> thermostat_every, thermostat_rate;
   std::optional<double> shear;
