@@ -15,9 +15,9 @@
 #include <utility>
 #include <vector>
 
+#include "carom/core/names.hpp"
 #include "carom/io/atomic_file.hpp"
 #include "carom/io/classic_input.hpp"
-#include "carom/core/names.hpp"
 #include "carom/run/request.hpp"
 #include "carom/run/stop_signal.hpp"
 

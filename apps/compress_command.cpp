@@ -8,9 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <variant>
 
-#include "carom/run/compress_run.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
+#include "carom/run/compress_run.hpp"
 #include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
 #include "cli_support.hpp"

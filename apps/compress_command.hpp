@@ -4,8 +4,8 @@
 #include <optional>
 #include <string>
 
-#include "carom/engine/compression.hpp"
 #include "carom/core/system.hpp"
+#include "carom/engine/compression.hpp"
 
 namespace carom::cli {
 

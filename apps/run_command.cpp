@@ -136,7 +136,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "as the run goes: .xyz (extended XYZ, for OVITO and ASE), .lammpstrj (LAMMPS "
       "text dump) or .gsd (HOOMD-blue's GSD, for HOOMD, OVITO and freud). A resumed run "
       "continues the same file");
-  run->add_option("--every", args.run.dump_every, "Time between --dump frames")->check(finite_number());
+  run->add_option("--every", args.run.dump_every, "Time between --dump frames")
+      ->check(finite_number());
   run->add_option(
       "--events", args.run.events,
       "Write every collision to this csv file as the run goes: "
@@ -146,7 +147,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "DT: the temperature, and the pressure, Z and collision rate over each "
                   "interval, with running means and block-average errors over the measurement "
                   "window (like LAMMPS' thermo). A resumed run continues the same file");
-  run->add_option("--log-every", args.run.log_every, "Time between --log rows")->check(finite_number());
+  run->add_option("--log-every", args.run.log_every, "Time between --log rows")
+      ->check(finite_number());
   run->add_option("--summary", args.run.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");

@@ -5,8 +5,8 @@
 #include <charconv>
 #include <cmath>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/analysis/viewer.hpp"
+#include "carom/io/classic_input.hpp"
 #include "cli_support.hpp"
 
 namespace carom::cli {

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/invariant_check.hpp"
+#include "carom/io/classic_input.hpp"
 #include "io/json_text.hpp"
 #include "test_systems.hpp"
 

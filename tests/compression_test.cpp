@@ -6,13 +6,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "carom/core/observables.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/overlap.hpp"
 #include "carom/io/classic_input.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/engine/initial.hpp"
-#include "carom/core/observables.hpp"
-#include "carom/engine/overlap.hpp"
 
 namespace carom {
 namespace {

@@ -1,6 +1,6 @@
-// The contact kernels (src/engine/contact_batch.hpp): the four- and eight-wide ones give the scalar one's
-// times bit for bit, and the scalar one is contact_time with the image seen at the clock, as the
-// reference engine computes it; the same for the wide distance tests that make neighbour lists.
+// The contact kernels (src/engine/contact_batch.hpp): the four- and eight-wide ones give the scalar
+// one's times bit for bit, and the scalar one is contact_time with the image seen at the clock, as
+// the reference engine computes it; the same for the wide distance tests that make neighbour lists.
 #include "engine/contact_batch.hpp"
 
 #include <gtest/gtest.h>
@@ -84,8 +84,8 @@ void check_kernels_agree(bool periodic) {
                              batch.candidates.data(), count, limit, scalar.data());
     for (std::size_t n = 0; n < count; ++n) {
       const Particle<D>& b = batch.particles[batch.candidates[n]];
-      const Vec<D> offset = periodic ? image_offset(here - position_at(b, batch.clock), batch.box)
-                                     : Vec<D>{};
+      const Vec<D> offset =
+          periodic ? image_offset(here - position_at(b, batch.clock), batch.box) : Vec<D>{};
       ASSERT_EQ(std::bit_cast<std::uint64_t>(scalar[n]),
                 std::bit_cast<std::uint64_t>(contact_time(a, b, offset)));
       const bool soon = scalar[n] <= limit && scalar[n] != kNever;
@@ -111,7 +111,8 @@ void check_kernels_agree(bool periodic) {
     }
   }
   if (!cpu_has_avx2()) GTEST_SKIP() << "this CPU has no AVX2: only the scalar kernel checked";
-  if (!cpu_has_avx512()) GTEST_SKIP() << "this CPU has no AVX-512F: the eight-wide kernel unchecked";
+  if (!cpu_has_avx512())
+    GTEST_SKIP() << "this CPU has no AVX-512F: the eight-wide kernel unchecked";
 }
 
 #ifdef CAROM_HAVE_AVX2_KERNEL
@@ -126,10 +127,10 @@ template <std::size_t D>
 
 template <std::size_t D>
 [[gnu::target("avx512f")]] std::uint64_t near_points_avx512(const Vec<D>& centre,
-                                                           const std::vector<Vec<D>>& points,
-                                                           const std::uint32_t* candidates,
-                                                           std::size_t count, const Box<D>& box,
-                                                           double reach) {
+                                                            const std::vector<Vec<D>>& points,
+                                                            const std::uint32_t* candidates,
+                                                            std::size_t count, const Box<D>& box,
+                                                            double reach) {
   return contact_avx512::near_points(centre, points.data(), candidates, count, box, reach);
 }
 

@@ -4,13 +4,13 @@
 
 #include <cmath>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/engine.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/overlap.hpp"
+#include "carom/io/classic_input.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/engine/initial.hpp"
-#include "carom/engine/overlap.hpp"
 #include "engine/fast_engine.hpp"
 #include "engine/list_engine.hpp"
 #include "test_systems.hpp"

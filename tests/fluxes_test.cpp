@@ -9,10 +9,10 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/io/checkpoint.hpp"
-#include "carom/engine/initial.hpp"
 #include "carom/core/observables.hpp"
+#include "carom/engine/initial.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
 
 namespace carom {
 namespace {

@@ -1,7 +1,3 @@
-#include "carom/io/classic_output.hpp"
-#include "carom/io/event_log.hpp"
-#include "carom/run/run_report.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,9 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/initial.hpp"
+#include "carom/io/classic_input.hpp"
+#include "carom/io/classic_output.hpp"
+#include "carom/io/event_log.hpp"
 #include "carom/io/trajectory.hpp"
+#include "carom/run/run_report.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

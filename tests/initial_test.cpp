@@ -8,13 +8,13 @@
 #include <numbers>
 #include <sstream>
 
+#include "carom/core/observables.hpp"
+#include "carom/core/physics.hpp"
+#include "carom/engine/overlap.hpp"
 #include "carom/io/classic_input.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/core/observables.hpp"
-#include "carom/engine/overlap.hpp"
-#include "carom/core/physics.hpp"
 
 namespace carom {
 namespace {

@@ -4,9 +4,9 @@
 
 #include <cmath>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/engine.hpp"
 #include "carom/engine/initial.hpp"
+#include "carom/io/classic_input.hpp"
 #include "engine/fast_engine.hpp"
 #include "test_systems.hpp"
 

@@ -7,8 +7,8 @@
 
 #include <cmath>
 
-#include "carom/engine/engine.hpp"
 #include "carom/core/observables.hpp"
+#include "carom/engine/engine.hpp"
 #include "carom/engine/overlap.hpp"
 #include "test_systems.hpp"
 

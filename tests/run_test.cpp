@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "carom/engine/initial.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/engine/initial.hpp"
 #include "carom/run/start.hpp"
 
 namespace carom {

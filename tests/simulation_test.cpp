@@ -11,10 +11,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "carom/io/checkpoint.hpp"
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/initial.hpp"
 #include "carom/engine/invariant_check.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/classic_input.hpp"
 #include "test_systems.hpp"
 
 namespace carom {

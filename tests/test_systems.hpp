@@ -8,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "carom/io/classic_input.hpp"
-#include "carom/engine/engine.hpp"
 #include "carom/core/measurement.hpp"
-#include "carom/engine/simulation.hpp"
 #include "carom/core/system.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/engine/simulation.hpp"
+#include "carom/io/classic_input.hpp"
 
 namespace carom::testing {
 

@@ -8,12 +8,12 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/io/checkpoint.hpp"
 #include "carom/core/fluxes.hpp"
+#include "carom/core/observables.hpp"
 #include "carom/engine/initial.hpp"
 #include "carom/engine/invariant_check.hpp"
-#include "carom/core/observables.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
 
 namespace carom {
 namespace {

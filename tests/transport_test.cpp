@@ -10,9 +10,9 @@
 #include <sstream>
 #include <variant>
 
-#include "carom/io/checkpoint.hpp"
 #include "carom/engine/initial.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
 #include "run/transport_meter.hpp"
 
 namespace carom {

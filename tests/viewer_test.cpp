@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/core/system.hpp"
+#include "carom/io/classic_input.hpp"
 #include "carom/io/trajectory.hpp"
 
 namespace carom {

@@ -4,9 +4,9 @@
 //
 // It uses carom through its installed public headers only. Exit codes: 0 done, 1 the output
 // could not be written, 2 bad arguments or input (with a message on stderr).
+#include <carom/engine/simulation.hpp>  // Simulation, Settings
 #include <carom/io/classic_input.hpp>   // read_classic_file, parse_finite_double, InputError
 #include <carom/io/classic_output.hpp>  // write_csv
-#include <carom/engine/simulation.hpp>  // Simulation, Settings
 #include <exception>
 #include <iostream>
 #include <stdexcept>

@@ -12,11 +12,11 @@
 #include <string>
 #include <vector>
 
-#include "carom/run/compress_run.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
-#include "carom/run/run_report.hpp"
+#include "carom/run/compress_run.hpp"
 #include "carom/run/run.hpp"
+#include "carom/run/run_report.hpp"
 
 namespace carom::python {
 

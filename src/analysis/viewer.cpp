@@ -14,7 +14,7 @@
 #include <string_view>
 #include <utility>
 
-#include "carom/io/classic_input.hpp"
+#include "carom/io/input_error.hpp"
 #include "carom/viewer_html.hpp"
 
 namespace carom {

@@ -4,8 +4,8 @@
 
 #include <stdexcept>
 
-#include "carom/core/random.hpp"
 #include "carom/core/observables.hpp"
+#include "carom/core/random.hpp"
 
 namespace carom {
 

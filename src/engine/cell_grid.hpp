@@ -411,7 +411,8 @@ class CellGrid {
       const std::uint32_t n = count_[k];
       if (k == axis) {
         if (box_.periodic() && n >= 3) {
-          along[k][size[k]++] = upward ? (at[k] + 1 == n ? 0 : at[k] + 1) : (at[k] == 0 ? n - 1 : at[k] - 1);
+          along[k][size[k]++] =
+              upward ? (at[k] + 1 == n ? 0 : at[k] + 1) : (at[k] == 0 ? n - 1 : at[k] - 1);
         } else if (!box_.periodic() && (upward ? at[k] + 1 < n : at[k] > 0)) {
           along[k][size[k]++] = upward ? at[k] + 1 : at[k] - 1;
         }
@@ -437,7 +438,8 @@ class CellGrid {
     for (std::uint32_t z = 0; z < layers; ++z) {
       const std::uint32_t plane = D == 3 ? along[D - 1][z] : 0;
       for (std::uint32_t y = 0; y < size[1]; ++y) {
-        for (std::uint32_t x = 0; x < size[0]; ++x) out[count++] = plane + along[1][y] + along[0][x];
+        for (std::uint32_t x = 0; x < size[0]; ++x)
+          out[count++] = plane + along[1][y] + along[0][x];
       }
     }
     return count;

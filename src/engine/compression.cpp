@@ -6,8 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "carom/engine/initial.hpp"
 #include "carom/core/observables.hpp"
+#include "carom/engine/initial.hpp"
 #include "carom/engine/overlap.hpp"
 #include "carom/engine/validation.hpp"
 

@@ -5,10 +5,12 @@ namespace carom {
 #ifdef CAROM_HAVE_AVX2_KERNEL
 
 template <std::size_t D>
-[[gnu::target("avx2")]] std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here, double clock,
-                                 const Box<D>& box, const Particle<D>* particles,
-                                 const std::uint32_t* candidates, std::size_t count, double limit,
-                                 double* times) {
+[[gnu::target("avx2")]] std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here,
+                                                         double clock, const Box<D>& box,
+                                                         const Particle<D>* particles,
+                                                         const std::uint32_t* candidates,
+                                                         std::size_t count, double limit,
+                                                         double* times) {
   const std::size_t whole = count - count % 4;
   std::uint64_t soon = contact_avx2::contact_times<D>(a, here, clock, box, particles, candidates,
                                                       whole, limit, times);
@@ -26,8 +28,8 @@ template <std::size_t D>
     const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
     double* times) {
   const std::size_t whole = count - count % 8;
-  std::uint64_t soon = contact_avx512::contact_times<D>(a, here, clock, box, particles,
-                                                        candidates, whole, limit, times);
+  std::uint64_t soon = contact_avx512::contact_times<D>(a, here, clock, box, particles, candidates,
+                                                        whole, limit, times);
   if (whole < count) {
     soon |= contact_times_scalar(a, here, clock, box, particles, candidates + whole, count - whole,
                                  limit, times + whole)
@@ -36,8 +38,12 @@ template <std::size_t D>
   return soon;
 }
 
-bool cpu_has_avx2() { return __builtin_cpu_supports("avx2"); }
-bool cpu_has_avx512() { return __builtin_cpu_supports("avx512f"); }
+bool cpu_has_avx2() {
+  return __builtin_cpu_supports("avx2");
+}
+bool cpu_has_avx512() {
+  return __builtin_cpu_supports("avx512f");
+}
 
 #else
 
@@ -52,13 +58,17 @@ std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here, doubl
 template <std::size_t D>
 std::uint64_t contact_times_avx512(const Particle<D>& a, const Vec<D>& here, double clock,
                                    const Box<D>& box, const Particle<D>* particles,
-                                   const std::uint32_t* candidates, std::size_t count,
-                                   double limit, double* times) {
+                                   const std::uint32_t* candidates, std::size_t count, double limit,
+                                   double* times) {
   return contact_times_scalar(a, here, clock, box, particles, candidates, count, limit, times);
 }
 
-bool cpu_has_avx2() { return false; }
-bool cpu_has_avx512() { return false; }
+bool cpu_has_avx2() {
+  return false;
+}
+bool cpu_has_avx512() {
+  return false;
+}
 
 #endif
 
@@ -75,10 +85,10 @@ template std::uint64_t contact_times_avx2(const Particle<3>&, const Vec<3>&, dou
                                           double, double*);
 
 template std::uint64_t contact_times_avx512(const Particle<2>&, const Vec<2>&, double,
-                                            const Box<2>&, const Particle<2>*,
-                                            const std::uint32_t*, std::size_t, double, double*);
+                                            const Box<2>&, const Particle<2>*, const std::uint32_t*,
+                                            std::size_t, double, double*);
 template std::uint64_t contact_times_avx512(const Particle<3>&, const Vec<3>&, double,
-                                            const Box<3>&, const Particle<3>*,
-                                            const std::uint32_t*, std::size_t, double, double*);
+                                            const Box<3>&, const Particle<3>*, const std::uint32_t*,
+                                            std::size_t, double, double*);
 
 }  // namespace carom

@@ -125,8 +125,8 @@ std::uint64_t contact_times_avx2(const Particle<D>& a, const Vec<D>& here, doubl
 template <std::size_t D>
 std::uint64_t contact_times_avx512(const Particle<D>& a, const Vec<D>& here, double clock,
                                    const Box<D>& box, const Particle<D>* particles,
-                                   const std::uint32_t* candidates, std::size_t count,
-                                   double limit, double* times);
+                                   const std::uint32_t* candidates, std::size_t count, double limit,
+                                   double* times);
 
 // Whether this CPU runs contact_times_avx2 (otherwise it is the scalar loop).
 bool cpu_has_avx2();
@@ -232,7 +232,8 @@ template <std::size_t D, bool periodic, bool a_now, class Names>
     if constexpr (periodic) {
       __m256d all = _mm256_cmp_pd(_mm256_and_pd(r[0], magnitude), half[0], _CMP_LE_OQ);
       for (std::size_t k = 1; k < D; ++k) {
-        all = _mm256_and_pd(all, _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ));
+        all =
+            _mm256_and_pd(all, _mm256_cmp_pd(_mm256_and_pd(r[k], magnitude), half[k], _CMP_LE_OQ));
       }
       if (_mm256_movemask_pd(all) != 0xF) [[unlikely]] {  // some pair is seen across the box
         shifted = true;
@@ -269,8 +270,8 @@ template <std::size_t D, bool periodic, bool a_now, class Names>
     const __m256d discriminant =
         _mm256_sub_pd(_mm256_mul_pd(rv, rv), _mm256_mul_pd(dot<D>(v, v), c));
     // -rv + sqrt(discriminant), as sqrt(discriminant) - rv: the same sum.
-    const __m256d root = _mm256_add_pd(
-        t0, _mm256_div_pd(c, _mm256_sub_pd(_mm256_sqrt_pd(discriminant), rv)));
+    const __m256d root =
+        _mm256_add_pd(t0, _mm256_div_pd(c, _mm256_sub_pd(_mm256_sqrt_pd(discriminant), rv)));
     const __m256d real = _mm256_cmp_pd(discriminant, zero, _CMP_NLT_UQ);
     __m256d t = _mm256_blendv_pd(never, root, real);
     t = _mm256_blendv_pd(t, t0, touching);
@@ -284,23 +285,25 @@ template <std::size_t D, bool periodic, bool a_now, class Names>
 }
 
 template <std::size_t D, class Names = ByIndex>
-[[gnu::target("avx2")]] inline std::uint64_t contact_times(
-    const Particle<D>& a, const Vec<D>& here, double clock, const Box<D>& box,
-    const Particle<D>* particles, const std::uint32_t* candidates, std::size_t count, double limit,
-    double* times, Names = {}) {
+[[gnu::target("avx2")]] inline std::uint64_t contact_times(const Particle<D>& a, const Vec<D>& here,
+                                                           double clock, const Box<D>& box,
+                                                           const Particle<D>* particles,
+                                                           const std::uint32_t* candidates,
+                                                           std::size_t count, double limit,
+                                                           double* times, Names = {}) {
   // After a collision (most predictions) a's state is at the clock: the separation seen for the
   // image is the contact time's own (contact_time moves only the earlier particle, to a's time).
   const bool a_now = a.time == clock;
   if (box.periodic()) {
-    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles, candidates,
-                                                   count, limit, times)
-                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles, candidates,
-                                                    count, limit, times);
+    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles,
+                                                          candidates, count, limit, times)
+                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles,
+                                                           candidates, count, limit, times);
   }
-  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates, count,
-                                                  limit, times)
-               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles, candidates,
-                                                   count, limit, times);
+  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates,
+                                                         count, limit, times)
+               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles,
+                                                          candidates, count, limit, times);
 }
 
 // near_points_scalar four at a time (`count` a multiple of four); `points` must be readable one
@@ -467,8 +470,8 @@ template <std::size_t D, bool periodic, bool a_now, class Names>
           const __m512d side = _mm512_set1_pd(box.size[k]);
           const __m512d sides = _mm512_roundscale_pd(_mm512_div_pd(r[k], side),
                                                      _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
-          offset[k] = _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
-                                          _mm512_mul_pd(side, sides));
+          offset[k] =
+              _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]), _mm512_mul_pd(side, sides));
         }
       }
     }
@@ -493,8 +496,8 @@ template <std::size_t D, bool periodic, bool a_now, class Names>
     const __mmask8 touching = _mm512_cmp_pd_mask(c, zero, _CMP_LE_OQ);
     const __m512d discriminant =
         _mm512_sub_pd(_mm512_mul_pd(rv, rv), _mm512_mul_pd(dot<D>(v, v), c));
-    const __m512d root = _mm512_add_pd(
-        t0, _mm512_div_pd(c, _mm512_sub_pd(_mm512_sqrt_pd(discriminant), rv)));
+    const __m512d root =
+        _mm512_add_pd(t0, _mm512_div_pd(c, _mm512_sub_pd(_mm512_sqrt_pd(discriminant), rv)));
     const __mmask8 real = _mm512_cmp_pd_mask(discriminant, zero, _CMP_NLT_UQ);
     __m512d t = _mm512_mask_blend_pd(real, never, root);
     t = _mm512_mask_blend_pd(touching, t, t0);
@@ -513,24 +516,24 @@ template <std::size_t D, class Names = ByIndex>
     double* times, Names = {}) {
   const bool a_now = a.time == clock;  // see contact_avx2::contact_times
   if (box.periodic()) {
-    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles, candidates,
-                                                   count, limit, times)
-                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles, candidates,
-                                                    count, limit, times);
+    return a_now ? contact_times_of<D, true, true, Names>(a, here, clock, box, particles,
+                                                          candidates, count, limit, times)
+                 : contact_times_of<D, true, false, Names>(a, here, clock, box, particles,
+                                                           candidates, count, limit, times);
   }
-  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates, count,
-                                                  limit, times)
-               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles, candidates,
-                                                   count, limit, times);
+  return a_now ? contact_times_of<D, false, true, Names>(a, here, clock, box, particles, candidates,
+                                                         count, limit, times)
+               : contact_times_of<D, false, false, Names>(a, here, clock, box, particles,
+                                                          candidates, count, limit, times);
 }
 
 // contact_avx2::near_points eight at a time (`count` a multiple of eight).
 template <std::size_t D>
 [[gnu::target("avx512f")]] inline std::uint64_t near_points(const Vec<D>& centre,
-                                                           const Vec<D>* points,
-                                                           const std::uint32_t* candidates,
-                                                           std::size_t count, const Box<D>& box,
-                                                           double reach) {
+                                                            const Vec<D>* points,
+                                                            const std::uint32_t* candidates,
+                                                            std::size_t count, const Box<D>& box,
+                                                            double reach) {
   static_assert(sizeof(Vec<D>) == D * sizeof(double));
   const __m512d reach2 = _mm512_set1_pd(reach * reach);
   const bool periodic = box.periodic();
@@ -557,8 +560,8 @@ template <std::size_t D>
       }
       if (all != 0xFF) [[unlikely]] {
         for (std::size_t k = 0; k < D; ++k) {
-          const __m512d sides = _mm512_roundscale_pd(
-              _mm512_div_pd(apart[k], side[k]), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+          const __m512d sides = _mm512_roundscale_pd(_mm512_div_pd(apart[k], side[k]),
+                                                     _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
           apart[k] = _mm512_sub_pd(apart[k], _mm512_maskz_mov_pd(static_cast<__mmask8>(~inside[k]),
                                                                  _mm512_mul_pd(side[k], sides)));
         }

@@ -177,7 +177,6 @@ void FastEngine<D>::predict(std::uint32_t i, std::size_t layer_axis, bool layer_
   }
 }
 
-
 template <std::size_t D>
 [[gnu::flatten]] void FastEngine<D>::predict_narrow(std::uint32_t i, std::size_t layer_axis,
                                                     bool layer_upward) {
@@ -187,8 +186,8 @@ template <std::size_t D>
 template <std::size_t D>
 #ifdef CAROM_HAVE_AVX2_KERNEL
 [[gnu::flatten, gnu::target("avx2")]] void FastEngine<D>::predict_wide(std::uint32_t i,
-                                                                      std::size_t layer_axis,
-                                                                      bool layer_upward) {
+                                                                       std::size_t layer_axis,
+                                                                       bool layer_upward) {
   predict_with(i, layer_axis, layer_upward, WideContacts{});
 }
 #else

@@ -90,7 +90,7 @@ class FastEngine final : public Engine<D> {
   // renewal forward as much.
   void shorten_horizon();
 
-  bool wide_;  // the CPU has AVX2: predictions use the four-wide contact kernel
+  bool wide_;     // the CPU has AVX2: predictions use the four-wide contact kernel
   bool sheared_;  // the box is sheared (Box::sheared)
   // In a sheared box: how many boxes up along y particle i's stored state lies from where the
   // grid has it (its stored state is that image of it until it collides). Empty otherwise.

@@ -10,8 +10,8 @@
 #include <pcg_random.hpp>
 #include <vector>
 
-#include "carom/core/random.hpp"
 #include "carom/core/observables.hpp"
+#include "carom/core/random.hpp"
 #include "carom/engine/overlap.hpp"
 #include "carom/engine/validation.hpp"
 #include "cell_grid.hpp"

@@ -142,7 +142,8 @@ void ListEngine<D>::make_all_lists() {
     ++size_[j];
   });
   const std::uint32_t longest = n == 0 ? 0 : *std::max_element(size_.begin(), size_.end());
-  const std::size_t capacity = std::max<std::size_t>(8, (std::size_t{longest} + 7) & ~std::size_t{7});
+  const std::size_t capacity =
+      std::max<std::size_t>(8, (std::size_t{longest} + 7) & ~std::size_t{7});
   if (!slots_ || capacity > capacity_) {
     slots_.reset();
     capacity_ = capacity;

@@ -8,8 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
-#include "carom/engine/overlap.hpp"
 #include "carom/core/physics.hpp"
+#include "carom/engine/overlap.hpp"
 
 namespace carom {
 

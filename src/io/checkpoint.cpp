@@ -12,9 +12,9 @@
 #include <sstream>
 #include <string_view>
 
+#include "carom/engine/validation.hpp"
 #include "carom/io/atomic_file.hpp"
 #include "carom/io/input_error.hpp"
-#include "carom/engine/validation.hpp"
 #include "carom/version.hpp"
 #include "checkpoint_checksum.hpp"
 #include "json_text.hpp"

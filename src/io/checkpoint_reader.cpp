@@ -1,6 +1,4 @@
 // Reading checkpoints of every format carom has written (1 to kCheckpointFormat).
-#include "carom/io/checkpoint.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,8 +11,9 @@
 #include <sstream>
 #include <string_view>
 
-#include "carom/io/input_error.hpp"
 #include "carom/engine/validation.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/input_error.hpp"
 #include "carom/version.hpp"
 #include "checked_json.hpp"
 #include "checkpoint_check.hpp"
@@ -151,7 +150,6 @@ class CheckpointFields : public CheckedJson<Fail> {
   static std::string in_where(const std::string& where) {
     return where.empty() ? "" : " in " + where;
   }
-
 };
 
 // The checkpoint of one dimension as stored; `format` 1 is carom 1.0's (2D, counts only since the

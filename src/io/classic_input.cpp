@@ -13,9 +13,9 @@
 #include <iostream>
 #include <variant>
 
+#include "carom/core/physics.hpp"
 #include "carom/engine/overlap.hpp"
 #include "carom/io/input_error.hpp"
-#include "carom/core/physics.hpp"
 
 namespace carom {
 
@@ -188,9 +188,9 @@ class Reader {
     const std::string_view digits = token.size() > 1 && token[0] == '+' ? token.substr(1) : token;
     const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), count);
     if (error != std::errc() || end != digits.data() + digits.size()) {
-      throw InputError(
-          name_, lines_.number(),
-          fmt::format("the particle count N must be a whole number, found {}", quoted_token(token)));
+      throw InputError(name_, lines_.number(),
+                       fmt::format("the particle count N must be a whole number, found {}",
+                                   quoted_token(token)));
     }
     if (count < 1) {
       throw InputError(name_, lines_.number(),

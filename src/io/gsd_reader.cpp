@@ -15,11 +15,11 @@
 #include <utility>
 #include <vector>
 
+#include "carom/core/physics.hpp"
+#include "carom/engine/validation.hpp"
 #include "carom/io/classic_input.hpp"
 #include "carom/io/gsd.hpp"
-#include "carom/core/physics.hpp"
 #include "carom/io/trajectory_reader.hpp"
-#include "carom/engine/validation.hpp"
 #include "gsd_format.hpp"
 
 namespace carom {

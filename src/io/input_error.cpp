@@ -49,8 +49,10 @@ double parse_finite_double(std::string_view token) {
   if (error != std::errc() || end != digits.data() + digits.size() || digits.empty()) {
     throw std::invalid_argument(quoted_token(token) + " is not a number");
   }
-  if (!std::isfinite(value)) throw std::invalid_argument(quoted_token(token) + " is not a finite number");
-  if (std::abs(value) > kLargestMagnitude || (value != 0.0 && std::abs(value) < kSmallestMagnitude)) {
+  if (!std::isfinite(value))
+    throw std::invalid_argument(quoted_token(token) + " is not a finite number");
+  if (std::abs(value) > kLargestMagnitude ||
+      (value != 0.0 && std::abs(value) < kSmallestMagnitude)) {
     throw std::invalid_argument(
         fmt::format("{} is out of range: carom takes magnitudes from {} to {}", quoted_token(token),
                     kSmallestMagnitude, kLargestMagnitude));

@@ -1,7 +1,5 @@
 // The trajectory formats carom writes (extended XYZ, LAMMPS dumps; GSD in gsd_writer.cpp) and
 // trajectory_format_for, the one place that picks among them by a file's name.
-#include "carom/io/trajectory.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,8 +9,9 @@
 #include <string>
 #include <string_view>
 
-#include "carom/engine/engine.hpp"
 #include "carom/core/physics.hpp"
+#include "carom/engine/engine.hpp"
+#include "carom/io/trajectory.hpp"
 #include "gsd_format.hpp"
 #include "whole_lines.hpp"
 

@@ -6,10 +6,10 @@
 #include <cstring>
 #include <filesystem>
 
-#include "carom/run/request.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/io/time_series.hpp"
 #include "carom/io/trajectory.hpp"
+#include "carom/run/request.hpp"
 
 namespace carom {
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "carom/run/run.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/run/run.hpp"
 
 namespace carom {
 

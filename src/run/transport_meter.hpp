@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "carom/core/observables.hpp"
+#include "carom/core/transport.hpp"
 #include "carom/engine/simulation.hpp"
 #include "carom/io/time_series.hpp"
-#include "carom/core/transport.hpp"
 
 namespace carom {
 

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "carom/io/atomic_file.hpp"
 #include "carom/core/names.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/io/atomic_file.hpp"
 #include "carom/run/start.hpp"
 #include "plan_keys.hpp"
 #include "task_spec.hpp"

@@ -21,8 +21,8 @@
 
 #include "carom/io/atomic_file.hpp"
 #include "carom/run/compress_run.hpp"
-#include "carom/run/run_report.hpp"
 #include "carom/run/run.hpp"
+#include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "io/json_text.hpp"

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "carom/run/compress_run.hpp"
 #include "carom/engine/initial.hpp"
+#include "carom/run/compress_run.hpp"
 #include "carom/run/run.hpp"
 #include "carom/run/start.hpp"
 #include "carom/sweep/sweep.hpp"

@@ -18,11 +18,11 @@
 #include <variant>
 
 #include "carom/analysis/analysis.hpp"
+#include "carom/analysis/viewer.hpp"
+#include "carom/engine/invariant_check.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/classic_input.hpp"
 #include "carom/io/gsd.hpp"
-#include "carom/engine/invariant_check.hpp"
-#include "carom/analysis/viewer.hpp"
 
 namespace carom::fuzz {
 

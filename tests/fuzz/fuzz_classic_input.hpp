@@ -12,13 +12,13 @@
 #include <string>
 #include <variant>
 
-#include "carom/io/classic_input.hpp"
 #include "carom/engine/compression.hpp"
 #include "carom/engine/engine.hpp"
+#include "carom/engine/overlap.hpp"
+#include "carom/io/classic_input.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/run/run_report.hpp"
-#include "carom/engine/overlap.hpp"
 
 namespace carom::fuzz {
 

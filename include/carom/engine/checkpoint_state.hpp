@@ -22,8 +22,8 @@ struct Checkpoint {
   bool settled = false;  // every event up to `time` processed
   Counts counts;         // since the run began
   Measurement measurement;
-  std::optional<double> measure_from;  // a measurement window still to open
-  WindowRecords records;               // of the run that saved it
+  std::optional<double> measure_from;     // a measurement window still to open
+  WindowRecords records;                  // of the run that saved it
   std::uint64_t thermostat_instants = 0;  // the thermostat's instants done
   pcg32 thermostat_rng;                   // Andersen's draws to come
   double thermostat_next = kNever;        // Andersen's resets as events: the next one's time

@@ -17,8 +17,8 @@
 #include <optional>
 #include <vector>
 
-#include "carom/engine/engine.hpp"
 #include "carom/core/system.hpp"
+#include "carom/engine/engine.hpp"
 
 namespace carom {
 

@@ -24,10 +24,10 @@
 #include <variant>
 #include <vector>
 
-#include "carom/engine/engine.hpp"
 #include "carom/core/measurement.hpp"
 #include "carom/core/observables.hpp"
 #include "carom/core/thermostat.hpp"
+#include "carom/engine/engine.hpp"
 
 namespace carom {
 
@@ -251,7 +251,7 @@ class Simulation {
   std::uint64_t rebase_period_;     // see rebase_period()
   std::uint64_t events_to_rebase_;  // until counts_.events is the next multiple of it
   std::vector<Scheduled> observers_;
-  bool watch_events_ = false;  // an observer needs looking at after events
+  bool watch_events_ = false;     // an observer needs looking at after events
   bool instant_awaited_ = false;  // an observer waits for the instant to be complete
   // The thermostat's instants are `every` apart from t = 0; it has acted at this many of them
   // (counted from the first, whether or not the run saw them: a run from t acts from then on).

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "carom/run/any_simulation.hpp"
 #include "carom/engine/compression.hpp"
+#include "carom/run/any_simulation.hpp"
 
 namespace carom {
 

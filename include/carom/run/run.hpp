@@ -27,8 +27,8 @@
 #include <vector>
 
 #include "carom/run/any_simulation.hpp"
-#include "carom/run/run_report.hpp"
 #include "carom/run/request.hpp"
+#include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
 
 namespace carom {
@@ -48,9 +48,9 @@ struct RunSpec {
   // --transport: self-diffusion, shear viscosity and thermal conductivity over the measurement
   // window (transport.hpp), in the summary; a periodic box only.
   bool transport = false;
-  bool check = false;                       // --check: invariants checked as the run goes
-  std::uint64_t check_every = 0;            // --check-every: events between overlap checks (0: N,
-                                            // at least 1000)
+  bool check = false;             // --check: invariants checked as the run goes
+  std::uint64_t check_every = 0;  // --check-every: events between overlap checks (0: N,
+                                  // at least 1000)
 };
 
 // What a run reports as it goes, to a front end that shows it.

@@ -24,9 +24,9 @@ struct EnumNames<Format> {
 
 // What a json result says beyond the simulation itself.
 struct RunReport {
-  std::string input;          // the file the run began from
-  double wall_seconds = 0.0;  // wall-clock time of the simulation (of this process)
-  std::uint64_t events = 0;   // the events processed in that time
+  std::string input;                  // the file the run began from
+  double wall_seconds = 0.0;          // wall-clock time of the simulation (of this process)
+  std::uint64_t events = 0;           // the events processed in that time
   std::optional<std::uint64_t> seed;  // of the velocities the run drew, if it drew any
   std::optional<DriftVerdict> drift;  // of Z over the measurement window, if measured
   // The standard error of the window's pressure tensor (ZDrift::pressure_tensor_error).
