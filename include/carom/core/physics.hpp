@@ -127,6 +127,26 @@ constexpr double earliest_contact(double t0, const Vec<D>& r, const Vec<D>& v, d
   return t0 + c / (-rv + std::sqrt(discriminant));
 }
 
+// Event-chain Monte Carlo's lift: how far a particle moving along +`axis` goes before it touches
+// one at separation r = (mover - other) with contact distance sigma, or kNever when the other is
+// not ahead of it within sigma across the axis. The contact is earliest_contact's root for a unit
+// velocity, in the same cancellation-free form and bit for bit the same (the dot product with a
+// unit vector is the component, |e|^2 c is c): (|r|^2 - sigma^2) / (-r_axis + sqrt(sigma^2 -
+// |r_perp|^2)). A pair touching or overlapping by round-off lifts at once (0). `limit` works as
+// in contact_time: a lift beyond it may be reported as kNever, one at or before it never is.
+template <std::size_t D>
+constexpr double lift_distance(const Vec<D>& r, std::size_t axis, double sigma,
+                               double limit = kNever) {
+  const double along = r[axis];
+  if (!(along < 0.0)) return kNever;
+  const double c = norm2(r) - sigma * sigma;
+  if (c <= 0.0) return 0.0;
+  if (c / (-2.0 * along) * (1.0 - 1e-9) > limit) return kNever;
+  const double discriminant = along * along - c;
+  if (discriminant < 0.0) return kNever;
+  return c / (-along + std::sqrt(discriminant));
+}
+
 // Wraps a particle's stored state into a periodic box, adding the sides it moved by to `image`;
 // in a sheared box a move across y also moves it along x by the images' shift and changes its
 // x velocity by their speed (it becomes the image of itself inside the box).
