@@ -122,6 +122,26 @@ class CellGrid {
     visit_cells(cells, block(cell, cells), look_ahead, visit);
   }
 
+  // Calls visit(j) once for every particle j in the cells around `cell` that lie level with it or
+  // one further up along `axis`: the block less the layer behind. What a particle moving up along
+  // `axis` can touch while inside `cell` (event-chain Monte Carlo's lifts). The whole block on an
+  // axis of fewer than three cells, whose layers are not apart.
+  template <class Visit>
+  void for_each_ahead(std::uint32_t cell, std::size_t axis, Visit&& visit) const {
+    std::array<std::uint32_t, kBlock> cells;
+    std::size_t count = 0;
+    if (count_[axis] < 3) {
+      count = block(cell, cells);
+    } else {
+      std::array<std::uint32_t, kBlock> ahead;
+      count = layer(adjacent(cell, axis, false), axis, true, cells);
+      const std::size_t more = layer(cell, axis, true, ahead);
+      for (std::size_t c = 0; c < more; ++c) cells[count++] = ahead[c];
+    }
+    visit_cells(
+        cells, count, [](std::uint32_t) {}, visit);
+  }
+
   // Calls visit(j) once for every particle j in the cells around the one containing `point` (its
   // own included) that come within `reach` of it: the block's corners and edges lie beyond when
   // `point` is far from them, and are skipped (about a quarter of the particles of a block of

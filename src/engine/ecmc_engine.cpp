@@ -77,7 +77,7 @@ std::pair<std::uint32_t, double> EcmcEngine<D>::nearest_lift(const Particle<D>& 
   const std::uint32_t active = chain_.active;
   std::uint32_t target = active;
   double nearest = kNever;
-  grid_.for_each_near(grid_.cell_of(active), [&](std::uint32_t j) {
+  grid_.for_each_ahead(grid_.cell_of(active), chain_.axis, [&](std::uint32_t j) {
     if (j == active) return;
     const Particle<D>& b = this->system_.particles[j];
     const double s = lift_distance(image_separation(a, b, this->system_.box), chain_.axis,

@@ -15,9 +15,10 @@
 // move) / (the displacement) (Michel, Kapfer and Krauth, J. Chem. Phys. 140, 054116 (2014)).
 //
 // Candidates come from a cell grid: a particle the active one touches while inside its cell lies
-// in the block of cells around it, so the nearest lift in the block is the next event if it comes
-// before the active particle leaves its cell; otherwise the cell changes and the block is searched
-// again. No calendar: the next event is always the active particle's.
+// in the block of cells around it, and not in the layer behind (CellGrid::for_each_ahead), so the
+// nearest lift there is the next event if it comes before the active particle leaves its cell;
+// otherwise the cell changes and the cells are searched again. No calendar: the next event is
+// always the active particle's.
 #pragma once
 
 #include <cstdint>
