@@ -444,15 +444,20 @@ void dump_run(const System<2>& start, const std::string& path, double every, dou
   simulation.run_until(end);
 }
 
-// A short run of disks dumped as .gsd and .xyz: the frames read back agree.
-TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
-  const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_test";
-  std::filesystem::create_directories(folder);
+// 60 disks at packing 0.4 in a periodic box: a short run's start.
+System<2> small_gas() {
   InitialOptions init;
   init.n = 60;
   init.packing_fraction = 0.4;
   init.boundary = Boundary::periodic;
-  const System<2> start = make_initial<2>(init);
+  return make_initial<2>(init);
+}
+
+// A short run of disks dumped as .gsd and .xyz: the frames read back agree.
+TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
+  const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_test";
+  std::filesystem::create_directories(folder);
+  const System<2> start = small_gas();
   std::vector<std::string> paths;
   for (const char* ending : {".gsd", ".xyz"}) {
     const std::string path = (folder / (std::string("run") + ending)).string();
@@ -486,13 +491,9 @@ TEST(TrajectoryReader, GsdAndXyzFramesOfOneRunAgree) {
 TEST(AnalysisSpec, WritesTheJsonAndThePageOfWhatItReturns) {
   const auto folder = std::filesystem::temp_directory_path() / "carom_analysis_spec_test";
   std::filesystem::create_directories(folder);
-  InitialOptions init;
-  init.n = 60;
-  init.packing_fraction = 0.4;
-  init.boundary = Boundary::periodic;
   AnalysisSpec spec;
   spec.trajectory.path = (folder / "run.gsd").string();
-  dump_run(make_initial<2>(init), spec.trajectory.path, 0.25, 5.0);
+  dump_run(small_gas(), spec.trajectory.path, 0.25, 5.0);
   spec.json.path = (folder / "analysis.json").string();
   spec.html.path = (folder / "report.html").string();
   spec.options.from_time = 1.0;
