@@ -66,10 +66,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
 template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
     : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}) {
-  chain_.active =
-      static_cast<std::uint32_t>(chain_.rng(static_cast<std::uint32_t>(this->system_.size())));
-  chain_.chain_end = this->now_ + chain_duration_;
-  this->system_.particles[chain_.active].velocity = along<D>(0, speed_);
+  start_moving_at(this->now_);
 }
 
 template <std::size_t D>
@@ -128,6 +125,11 @@ void EcmcEngine<D>::start_next_chain() {
   wrap(a, this->system_.box, record.image);
   grid_.move(chain_.active, grid_.locate(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
+  start_moving_at(t);
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::start_moving_at(double t) {
   chain_.active =
       static_cast<std::uint32_t>(chain_.rng(static_cast<std::uint32_t>(this->system_.size())));
   Particle<D>& next = this->system_.particles[chain_.active];

@@ -64,7 +64,9 @@ class EcmcEngine final : public Engine<D> {
   // The nearest lift of the active particle `a` among the particles around its cell: the partner
   // and the distance from a's stored position (kNever if none).
   std::pair<std::uint32_t, double> nearest_lift(const Particle<D>& a) const;
-  Event lift(std::uint32_t active, std::uint32_t target, double t);
+  // Draws the next chain's active particle, at rest until now, and sets it moving along the
+  // chain's axis from stored time t.
+  void start_moving_at(double t);
 
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
