@@ -52,10 +52,7 @@ void check(const RunArguments& args) {
       const StartSpec& start = args.start;
       const Rule rule = start.rule.value_or(
           default_rule({}, start.boundary.value_or(Boundary::walls), start.restitution));
-      check_settings({{rule, start.restitution, start.tc},
-                      start.engine,
-                      {},
-                      {start.sampler, start.chain_length, start.seed}});
+      check_settings({{rule, start.restitution, start.tc}, start.engine});
     } catch (const std::invalid_argument& e) {
       throw UsageError(e.what());
     }

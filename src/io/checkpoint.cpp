@@ -115,6 +115,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"restitution", c.settings.rule.restitution},
       {"tc", c.settings.rule.elastic_within},
       {"engine", name_of(c.settings.engine)},
+      {"sampler", name_of(c.settings.sampler.kind)},
       {"time", c.time},
       {"epoch", c.system.epoch},
       {"settled", c.settled},

@@ -261,10 +261,10 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         fail(e.what());
       }
     }
+    if (format >= 5) c.settings.sampler.kind = f.template choice<SamplerKind>(j, "sampler");
     if (const auto found = j.find("chains"); found != j.end()) {  // from carom 1.9
       const std::string where = "\"chains\"";
       Sampler& sampler = c.settings.sampler;
-      sampler.kind = SamplerKind::ecmc;
       sampler.chain_length = f.number(f.at(*found, "chain_length", where), "the chain length");
       if (!(sampler.chain_length > 0.0)) {
         fail(fmt::format("the chain length {} is not above 0", sampler.chain_length));

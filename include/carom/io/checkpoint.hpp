@@ -17,8 +17,9 @@
 
 namespace carom {
 
-// Format 5 (carom 1.9) adds event chains' sampler and the chain in flight ("chains"), so that a
-// carom without them refuses such a checkpoint rather than continue it as dynamics. Format 4
+// Format 5 (carom 1.9) adds the sampler ("sampler": md or ecmc) and event chains' chain in
+// flight ("chains"), so that a carom without them refuses such a checkpoint rather than continue
+// it as dynamics. Format 4
 // (carom 1.8) adds what the summary needs of the measurement window (its records: the
 // drift verdict's intervals, the pressure tensor's, transport's blocks, with the window and end
 // they measure) and the velocities' seed, so that a run resumed at any instant, its end included,
