@@ -162,3 +162,38 @@ def test_every_output_reads_back(cli, tmp_path):
     # The pressure tensor in beta P, as the pressure: its trace over D is about the pressure.
     trace = (float(last["pxx"]) + float(last["pyy"])) / 2
     assert trace == pytest.approx(float(last["pressure"]), rel=0.05)
+
+
+def test_a_sweep_of_chains_is_its_tasks_commands_run_alone(cli, tmp_path):
+    """sampler = "ecmc" in a plan's [run]: every task runs chains seeded by its own seed (the
+    swept one), and its files are those of its task.txt commands run alone."""
+    import os
+    import subprocess
+    from pathlib import Path
+
+    from test_sweep import CLOCK as SWEEP_CLOCK, PLAN, SHORT, TASKS, TASK_FILES, contents
+
+    (tmp_path / "sweep").mkdir()
+    plan = tmp_path / "sweep" / "plan.toml"
+    plan.write_text(PLAN.format(**SHORT).replace("[run]\n", '[run]\nsampler = "ecmc"\n'))
+    cli("sweep", plan, "-o", "out", "-q", cwd=tmp_path / "sweep")
+    swept = contents(tmp_path / "sweep" / "out")
+    alone = tmp_path / "alone"
+    env = dict(os.environ, PATH=f"{Path(cli.exe).parent}{os.pathsep}{os.environ['PATH']}")
+    lifts = set()
+    for task in TASKS:
+        (alone / "out" / task).mkdir(parents=True)
+        commands = tmp_path / "sweep" / "out" / task / "task.txt"
+        assert "--sampler ecmc" in commands.read_text()
+        proc = subprocess.run(["bash", "-e", str(commands)], cwd=alone, env=env,
+                              capture_output=True, timeout=60)
+        assert proc.returncode == 0, proc.stderr.decode()
+        for name in TASK_FILES:
+            assert (alone / "out" / task / name).read_bytes() == swept[f"{task}/{name}"], \
+                f"{task}/{name}"
+        summary = json.loads((alone / "out" / task / "summary.json").read_text())
+        assert {k: v for k, v in summary.items() if k not in SWEEP_CLOCK} \
+            == swept[f"{task}/summary.json"], task
+        assert summary["sampler"] == "ecmc"
+        lifts.add(summary["lifts"])
+    assert len(lifts) == len(TASKS)  # four different runs, the seeds' replicas included
