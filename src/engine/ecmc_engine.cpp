@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "carom/engine/initial.hpp"
@@ -54,65 +55,251 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     throw std::invalid_argument(
         fmt::format("a chain length must be above 0, not {}", chain_length));
   }
-  const double n = static_cast<double>(this->system_.size());
-  const double diameter = mean_diameter(this->system_);
-  speed_ = n * diameter;
-  chain_duration_ = chain_length * diameter / speed_;
-  for (std::uint32_t i = 0; i < this->system_.size(); ++i) {
-    grid_.insert(i, grid_.locate(this->system_.particles[i].position));
+  const std::size_t n = this->system_.size();
+  if (chain_.active >= n) {
+    throw std::invalid_argument(
+        fmt::format("the active particle {} is not one of the {}", chain_.active, n));
   }
+  const double diameter = mean_diameter(this->system_);
+  speed_ = static_cast<double>(n) * diameter;
+  chain_duration_ = chain_length * diameter / speed_;
+  for (std::size_t k = 0; k < D; ++k) {
+    half_box_[k] = 0.5 * this->system_.box.size[k];
+    cells_along_[k] = grid_.cells_along(k);
+  }
+  // The lists, as long as the fullest cell's.
+  cell_of_.resize(n);
+  fill_.assign(grid_.cell_count(), 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    cell_of_[i] = grid_.locate(this->system_.particles[i].position);
+    capacity_ = std::max(capacity_, ++fill_[cell_of_[i]]);
+  }
+  std::fill(fill_.begin(), fill_.end(), 0u);
+  resting_.resize(grid_.cell_count() * capacity_);
+  for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of_[i]);
+  // The cells ahead of a cell one from every edge, relative to it.
+  inner_ahead_ = true;
+  for (std::size_t k = 0; k < D; ++k) inner_ahead_ = inner_ahead_ && cells_along_[k] >= 3;
+  if (inner_ahead_) {
+    std::uint32_t inner = 0, stride = 1;
+    for (std::size_t k = 0; k < D; ++k) {
+      inner += stride;
+      stride *= cells_along_[k];
+    }
+    for (std::size_t axis = 0; axis < D; ++axis) {
+      std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+      inner_count_ = grid_.cells_ahead(inner, axis, cells);
+      for (std::size_t c = 0; c < inner_count_; ++c) {
+        inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
+      }
+    }
+  }
+  set_moving(chain_.active);
 }
 
 template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
     : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}) {
+  rest(0, cell_of_[0]);
   start_moving_at(this->now_);
 }
 
 template <std::size_t D>
-std::pair<std::uint32_t, double> EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
-  const std::uint32_t active = chain_.active;
-  std::uint32_t target = active;
-  double nearest = kNever;
-  grid_.for_each_ahead(grid_.cell_of(active), chain_.axis, [&](std::uint32_t j) {
-    if (j == active) return;
-    const Particle<D>& b = this->system_.particles[j];
-    const double s = lift_distance(image_separation(a, b, this->system_.box), chain_.axis,
-                                   a.radius + b.radius, nearest);
-    // Ties go to the lower index, so that the order of the cells' lists does not matter.
-    if (s < nearest || (s == nearest && s != kNever && j < target)) {
-      nearest = s;
-      target = j;
+void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
+  if (fill_[cell] == capacity_) widen_cells();
+  const Particle<D>& p = this->system_.particles[i];
+  resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i};
+  cell_of_[i] = cell;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::take_out(std::uint32_t slot) {
+  const std::uint32_t cell = cell_of_[resting_[slot].id];
+  resting_[slot] = resting_[cell * capacity_ + --fill_[cell]];
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::widen_cells() {
+  const std::uint32_t wider = capacity_ + 1 + capacity_ / 4;
+  std::vector<Resting> resting(fill_.size() * wider);
+  for (std::size_t cell = 0; cell < fill_.size(); ++cell) {
+    std::copy_n(resting_.begin() + static_cast<std::ptrdiff_t>(cell * capacity_), fill_[cell],
+                resting.begin() + static_cast<std::ptrdiff_t>(cell * wider));
+  }
+  resting_ = std::move(resting);
+  capacity_ = wider;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::set_moving(std::uint32_t i) {
+  const std::uint32_t cell = cell_of_[i];
+  std::uint32_t slot = cell * capacity_;
+  while (resting_[slot].id != i) ++slot;
+  take_out(slot);
+  cell_ = cell;
+  at_ = grid_.coordinates_of(cell);
+  crossings_ = 0;
+}
+
+template <std::size_t D>
+std::size_t EcmcEngine<D>::cells_ahead(
+    std::array<std::uint32_t, CellGrid<D>::kBlock>& cells) const {
+  const std::size_t axis = chain_.axis;
+  if (inner_ahead_) {
+    bool inner = at_[axis] + 1 < cells_along_[axis];
+    for (std::size_t k = 0; k < D; ++k) {
+      if (k != axis) inner = inner && at_[k] >= 1 && at_[k] + 1 < cells_along_[k];
     }
-  });
-  return {target, nearest};
+    if (inner) {
+      for (std::size_t c = 0; c < inner_count_; ++c) {
+        cells[c] = static_cast<std::uint32_t>(cell_ + inner_offsets_[axis][c]);
+      }
+      return inner_count_;
+    }
+  }
+  return grid_.cells_ahead(cell_, axis, cells);
+}
+
+// x less the nearest whole number of sides: image_separation's component when x is more than
+// half a side (rare: out of line).
+[[gnu::noinline]] static double nearest_image(double x, double side) {
+  return x - side * std::nearbyint(x / side);
+}
+
+template <std::size_t D>
+template <std::size_t Axis>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+  std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+  const std::size_t count = cells_ahead(cells);
+  const Vec<D> p = a.position, half = half_box_, side = this->system_.box.size;
+  const double radius = a.radius;
+  const Resting* const resting = resting_.data();
+  const std::uint32_t* const fill = fill_.data();
+  const std::uint32_t capacity = capacity_;
+  Lift best{kNever, chain_.active, 0};
+  for (std::size_t c = 0; c < count; ++c) {
+    const Resting* b = resting + static_cast<std::size_t>(cells[c]) * capacity;
+    for (const Resting* const end = b + fill[cells[c]]; b != end; ++b) {
+      // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first
+      // (half are behind), and no bound to cut candidates short, which changes no nearest lift
+      // (the nearest is never cut).
+      double along = p[Axis] - b->position[Axis];
+      if (!(std::abs(along) <= half[Axis])) [[unlikely]]
+        along = nearest_image(along, side[Axis]);
+      if (!(along < 0.0)) continue;
+      Vec<D> r;
+      for (std::size_t k = 0; k < D; ++k) {
+        if (k == Axis) {
+          r[k] = along;
+          continue;
+        }
+        r[k] = p[k] - b->position[k];
+        if (!(std::abs(r[k]) <= half[k])) [[unlikely]]
+          r[k] = nearest_image(r[k], side[k]);
+      }
+      const double sigma = radius + b->radius;
+      const double c2 = norm2(r) - sigma * sigma;
+      const double discriminant = along * along - c2;
+      if (discriminant < 0.0) continue;  // never with c2 <= 0
+      const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+      if (s < best.distance || (s == best.distance && b->id < best.target)) {
+        best = {s, b->id, static_cast<std::uint32_t>(b - resting)};
+      }
+    }
+  }
+  return best;
+}
+
+template <std::size_t D>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+  static_assert(D == 2 || D == 3);
+  if constexpr (D == 3) {
+    if (chain_.axis == 2) return nearest_lift<2>(a);
+  }
+  return chain_.axis == 0 ? nearest_lift<0>(a) : nearest_lift<1>(a);
+}
+
+template <std::size_t D>
+double EcmcEngine<D>::crossing_distance(const Particle<D>& a) const {
+  const std::size_t k = chain_.axis;
+  if (cells_along_[k] == 1) return kNever;
+  const double width = grid_.width(k), side = this->system_.box.size[k];
+  double offset = a.position[k] - (at_[k] + 0.5) * width;
+  if (!(std::abs(offset) <= 0.5 * side)) offset -= side * std::nearbyint(offset / side);
+  return 0.5 * width - offset;
 }
 
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   while (true) {
-    const std::uint32_t active = chain_.active;
-    const Particle<D>& a = this->system_.particles[active];
-    const auto [target, distance] = nearest_lift(a);
-    const double lift_time = distance == kNever ? kNever : a.time + distance / speed_;
-    const auto crossing = grid_.next_crossing(grid_.cell_of(active), a.position, a.velocity);
-    const double crossing_time = a.time + crossing.delay;
+    const Particle<D>& a = this->system_.particles[chain_.active];
+    const Lift lift = nearest_lift(a);
+    const double lift_time = lift.distance == kNever ? kNever : a.time + lift.distance / speed_;
+    const double distance = crossing_distance(a);
+    const double crossing_time =
+        a.time + (distance == kNever ? kNever : std::max(distance / a.velocity[chain_.axis], 0.0));
     if (chain_.chain_end <= lift_time && chain_.chain_end <= crossing_time) {
       if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
       start_next_chain();
     } else if (lift_time <= crossing_time) {
       if (!this->due_by(lift_time, end_time)) return std::nullopt;
-      const Event event = this->apply(Event{lift_time, std::min(active, target),
-                                            static_cast<std::int32_t>(std::max(active, target))});
-      // apply() wrapped both into the box: the active one may have left the cell it was in.
-      grid_.move(active, grid_.locate(this->system_.particles[active].position));
-      chain_.active = target;
+      const std::uint32_t stopped = chain_.active;
+      const Event event = this->lift(lift.target, lift_time);
+      take_out(lift.slot);
+      rest(stopped, grid_.locate(this->system_.particles[stopped].position));
+      chain_.active = lift.target;
+      cell_ = cell_of_[lift.target];
+      at_ = grid_.coordinates_of(cell_);
+      crossings_ = 0;
       return event;
     } else {
       if (!this->due_by(crossing_time, end_time)) return std::nullopt;
-      grid_.move(active, grid_.adjacent(grid_.cell_of(active), crossing.axis, crossing.upward));
+      const std::size_t axis = chain_.axis;
+      cell_ = grid_.adjacent(cell_, axis, true);
+      at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
+      // Back in the cell it set out from, nothing has changed: the same cells would follow,
+      // round and round, for ever (a flight of half a box side without a lift).
+      if (++crossings_ >= cells_along_[axis]) {
+        throw JamError(fmt::format(
+            "event-chain Monte Carlo: particle {} went round the box along axis {} without a lift "
+            "at t = {}; shorten the chains below half a box side or add particles",
+            chain_.active, axis, this->system_.absolute(a.time)));
+      }
     }
   }
+}
+
+template <std::size_t D>
+Event EcmcEngine<D>::lift(std::uint32_t target, double t) {
+  const std::uint32_t active = chain_.active;
+  Event event{t, std::min(active, target), static_cast<std::int32_t>(std::max(active, target))};
+  System<D>& system = this->system_;
+  this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
+  if (this->events_at_now_ > 64 * system.particles.size() + 1000) this->throw_stuck(event);
+  this->now_ = t;
+  const auto partner = static_cast<std::size_t>(event.partner);
+  Particle<D>& a = system.particles[event.first];
+  Particle<D>& b = system.particles[partner];
+  ParticleRecord& ra = system.records[event.first];
+  ParticleRecord& rb = system.records[partner];
+  advance(a, t);
+  advance(b, t);
+  const Vec<D> r = image_separation(a, b, system.box), before = a.velocity;
+  event.impulse = collide(a, b, r, Rule::swap, 1.0, ra.mass, rb.mass);
+  for (std::size_t k = 0; k < D; ++k) {
+    event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
+    event.contact[k] = r[k];
+  }
+  wrap(a.position, system.box, ra.image);
+  wrap(b.position, system.box, rb.image);
+  ++ra.pair_collisions;
+  ++rb.pair_collisions;
+  ++ra.changes;
+  ++rb.changes;
+  rb.last_collision = t;
+  ra.last_collision = t;
+  event.time = system.absolute(t);
+  return event;
 }
 
 template <std::size_t D>
@@ -123,7 +310,7 @@ void EcmcEngine<D>::start_next_chain() {
   advance(a, t);
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
-  grid_.move(chain_.active, grid_.locate(a.position));
+  rest(chain_.active, grid_.locate(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
 }
@@ -136,6 +323,7 @@ void EcmcEngine<D>::start_moving_at(double t) {
   next.time = t;
   next.velocity = along<D>(chain_.axis, speed_);
   chain_.chain_end = t + chain_duration_;
+  set_moving(chain_.active);
 }
 
 template <std::size_t D>

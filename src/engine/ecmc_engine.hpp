@@ -21,9 +21,11 @@
 // always the active particle's.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <pcg_random.hpp>
+#include <vector>
 
 #include "carom/engine/engine.hpp"
 #include "cell_grid.hpp"
@@ -56,22 +58,75 @@ class EcmcEngine final : public Engine<D> {
   double speed() const { return speed_; }
 
  private:
-  void rebased(double shift) override { chain_.chain_end -= shift; }
+  void rebased(double shift) override {
+    chain_.chain_end -= shift;
+    crossings_ = 0;
+  }
   void velocity_reset(std::uint32_t) override;
+
+  // A particle at rest as the search reads it: its stored position and radius, its index.
+  struct Resting {
+    Vec<D> position;
+    double radius;
+    std::uint32_t id;
+  };
+  // The nearest lift found: how far from the active particle's stored position (kNever if none),
+  // the partner, and where it rests (its index in resting_).
+  struct Lift {
+    double distance;
+    std::uint32_t target;
+    std::uint32_t slot;
+  };
 
   // Stops the active particle at the chain's end and starts the next chain.
   void start_next_chain();
-  // The nearest lift of the active particle `a` among the particles around its cell: the partner
-  // and the distance from a's stored position (kNever if none).
-  std::pair<std::uint32_t, double> nearest_lift(const Particle<D>& a) const;
+  // The nearest lift of the active particle `a` among the particles around its cell (the cells
+  // CellGrid::for_each_ahead visits): ties go to the lower index.
+  Lift nearest_lift(const Particle<D>& a) const;
+  template <std::size_t Axis>
+  Lift nearest_lift(const Particle<D>& a) const;
+  // Engine::apply for a lift of the active particle onto `target` at stored time t, bit for bit.
+  Event lift(std::uint32_t target, double t);
+  // grid_.next_crossing(cell_, a.position, a.velocity).delay for a velocity along the axis alone,
+  // bit for bit; and the distance it is the time of (kNever for none).
+  double crossing_distance(const Particle<D>& a) const;
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
   void start_moving_at(double t);
+  // Puts particle i at rest into cell `cell`'s list, or takes the one in `slot` out of it.
+  void rest(std::uint32_t i, std::uint32_t cell);
+  void take_out(std::uint32_t slot);
+  // Takes the particle i, which rests in cell_of_[i], out to move: the active one.
+  void set_moving(std::uint32_t i);
+  // Room for one more particle a cell: every list laid out again.
+  void widen_cells();
+  // The cells around cell_ ahead along the axis, into `cells`; how many.
+  std::size_t cells_ahead(std::array<std::uint32_t, CellGrid<D>::kBlock>& cells) const;
 
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;
+  // The grid's geometry only: which cells are searched, and when the active particle leaves
+  // its cell. The particles at rest are listed here instead: cell c's are resting_[c *
+  // capacity_ + k] for k below fill_[c], their stored positions side by side, so that a search
+  // reads a few contiguous runs of memory. The active particle is in no list.
   CellGrid<D> grid_;
+  std::vector<Resting> resting_;
+  std::vector<std::uint32_t> fill_;
+  std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
+  std::uint32_t capacity_ = 1;
+  std::uint32_t cell_ = 0;             // the cell the active particle is in now
+  std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
+  std::array<std::uint32_t, D> cells_along_{};
+  // For a cell whose cells ahead wrap around no edge, they are its index plus these (along each
+  // axis). Only with three cells or more along every axis.
+  bool inner_ahead_ = false;
+  std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
+  std::size_t inner_count_ = 0;
+  // Cells crossed since the active particle's stored state was set: back in the cell it set out
+  // from, the chain would go round the box forever (see step()).
+  std::uint32_t crossings_ = 0;
+  Vec<D> half_box_;  // 0.5 x each side, as image_offset computes it
 };
 
 }  // namespace carom
