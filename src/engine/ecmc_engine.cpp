@@ -66,6 +66,8 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   for (std::size_t k = 0; k < D; ++k) {
     half_box_[k] = 0.5 * this->system_.box.size[k];
     cells_along_[k] = grid_.cells_along(k);
+    strides_[k] = k == 0 ? 1 : strides_[k - 1] * cells_along_[k - 1];
+    widths_[k] = grid_.width(k);
   }
   // The lists, as long as the fullest cell's.
   cell_of_.resize(n);
@@ -105,6 +107,32 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
 }
 
 template <std::size_t D>
+std::uint32_t EcmcEngine<D>::locate(const Vec<D>& position) const {
+  std::uint32_t cell = 0;
+  for (std::size_t k = 0; k < D; ++k) {
+    const double x = position[k];
+    // Inside the box wrap() leaves x alone, and floor(x / width) >= 0 is its truncation.
+    if (!(x > 0.0 && x < this->system_.box.size[k])) [[unlikely]]
+      return grid_.locate(position);
+    const auto at = static_cast<std::uint32_t>(x / widths_[k]);
+    cell += strides_[k] * std::min(at, cells_along_[k] - 1);
+  }
+  return cell;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const {
+  for (std::size_t k = 0; k < D; ++k) {
+    const double side = this->system_.box.size[k];
+    if (position[k] > 0.0 && position[k] < side) [[likely]]
+      continue;
+    const double sides = std::floor(position[k] / side);
+    position[k] -= side * sides;
+    if (sides != 0.0) add_sides(image[k], sides);
+  }
+}
+
+template <std::size_t D>
 void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   if (fill_[cell] == capacity_) widen_cells();
   const Particle<D>& p = this->system_.particles[i];
@@ -141,25 +169,6 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   crossings_ = 0;
 }
 
-template <std::size_t D>
-std::size_t EcmcEngine<D>::cells_ahead(
-    std::array<std::uint32_t, CellGrid<D>::kBlock>& cells) const {
-  const std::size_t axis = chain_.axis;
-  if (inner_ahead_) {
-    bool inner = at_[axis] + 1 < cells_along_[axis];
-    for (std::size_t k = 0; k < D; ++k) {
-      if (k != axis) inner = inner && at_[k] >= 1 && at_[k] + 1 < cells_along_[k];
-    }
-    if (inner) {
-      for (std::size_t c = 0; c < inner_count_; ++c) {
-        cells[c] = static_cast<std::uint32_t>(cell_ + inner_offsets_[axis][c]);
-      }
-      return inner_count_;
-    }
-  }
-  return grid_.cells_ahead(cell_, axis, cells);
-}
-
 // x less the nearest whole number of sides: image_separation's component when x is more than
 // half a side (rare: out of line).
 [[gnu::noinline]] static double nearest_image(double x, double side) {
@@ -169,17 +178,15 @@ std::size_t EcmcEngine<D>::cells_ahead(
 template <std::size_t D>
 template <std::size_t Axis>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
-  std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
-  const std::size_t count = cells_ahead(cells);
   const Vec<D> p = a.position, half = half_box_, side = this->system_.box.size;
   const double radius = a.radius;
   const Resting* const resting = resting_.data();
   const std::uint32_t* const fill = fill_.data();
   const std::uint32_t capacity = capacity_;
   Lift best{kNever, chain_.active, 0};
-  for (std::size_t c = 0; c < count; ++c) {
-    const Resting* b = resting + static_cast<std::size_t>(cells[c]) * capacity;
-    for (const Resting* const end = b + fill[cells[c]]; b != end; ++b) {
+  const auto visit = [&](std::uint32_t cell) {
+    const Resting* b = resting + static_cast<std::size_t>(cell) * capacity;
+    for (const Resting* const end = b + fill[cell]; b != end; ++b) {
       // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first
       // (half are behind), and no bound to cut candidates short, which changes no nearest lift
       // (the nearest is never cut).
@@ -206,6 +213,21 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
         best = {s, b->id, static_cast<std::uint32_t>(b - resting)};
       }
     }
+  };
+  // The cells CellGrid::for_each_ahead visits: away from the grid's edges, fixed offsets.
+  bool inner = inner_ahead_ && at_[Axis] + 1 < cells_along_[Axis];
+  for (std::size_t k = 0; k < D; ++k) {
+    if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
+  }
+  if (inner) [[likely]] {
+    const std::array<std::int64_t, CellGrid<D>::kBlock>& offsets = inner_offsets_[Axis];
+    for (std::size_t c = 0; c < inner_count_; ++c) {
+      visit(static_cast<std::uint32_t>(cell_ + offsets[c]));
+    }
+  } else {
+    std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+    const std::size_t count = grid_.cells_ahead(cell_, Axis, cells);
+    for (std::size_t c = 0; c < count; ++c) visit(cells[c]);
   }
   return best;
 }
@@ -246,7 +268,7 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
       const std::uint32_t stopped = chain_.active;
       const Event event = this->lift(lift.target, lift_time);
       take_out(lift.slot);
-      rest(stopped, grid_.locate(this->system_.particles[stopped].position));
+      rest(stopped, locate(this->system_.particles[stopped].position));
       chain_.active = lift.target;
       cell_ = cell_of_[lift.target];
       at_ = grid_.coordinates_of(cell_);
@@ -290,8 +312,8 @@ Event EcmcEngine<D>::lift(std::uint32_t target, double t) {
     event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
     event.contact[k] = r[k];
   }
-  wrap(a.position, system.box, ra.image);
-  wrap(b.position, system.box, rb.image);
+  wrap_into_box(a.position, ra.image);
+  wrap_into_box(b.position, rb.image);
   ++ra.pair_collisions;
   ++rb.pair_collisions;
   ++ra.changes;
@@ -310,7 +332,7 @@ void EcmcEngine<D>::start_next_chain() {
   advance(a, t);
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
-  rest(chain_.active, grid_.locate(a.position));
+  rest(chain_.active, locate(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
 }

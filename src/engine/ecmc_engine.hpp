@@ -100,8 +100,10 @@ class EcmcEngine final : public Engine<D> {
   void set_moving(std::uint32_t i);
   // Room for one more particle a cell: every list laid out again.
   void widen_cells();
-  // The cells around cell_ ahead along the axis, into `cells`; how many.
-  std::size_t cells_ahead(std::array<std::uint32_t, CellGrid<D>::kBlock>& cells) const;
+  // grid_.locate(position), bit for bit: without a division's libm call inside the box.
+  std::uint32_t locate(const Vec<D>& position) const;
+  // wrap(position, box, image), bit for bit, inline.
+  void wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const;
 
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
@@ -118,6 +120,8 @@ class EcmcEngine final : public Engine<D> {
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
   std::array<std::uint32_t, D> cells_along_{};
+  std::array<std::uint32_t, D> strides_{};
+  Vec<D> widths_;
   // For a cell whose cells ahead wrap around no edge, they are its index plus these (along each
   // axis). Only with three cells or more along every axis.
   bool inner_ahead_ = false;
