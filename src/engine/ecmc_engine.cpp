@@ -256,8 +256,21 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
   while (true) {
     const Particle<D>& a = this->system_.particles[chain_.active];
     const Lift lift = nearest_lift(a);
-    const double lift_time = lift.distance == kNever ? kNever : a.time + lift.distance / speed_;
     const double distance = crossing_distance(a);
+    // A lift no farther than the crossing comes no later (a.time + x / v rounds monotonically
+    // in x): then only its time is needed.
+    if (lift.distance <= distance && lift.distance != kNever && a.velocity[chain_.axis] == speed_)
+        [[likely]] {
+      const double lift_time = a.time + lift.distance / speed_;
+      if (chain_.chain_end <= lift_time) {
+        if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+        start_next_chain();
+        continue;
+      }
+      if (!this->due_by(lift_time, end_time)) return std::nullopt;
+      return this->lift(lift, lift_time);
+    }
+    const double lift_time = lift.distance == kNever ? kNever : a.time + lift.distance / speed_;
     const double crossing_time =
         a.time + (distance == kNever ? kNever : std::max(distance / a.velocity[chain_.axis], 0.0));
     if (chain_.chain_end <= lift_time && chain_.chain_end <= crossing_time) {
@@ -265,15 +278,7 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
       start_next_chain();
     } else if (lift_time <= crossing_time) {
       if (!this->due_by(lift_time, end_time)) return std::nullopt;
-      const std::uint32_t stopped = chain_.active;
-      const Event event = this->lift(lift.target, lift_time);
-      take_out(lift.slot);
-      rest(stopped, locate(this->system_.particles[stopped].position));
-      chain_.active = lift.target;
-      cell_ = cell_of_[lift.target];
-      at_ = grid_.coordinates_of(cell_);
-      crossings_ = 0;
-      return event;
+      return this->lift(lift, lift_time);
     } else {
       if (!this->due_by(crossing_time, end_time)) return std::nullopt;
       const std::size_t axis = chain_.axis;
@@ -291,37 +296,67 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
   }
 }
 
+// Engine::apply's swap-rule collision of the pair, bit for bit, with each particle's state in
+// registers: both brought to t (the resting one stays put), r = first - partner through the
+// nearest image, the velocities exchanged, r . dp with the first one's mass, both wrapped.
 template <std::size_t D>
-Event EcmcEngine<D>::lift(std::uint32_t target, double t) {
-  const std::uint32_t active = chain_.active;
-  Event event{t, std::min(active, target), static_cast<std::int32_t>(std::max(active, target))};
+std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
+  const std::uint32_t moving = chain_.active, target = lift.target;
   System<D>& system = this->system_;
+  std::optional<Event> result(std::in_place);
+  Event& event = *result;
+  event.time = t;
+  event.first = std::min(moving, target);
+  event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
   if (this->events_at_now_ > 64 * system.particles.size() + 1000) this->throw_stuck(event);
   this->now_ = t;
-  const auto partner = static_cast<std::size_t>(event.partner);
-  Particle<D>& a = system.particles[event.first];
-  Particle<D>& b = system.particles[partner];
-  ParticleRecord& ra = system.records[event.first];
-  ParticleRecord& rb = system.records[partner];
-  advance(a, t);
-  advance(b, t);
-  const Vec<D> r = image_separation(a, b, system.box), before = a.velocity;
-  event.impulse = collide(a, b, r, Rule::swap, 1.0, ra.mass, rb.mass);
+  Particle<D>& pm = system.particles[moving];
+  Particle<D>& pt = system.particles[target];
+  Vec<D> xm = pm.position + pm.velocity * (t - pm.time);
+  Vec<D> xt = pt.position + pt.velocity * (t - pt.time);
+  const Vec<D> vm = pm.velocity, vt = pt.velocity;
+  const bool moving_first = moving < target;
+  const Vec<D>& xa = moving_first ? xm : xt;
+  const Vec<D>& xb = moving_first ? xt : xm;
+  Vec<D> r = xa - xb;
   for (std::size_t k = 0; k < D; ++k) {
-    event.momentum[k] = ra.mass * (a.velocity[k] - before[k]);
+    if (!(std::abs(r[k]) <= half_box_[k])) [[unlikely]]
+      r[k] = nearest_image(r[k], system.box.size[k]);
+  }
+  // The first one's velocity after less before.
+  const Vec<D> change = moving_first ? vt - vm : vm - vt;
+  ParticleRecord& rm = system.records[moving];
+  ParticleRecord& rt = system.records[target];
+  const double mass = (moving_first ? rm : rt).mass;
+  event.impulse = mass * dot(r, change);
+  for (std::size_t k = 0; k < D; ++k) {
+    event.momentum[k] = mass * change[k];
     event.contact[k] = r[k];
   }
-  wrap_into_box(a.position, ra.image);
-  wrap_into_box(b.position, rb.image);
-  ++ra.pair_collisions;
-  ++rb.pair_collisions;
-  ++ra.changes;
-  ++rb.changes;
-  rb.last_collision = t;
-  ra.last_collision = t;
+  wrap_into_box(xm, rm.image);
+  wrap_into_box(xt, rt.image);
+  pm.position = xm;
+  pm.velocity = vt;
+  pm.time = t;
+  pt.position = xt;
+  pt.velocity = vm;
+  pt.time = t;
+  ++rm.pair_collisions;
+  ++rt.pair_collisions;
+  ++rm.changes;
+  ++rt.changes;
+  rm.last_collision = t;
+  rt.last_collision = t;
   event.time = system.absolute(t);
-  return event;
+  // The one that stopped rests where it is; the one struck moves on from its cell.
+  take_out(lift.slot);
+  rest(moving, locate(xm));
+  chain_.active = target;
+  cell_ = cell_of_[target];
+  at_ = grid_.coordinates_of(cell_);
+  crossings_ = 0;
+  return result;
 }
 
 template <std::size_t D>

@@ -85,8 +85,9 @@ class EcmcEngine final : public Engine<D> {
   Lift nearest_lift(const Particle<D>& a) const;
   template <std::size_t Axis>
   Lift nearest_lift(const Particle<D>& a) const;
-  // Engine::apply for a lift of the active particle onto `target` at stored time t, bit for bit.
-  Event lift(std::uint32_t target, double t);
+  // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
+  // bit; then the target moves on.
+  std::optional<Event> lift(const Lift& lift, double t);
   // grid_.next_crossing(cell_, a.position, a.velocity).delay for a velocity along the axis alone,
   // bit for bit; and the distance it is the time of (kNever for none).
   double crossing_distance(const Particle<D>& a) const;
