@@ -83,11 +83,8 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   inner_ahead_ = true;
   for (std::size_t k = 0; k < D; ++k) inner_ahead_ = inner_ahead_ && cells_along_[k] >= 3;
   if (inner_ahead_) {
-    std::uint32_t inner = 0, stride = 1;
-    for (std::size_t k = 0; k < D; ++k) {
-      inner += stride;
-      stride *= cells_along_[k];
-    }
+    std::uint32_t inner = 0;
+    for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
     for (std::size_t axis = 0; axis < D; ++axis) {
       std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
       inner_count_ = grid_.cells_ahead(inner, axis, cells);
@@ -107,7 +104,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
 }
 
 template <std::size_t D>
-std::uint32_t EcmcEngine<D>::locate(const Vec<D>& position) const {
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate(const Vec<D>& position) const {
   std::uint32_t cell = 0;
   for (std::size_t k = 0; k < D; ++k) {
     const double x = position[k];
@@ -121,7 +118,8 @@ std::uint32_t EcmcEngine<D>::locate(const Vec<D>& position) const {
 }
 
 template <std::size_t D>
-void EcmcEngine<D>::wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const {
+[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(
+    Vec<D>& position, std::array<std::int32_t, 3>& image) const {
   for (std::size_t k = 0; k < D; ++k) {
     const double side = this->system_.box.size[k];
     if (position[k] > 0.0 && position[k] < side) [[likely]]
@@ -133,7 +131,7 @@ void EcmcEngine<D>::wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>&
 }
 
 template <std::size_t D>
-void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   if (fill_[cell] == capacity_) widen_cells();
   const Particle<D>& p = this->system_.particles[i];
   resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i};
@@ -141,7 +139,7 @@ void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
 }
 
 template <std::size_t D>
-void EcmcEngine<D>::take_out(std::uint32_t slot) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t slot) {
   const std::uint32_t cell = cell_of_[resting_[slot].id];
   resting_[slot] = resting_[cell * capacity_ + --fill_[cell]];
 }
@@ -214,15 +212,41 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
       }
     }
   };
-  // The cells CellGrid::for_each_ahead visits: away from the grid's edges, fixed offsets.
+  // The cells CellGrid::for_each_ahead visits. With three cells or more along every axis: the
+  // cell's and the next along Axis, each with its neighbours across (wrapping around the box).
   bool inner = inner_ahead_ && at_[Axis] + 1 < cells_along_[Axis];
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
   }
-  if (inner) [[likely]] {
-    const std::array<std::int64_t, CellGrid<D>::kBlock>& offsets = inner_offsets_[Axis];
+  if (inner) [[likely]] {  // no wrapping: fixed offsets
     for (std::size_t c = 0; c < inner_count_; ++c) {
-      visit(static_cast<std::uint32_t>(cell_ + offsets[c]));
+      visit(static_cast<std::uint32_t>(cell_ + inner_offsets_[Axis][c]));
+    }
+  } else if (inner_ahead_) {
+    std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
+    for (std::size_t k = 0; k < D; ++k) {
+      const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
+      const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
+      if (k == Axis) {
+        along[k] = {at * stride, up, 0};
+      } else {
+        along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
+      }
+    }
+    static_assert(D == 2 || D == 3);
+    if constexpr (D == 2) {
+      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
+      for (std::size_t y = 0; y < kY; ++y) {
+        for (std::size_t x = 0; x < kX; ++x) visit(along[1][y] + along[0][x]);
+      }
+    } else {
+      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
+      for (std::size_t z = 0; z < kZ; ++z) {
+        for (std::size_t y = 0; y < kY; ++y) {
+          const std::uint32_t row = along[2][z] + along[1][y];
+          for (std::size_t x = 0; x < kX; ++x) visit(row + along[0][x]);
+        }
+      }
     }
   } else {
     std::array<std::uint32_t, CellGrid<D>::kBlock> cells;

@@ -123,8 +123,8 @@ class EcmcEngine final : public Engine<D> {
   std::array<std::uint32_t, D> cells_along_{};
   std::array<std::uint32_t, D> strides_{};
   Vec<D> widths_;
-  // For a cell whose cells ahead wrap around no edge, they are its index plus these (along each
-  // axis). Only with three cells or more along every axis.
+  // Three cells or more along every axis: the search finds the cells ahead itself, for a cell
+  // one from every edge at these offsets from it (along each axis).
   bool inner_ahead_ = false;
   std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
   std::size_t inner_count_ = 0;
