@@ -3,7 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <new>
 #include <stdexcept>
+
+#if __has_include(<sys/mman.h>)
+#include <sys/mman.h>
+#endif
 
 #include "carom/engine/initial.hpp"
 
@@ -139,15 +144,32 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t slot) {
-  const std::uint32_t cell = cell_of_[resting_[slot].id];
+[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t slot, std::uint32_t cell) {
   resting_[slot] = resting_[cell * capacity_ + --fill_[cell]];
+}
+
+template <std::size_t D>
+template <class T>
+T* EcmcEngine<D>::LargePages<T>::allocate(std::size_t n) {
+  constexpr std::size_t kPage = std::size_t{1} << 21;
+  const std::size_t bytes = n * sizeof(T);
+  if (bytes < 8 * kPage) {
+    if (void* p = std::malloc(bytes)) return static_cast<T*>(p);
+    throw std::bad_alloc();
+  }
+  const std::size_t rounded = (bytes + kPage - 1) / kPage * kPage;
+  void* p = std::aligned_alloc(kPage, rounded);
+  if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: nothing changes if it is not taken
+#endif
+  return static_cast<T*>(p);
 }
 
 template <std::size_t D>
 void EcmcEngine<D>::widen_cells() {
   const std::uint32_t wider = capacity_ + 1 + capacity_ / 4;
-  std::vector<Resting> resting(fill_.size() * wider);
+  std::vector<Resting, LargePages<Resting>> resting(fill_.size() * wider);
   for (std::size_t cell = 0; cell < fill_.size(); ++cell) {
     std::copy_n(resting_.begin() + static_cast<std::ptrdiff_t>(cell * capacity_), fill_[cell],
                 resting.begin() + static_cast<std::ptrdiff_t>(cell * wider));
@@ -161,7 +183,7 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   const std::uint32_t cell = cell_of_[i];
   std::uint32_t slot = cell * capacity_;
   while (resting_[slot].id != i) ++slot;
-  take_out(slot);
+  take_out(slot, cell);
   cell_ = cell;
   at_ = grid_.coordinates_of(cell);
   crossings_ = 0;
@@ -181,7 +203,9 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
   const Resting* const resting = resting_.data();
   const std::uint32_t* const fill = fill_.data();
   const std::uint32_t capacity = capacity_;
-  Lift best{kNever, chain_.active, 0};
+  Lift best{kNever, chain_.active, 0, 0};
+  const Particle<D>* const particles = this->system_.particles.data();
+  const ParticleRecord* const records = this->system_.records.data();
   const auto visit = [&](std::uint32_t cell) {
     const Resting* b = resting + static_cast<std::size_t>(cell) * capacity;
     for (const Resting* const end = b + fill[cell]; b != end; ++b) {
@@ -208,7 +232,10 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
       if (discriminant < 0.0) continue;  // never with c2 <= 0
       const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
       if (s < best.distance || (s == best.distance && b->id < best.target)) {
-        best = {s, b->id, static_cast<std::uint32_t>(b - resting)};
+        best = {s, b->id, static_cast<std::uint32_t>(b - resting), cell};
+        // The lift's partner, if it stays the nearest, is written to soon.
+        __builtin_prefetch(particles + b->id, 1);
+        __builtin_prefetch(records + b->id, 1);
       }
     }
   };
@@ -374,10 +401,10 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   rt.last_collision = t;
   event.time = system.absolute(t);
   // The one that stopped rests where it is; the one struck moves on from its cell.
-  take_out(lift.slot);
+  take_out(lift.slot, lift.cell);
   rest(moving, locate(xm));
   chain_.active = target;
-  cell_ = cell_of_[target];
+  cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
   crossings_ = 0;
   return result;

@@ -23,6 +23,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <pcg_random.hpp>
 #include <vector>
@@ -76,6 +77,19 @@ class EcmcEngine final : public Engine<D> {
     double distance;
     std::uint32_t target;
     std::uint32_t slot;
+    std::uint32_t cell;
+  };
+  // Memory for the lists: large ones in 2 MiB pages where the system offers them (a search reads
+  // rows of cells a box side apart, each on a page of its own otherwise).
+  template <class T>
+  struct LargePages {
+    using value_type = T;
+    LargePages() = default;
+    template <class U>
+    LargePages(const LargePages<U>&) {}
+    T* allocate(std::size_t n);
+    void deallocate(T* p, std::size_t) { std::free(p); }
+    friend bool operator==(const LargePages&, const LargePages&) { return true; }
   };
 
   // Stops the active particle at the chain's end and starts the next chain.
@@ -96,7 +110,7 @@ class EcmcEngine final : public Engine<D> {
   void start_moving_at(double t);
   // Puts particle i at rest into cell `cell`'s list, or takes the one in `slot` out of it.
   void rest(std::uint32_t i, std::uint32_t cell);
-  void take_out(std::uint32_t slot);
+  void take_out(std::uint32_t slot, std::uint32_t cell);
   // Takes the particle i, which rests in cell_of_[i], out to move: the active one.
   void set_moving(std::uint32_t i);
   // Room for one more particle a cell: every list laid out again.
@@ -114,8 +128,8 @@ class EcmcEngine final : public Engine<D> {
   // capacity_ + k] for k below fill_[c], their stored positions side by side, so that a search
   // reads a few contiguous runs of memory. The active particle is in no list.
   CellGrid<D> grid_;
-  std::vector<Resting> resting_;
-  std::vector<std::uint32_t> fill_;
+  std::vector<Resting, LargePages<Resting>> resting_;
+  std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
   std::uint32_t capacity_ = 1;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
