@@ -249,6 +249,18 @@ TEST(Ecmc, GoldenRunsAreBitForBitTheSame) {
          0x08df2cc5d0221274, "spheres 0.45 in pieces");
 }
 
+// A flight of half a box side without a lift would go round the box for ever (the lifts are
+// measured from where the flight began, through the nearest image): back in the cell it set out
+// from, the engine says so instead.
+TEST(Ecmc, AFlightRoundTheBoxThrows) {
+  EcmcEngine<2> engine(periodic_start<2>(40, 0.02, 5), 1e6, pcg32(3));
+  EXPECT_THROW(
+      {
+        for (int k = 0; k < 1000000; ++k) engine.step(kNever);
+      },
+      JamError);
+}
+
 // Stopping anywhere and going on gives the same chains, bit for bit.
 TEST(Ecmc, AnyPiecesGiveTheSameRun) {
   EcmcEngine<3> whole(periodic_start<3>(100, 0.3, 4), 3.0, pcg32(9));
