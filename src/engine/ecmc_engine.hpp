@@ -18,7 +18,15 @@
 // in the block of cells around it, and not in the layer behind (CellGrid::for_each_ahead), so the
 // nearest lift there is the next event if it comes before the active particle leaves its cell;
 // otherwise the cell changes and the cells are searched again. No calendar: the next event is
-// always the active particle's.
+// always the active particle's. The particles at rest are kept in lists per cell, their positions
+// and radii side by side with their indices, so that a search reads a few runs of contiguous
+// memory and never the System; the System's stored states are brought up to date at every lift,
+// as Engine::apply would (the lifts are its swap-rule collisions bit for bit).
+//
+// Lifts are measured from where the active particle's flight began, through the nearest image: a
+// flight of about half a box side without a lift would go round the box for ever, and throws a
+// JamError instead (back in the cell it set out from). Chains well below half a box side never
+// make one.
 #pragma once
 
 #include <array>
@@ -72,7 +80,7 @@ class EcmcEngine final : public Engine<D> {
     std::uint32_t id;
   };
   // The nearest lift found: how far from the active particle's stored position (kNever if none),
-  // the partner, and where it rests (its index in resting_).
+  // the partner, and where it rests (its index in resting_, its cell).
   struct Lift {
     double distance;
     std::uint32_t target;
@@ -102,8 +110,9 @@ class EcmcEngine final : public Engine<D> {
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on.
   std::optional<Event> lift(const Lift& lift, double t);
-  // grid_.next_crossing(cell_, a.position, a.velocity).delay for a velocity along the axis alone,
-  // bit for bit; and the distance it is the time of (kNever for none).
+  // How far the active particle `a` is from leaving cell_ (kNever if it never does): what
+  // grid_.next_crossing(cell_, a.position, a.velocity) divides by the speed (the delay is
+  // max(distance / speed, 0)), bit for bit, for a velocity along the axis alone.
   double crossing_distance(const Particle<D>& a) const;
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
@@ -115,7 +124,7 @@ class EcmcEngine final : public Engine<D> {
   void set_moving(std::uint32_t i);
   // Room for one more particle a cell: every list laid out again.
   void widen_cells();
-  // grid_.locate(position), bit for bit: without a division's libm call inside the box.
+  // grid_.locate(position), bit for bit: inside the box without libm's floor.
   std::uint32_t locate(const Vec<D>& position) const;
   // wrap(position, box, image), bit for bit, inline.
   void wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const;
