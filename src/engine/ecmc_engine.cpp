@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstring>
 #include <new>
 #include <stdexcept>
 
@@ -83,6 +84,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   }
   std::fill(fill_.begin(), fill_.end(), 0u);
   resting_.resize(grid_.cell_count() * capacity_);
+  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of_[i]);
   // The cells ahead of a cell one from every edge, relative to it.
   inner_ahead_ = true;
@@ -139,7 +141,7 @@ template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   if (fill_[cell] == capacity_) widen_cells();
   const Particle<D>& p = this->system_.particles[i];
-  resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i};
+  resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i, cell};
   cell_of_[i] = cell;
 }
 
@@ -176,6 +178,7 @@ void EcmcEngine<D>::widen_cells() {
   }
   resting_ = std::move(resting);
   capacity_ = wider;
+  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
 }
 
 template <std::size_t D>
@@ -206,38 +209,22 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
   Lift best{kNever, chain_.active, 0, 0};
   const Particle<D>* const particles = this->system_.particles.data();
   const ParticleRecord* const records = this->system_.records.data();
+  // First the cells' slots in use, gathered into one list without a branch on how many each
+  // has (eight at a time, the count added after), then the particles in them: one loop.
+  std::uint32_t* const gathered = gathered_.data();
+  std::size_t count = 0;
   const auto visit = [&](std::uint32_t cell) {
-    const Resting* b = resting + static_cast<std::size_t>(cell) * capacity;
-    for (const Resting* const end = b + fill[cell]; b != end; ++b) {
-      // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first
-      // (half are behind), and no bound to cut candidates short, which changes no nearest lift
-      // (the nearest is never cut).
-      double along = p[Axis] - b->position[Axis];
-      if (!(std::abs(along) <= half[Axis])) [[unlikely]]
-        along = nearest_image(along, side[Axis]);
-      if (!(along < 0.0)) continue;
-      Vec<D> r;
-      for (std::size_t k = 0; k < D; ++k) {
-        if (k == Axis) {
-          r[k] = along;
-          continue;
-        }
-        r[k] = p[k] - b->position[k];
-        if (!(std::abs(r[k]) <= half[k])) [[unlikely]]
-          r[k] = nearest_image(r[k], side[k]);
-      }
-      const double sigma = radius + b->radius;
-      const double c2 = norm2(r) - sigma * sigma;
-      const double discriminant = along * along - c2;
-      if (discriminant < 0.0) continue;  // never with c2 <= 0
-      const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
-      if (s < best.distance || (s == best.distance && b->id < best.target)) {
-        best = {s, b->id, static_cast<std::uint32_t>(b - resting), cell};
-        // The lift's partner, if it stays the nearest, is written to soon.
-        __builtin_prefetch(particles + b->id, 1);
-        __builtin_prefetch(records + b->id, 1);
-      }
+    const std::uint32_t first = cell * capacity;
+    if (capacity <= 8) [[likely]] {
+      using Four = std::uint32_t __attribute__((vector_size(16)));
+      Four slots = Four{0, 1, 2, 3} + first;
+      std::memcpy(gathered + count, &slots, sizeof slots);
+      slots += 4;
+      std::memcpy(gathered + count + 4, &slots, sizeof slots);
+    } else {
+      for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = first + k;
     }
+    count += fill[cell];
   };
   // The cells CellGrid::for_each_ahead visits. With three cells or more along every axis: the
   // cell's and the next along Axis, each with its neighbours across (wrapping around the box).
@@ -279,6 +266,38 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
     std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
     const std::size_t count = grid_.cells_ahead(cell_, Axis, cells);
     for (std::size_t c = 0; c < count; ++c) visit(cells[c]);
+  }
+  for (std::size_t c = 0; c < count; ++c) {
+    const std::uint32_t slot = gathered[c];
+    const Resting* const b = resting + slot;
+    // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first
+    // (half are behind), and no bound to cut candidates short, which changes no nearest lift
+    // (the nearest is never cut).
+    double along = p[Axis] - b->position[Axis];
+    if (!(std::abs(along) <= half[Axis])) [[unlikely]]
+      along = nearest_image(along, side[Axis]);
+    if (!(along < 0.0)) continue;
+    Vec<D> r;
+    for (std::size_t k = 0; k < D; ++k) {
+      if (k == Axis) {
+        r[k] = along;
+        continue;
+      }
+      r[k] = p[k] - b->position[k];
+      if (!(std::abs(r[k]) <= half[k])) [[unlikely]]
+        r[k] = nearest_image(r[k], side[k]);
+    }
+    const double sigma = radius + b->radius;
+    const double c2 = norm2(r) - sigma * sigma;
+    const double discriminant = along * along - c2;
+    if (discriminant < 0.0) continue;  // never with c2 <= 0
+    const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+    if (s < best.distance || (s == best.distance && b->id < best.target)) {
+      best = {s, b->id, slot, b->cell};
+      // The lift's partner, if it stays the nearest, is written to soon.
+      __builtin_prefetch(particles + b->id, 1);
+      __builtin_prefetch(records + b->id, 1);
+    }
   }
   return best;
 }

@@ -73,11 +73,13 @@ class EcmcEngine final : public Engine<D> {
   }
   void velocity_reset(std::uint32_t) override;
 
-  // A particle at rest as the search reads it: its stored position and radius, its index.
+  // A particle at rest as the search reads it: its stored position and radius, its index and
+  // its cell.
   struct Resting {
     Vec<D> position;
     double radius;
     std::uint32_t id;
+    std::uint32_t cell;
   };
   // The nearest lift found: how far from the active particle's stored position (kNever if none),
   // the partner, and where it rests (its index in resting_, its cell).
@@ -139,6 +141,7 @@ class EcmcEngine final : public Engine<D> {
   CellGrid<D> grid_;
   std::vector<Resting, LargePages<Resting>> resting_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
+  mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
   std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
   std::uint32_t capacity_ = 1;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
