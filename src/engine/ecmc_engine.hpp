@@ -142,6 +142,7 @@ class EcmcEngine final : public Engine<D> {
   std::vector<Resting, LargePages<Resting>> resting_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
+  mutable std::vector<double> alongs_;           // and their separations along the axis
   std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
   std::uint32_t capacity_ = 1;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
