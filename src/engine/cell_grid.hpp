@@ -142,6 +142,23 @@ class CellGrid {
         cells, count, [](std::uint32_t) {}, visit);
   }
 
+  // The cells for_each_ahead(cell, axis, ...) visits, each once, into `cells`; returns how many.
+  std::size_t cells_ahead(std::uint32_t cell, std::size_t axis,
+                          std::array<std::uint32_t, kBlock>& cells) const {
+    if (count_[axis] < 3) return block(cell, cells);
+    std::array<std::uint32_t, kBlock> ahead;
+    std::size_t count = layer(adjacent(cell, axis, false), axis, true, cells);
+    const std::size_t more = layer(cell, axis, true, ahead);
+    for (std::size_t c = 0; c < more; ++c) cells[count++] = ahead[c];
+    return count;
+  }
+
+  // A cell's width along `axis`, and its place along each axis (0 .. cells_along - 1).
+  double width(std::size_t axis) const { return width_[axis]; }
+  std::array<std::uint32_t, D> coordinates_of(std::uint32_t cell) const {
+    return coordinates(cell);
+  }
+
   // Calls visit(j) once for every particle j in the cells around the one containing `point` (its
   // own included) that come within `reach` of it: the block's corners and edges lie beyond when
   // `point` is far from them, and are skipped (about a quarter of the particles of a block of

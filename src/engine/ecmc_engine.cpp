@@ -2,7 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstring>
+#include <new>
 #include <stdexcept>
+
+#if __has_include(<sys/mman.h>)
+#include <sys/mman.h>
+#endif
 
 #include "carom/engine/initial.hpp"
 
@@ -54,65 +61,397 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     throw std::invalid_argument(
         fmt::format("a chain length must be above 0, not {}", chain_length));
   }
-  const double n = static_cast<double>(this->system_.size());
-  const double diameter = mean_diameter(this->system_);
-  speed_ = n * diameter;
-  chain_duration_ = chain_length * diameter / speed_;
-  for (std::uint32_t i = 0; i < this->system_.size(); ++i) {
-    grid_.insert(i, grid_.locate(this->system_.particles[i].position));
+  const std::size_t n = this->system_.size();
+  if (chain_.active >= n) {
+    throw std::invalid_argument(
+        fmt::format("the active particle {} is not one of the {}", chain_.active, n));
   }
+  const double diameter = mean_diameter(this->system_);
+  speed_ = static_cast<double>(n) * diameter;
+  chain_duration_ = chain_length * diameter / speed_;
+  for (std::size_t k = 0; k < D; ++k) {
+    half_box_[k] = 0.5 * this->system_.box.size[k];
+    cells_along_[k] = grid_.cells_along(k);
+    strides_[k] = k == 0 ? 1 : strides_[k - 1] * cells_along_[k - 1];
+    widths_[k] = grid_.width(k);
+  }
+  // The lists, as long as the fullest cell's.
+  cell_of_.resize(n);
+  fill_.assign(grid_.cell_count(), 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    cell_of_[i] = grid_.locate(this->system_.particles[i].position);
+    capacity_ = std::max(capacity_, ++fill_[cell_of_[i]]);
+  }
+  std::fill(fill_.begin(), fill_.end(), 0u);
+  resting_.resize(grid_.cell_count() * capacity_);
+  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
+  alongs_.resize(gathered_.size());
+  for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of_[i]);
+  // The cells ahead of a cell one from every edge, relative to it.
+  inner_ahead_ = true;
+  for (std::size_t k = 0; k < D; ++k) inner_ahead_ = inner_ahead_ && cells_along_[k] >= 3;
+  if (inner_ahead_) {
+    std::uint32_t inner = 0;
+    for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
+    for (std::size_t axis = 0; axis < D; ++axis) {
+      std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+      inner_count_ = grid_.cells_ahead(inner, axis, cells);
+      for (std::size_t c = 0; c < inner_count_; ++c) {
+        inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
+      }
+    }
+  }
+  set_moving(chain_.active);
 }
 
 template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
     : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}) {
+  rest(0, cell_of_[0]);
   start_moving_at(this->now_);
 }
 
 template <std::size_t D>
-std::pair<std::uint32_t, double> EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
-  const std::uint32_t active = chain_.active;
-  std::uint32_t target = active;
-  double nearest = kNever;
-  grid_.for_each_ahead(grid_.cell_of(active), chain_.axis, [&](std::uint32_t j) {
-    if (j == active) return;
-    const Particle<D>& b = this->system_.particles[j];
-    const double s = lift_distance(image_separation(a, b, this->system_.box), chain_.axis,
-                                   a.radius + b.radius, nearest);
-    // Ties go to the lower index, so that the order of the cells' lists does not matter.
-    if (s < nearest || (s == nearest && s != kNever && j < target)) {
-      nearest = s;
-      target = j;
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate(const Vec<D>& position) const {
+  std::uint32_t cell = 0;
+  for (std::size_t k = 0; k < D; ++k) {
+    const double x = position[k];
+    // Inside the box wrap() leaves x alone, and floor(x / width) >= 0 is its truncation.
+    if (!(x > 0.0 && x < this->system_.box.size[k])) [[unlikely]]
+      return grid_.locate(position);
+    const auto at = static_cast<std::uint32_t>(x / widths_[k]);
+    cell += strides_[k] * std::min(at, cells_along_[k] - 1);
+  }
+  return cell;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(
+    Vec<D>& position, std::array<std::int32_t, 3>& image) const {
+  for (std::size_t k = 0; k < D; ++k) {
+    const double side = this->system_.box.size[k];
+    if (position[k] > 0.0 && position[k] < side) [[likely]]
+      continue;
+    const double sides = std::floor(position[k] / side);
+    position[k] -= side * sides;
+    if (sides != 0.0) add_sides(image[k], sides);
+  }
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
+  if (fill_[cell] == capacity_) widen_cells();
+  const Particle<D>& p = this->system_.particles[i];
+  resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i, cell};
+  cell_of_[i] = cell;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t slot, std::uint32_t cell) {
+  resting_[slot] = resting_[cell * capacity_ + --fill_[cell]];
+}
+
+template <std::size_t D>
+template <class T>
+T* EcmcEngine<D>::LargePages<T>::allocate(std::size_t n) {
+  constexpr std::size_t kPage = std::size_t{1} << 21;
+  const std::size_t bytes = n * sizeof(T);
+  if (bytes < 8 * kPage) {
+    if (void* p = std::malloc(bytes)) return static_cast<T*>(p);
+    throw std::bad_alloc();
+  }
+  const std::size_t rounded = (bytes + kPage - 1) / kPage * kPage;
+  void* p = std::aligned_alloc(kPage, rounded);
+  if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: nothing changes if it is not taken
+#endif
+  return static_cast<T*>(p);
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::widen_cells() {
+  const std::uint32_t wider = capacity_ + 1 + capacity_ / 4;
+  std::vector<Resting, LargePages<Resting>> resting(fill_.size() * wider);
+  for (std::size_t cell = 0; cell < fill_.size(); ++cell) {
+    std::copy_n(resting_.begin() + static_cast<std::ptrdiff_t>(cell * capacity_), fill_[cell],
+                resting.begin() + static_cast<std::ptrdiff_t>(cell * wider));
+  }
+  resting_ = std::move(resting);
+  capacity_ = wider;
+  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
+  alongs_.resize(gathered_.size());
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::set_moving(std::uint32_t i) {
+  const std::uint32_t cell = cell_of_[i];
+  std::uint32_t slot = cell * capacity_;
+  while (resting_[slot].id != i) ++slot;
+  take_out(slot, cell);
+  cell_ = cell;
+  at_ = grid_.coordinates_of(cell);
+  crossings_ = 0;
+}
+
+// x less the nearest whole number of sides: image_separation's component when x is more than
+// half a side (rare: out of line).
+[[gnu::noinline]] static double nearest_image(double x, double side) {
+  return x - side * std::nearbyint(x / side);
+}
+
+template <std::size_t D>
+template <std::size_t Axis>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+  const Vec<D> p = a.position, half = half_box_, side = this->system_.box.size;
+  const double radius = a.radius;
+  const Resting* const resting = resting_.data();
+  const std::uint32_t* const fill = fill_.data();
+  const std::uint32_t capacity = capacity_;
+  Lift best{kNever, chain_.active, 0, 0};
+  const Particle<D>* const particles = this->system_.particles.data();
+  const ParticleRecord* const records = this->system_.records.data();
+  // First the cells' slots in use, gathered into one list without a branch on how many each
+  // has (eight at a time, the count added after), then the particles in them: one loop.
+  std::uint32_t* const gathered = gathered_.data();
+  std::size_t count = 0;
+  const auto visit = [&](std::uint32_t cell) {
+    const std::uint32_t first = cell * capacity;
+    if (capacity <= 8) [[likely]] {
+      using Four = std::uint32_t __attribute__((vector_size(16)));
+      Four slots = Four{0, 1, 2, 3} + first;
+      std::memcpy(gathered + count, &slots, sizeof slots);
+      slots += 4;
+      std::memcpy(gathered + count + 4, &slots, sizeof slots);
+    } else {
+      for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = first + k;
     }
-  });
-  return {target, nearest};
+    count += fill[cell];
+  };
+  // The cells CellGrid::for_each_ahead visits. With three cells or more along every axis: the
+  // cell's and the next along Axis, each with its neighbours across (wrapping around the box).
+  bool inner = inner_ahead_ && at_[Axis] + 1 < cells_along_[Axis];
+  for (std::size_t k = 0; k < D; ++k) {
+    if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
+  }
+  if (inner) [[likely]] {  // no wrapping: fixed offsets
+    for (std::size_t c = 0; c < inner_count_; ++c) {
+      visit(static_cast<std::uint32_t>(cell_ + inner_offsets_[Axis][c]));
+    }
+  } else if (inner_ahead_) {
+    std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
+    for (std::size_t k = 0; k < D; ++k) {
+      const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
+      const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
+      if (k == Axis) {
+        along[k] = {at * stride, up, 0};
+      } else {
+        along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
+      }
+    }
+    static_assert(D == 2 || D == 3);
+    if constexpr (D == 2) {
+      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
+      for (std::size_t y = 0; y < kY; ++y) {
+        for (std::size_t x = 0; x < kX; ++x) visit(along[1][y] + along[0][x]);
+      }
+    } else {
+      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
+      for (std::size_t z = 0; z < kZ; ++z) {
+        for (std::size_t y = 0; y < kY; ++y) {
+          const std::uint32_t row = along[2][z] + along[1][y];
+          for (std::size_t x = 0; x < kX; ++x) visit(row + along[0][x]);
+        }
+      }
+    }
+  } else {
+    std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+    const std::size_t count = grid_.cells_ahead(cell_, Axis, cells);
+    for (std::size_t c = 0; c < count; ++c) visit(cells[c]);
+  }
+  // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first (half
+  // are behind), and no bound to cut candidates short, which changes no nearest lift (the nearest
+  // is never cut).
+  const auto separation_along = [&](const Resting& b) {
+    double along = p[Axis] - b.position[Axis];
+    if (!(std::abs(along) <= half[Axis])) [[unlikely]]
+      along = nearest_image(along, side[Axis]);
+    return along;
+  };
+  // Spheres: the axis first for every one, keeping those ahead without a branch on which (with
+  // eighteen cells to search, the branches' misses cost more than the extra pass).
+  std::size_t candidates = count;
+  double* const alongs = alongs_.data();
+  if constexpr (D == 3) {
+    candidates = 0;
+    for (std::size_t c = 0; c < count; ++c) {
+      const std::uint32_t slot = gathered[c];
+      const double along = separation_along(resting[slot]);
+      gathered[candidates] = slot;
+      alongs[candidates] = along;
+      candidates += along < 0.0;
+    }
+  }
+  for (std::size_t c = 0; c < candidates; ++c) {
+    const std::uint32_t slot = gathered[c];
+    const Resting* const b = resting + slot;
+    double along = 0.0;
+    if constexpr (D == 3) {
+      along = alongs[c];
+    } else {
+      along = separation_along(*b);
+      if (!(along < 0.0)) continue;
+    }
+    Vec<D> r;
+    for (std::size_t k = 0; k < D; ++k) {
+      if (k == Axis) {
+        r[k] = along;
+        continue;
+      }
+      r[k] = p[k] - b->position[k];
+      if (!(std::abs(r[k]) <= half[k])) [[unlikely]]
+        r[k] = nearest_image(r[k], side[k]);
+    }
+    const double sigma = radius + b->radius;
+    const double c2 = norm2(r) - sigma * sigma;
+    const double discriminant = along * along - c2;
+    if (discriminant < 0.0) continue;  // never with c2 <= 0
+    const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+    if (s < best.distance || (s == best.distance && b->id < best.target)) {
+      best = {s, b->id, slot, b->cell};
+      // The lift's partner, if it stays the nearest, is written to soon.
+      __builtin_prefetch(particles + b->id, 1);
+      __builtin_prefetch(records + b->id, 1);
+    }
+  }
+  return best;
+}
+
+template <std::size_t D>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+  static_assert(D == 2 || D == 3);
+  if constexpr (D == 3) {
+    if (chain_.axis == 2) return nearest_lift<2>(a);
+  }
+  return chain_.axis == 0 ? nearest_lift<0>(a) : nearest_lift<1>(a);
+}
+
+template <std::size_t D>
+double EcmcEngine<D>::crossing_distance(const Particle<D>& a) const {
+  const std::size_t k = chain_.axis;
+  if (cells_along_[k] == 1) return kNever;
+  const double width = grid_.width(k), side = this->system_.box.size[k];
+  double offset = a.position[k] - (at_[k] + 0.5) * width;
+  if (!(std::abs(offset) <= 0.5 * side)) offset -= side * std::nearbyint(offset / side);
+  return 0.5 * width - offset;
 }
 
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   while (true) {
-    const std::uint32_t active = chain_.active;
-    const Particle<D>& a = this->system_.particles[active];
-    const auto [target, distance] = nearest_lift(a);
-    const double lift_time = distance == kNever ? kNever : a.time + distance / speed_;
-    const auto crossing = grid_.next_crossing(grid_.cell_of(active), a.position, a.velocity);
-    const double crossing_time = a.time + crossing.delay;
+    const Particle<D>& a = this->system_.particles[chain_.active];
+    const Lift lift = nearest_lift(a);
+    const double distance = crossing_distance(a);
+    // A lift no farther than the crossing comes no later (a.time + x / v rounds monotonically
+    // in x): then only its time is needed.
+    if (lift.distance <= distance && lift.distance != kNever && a.velocity[chain_.axis] == speed_)
+        [[likely]] {
+      const double lift_time = a.time + lift.distance / speed_;
+      if (chain_.chain_end <= lift_time) {
+        if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+        start_next_chain();
+        continue;
+      }
+      if (!this->due_by(lift_time, end_time)) return std::nullopt;
+      return this->lift(lift, lift_time);
+    }
+    const double lift_time = lift.distance == kNever ? kNever : a.time + lift.distance / speed_;
+    const double crossing_time =
+        a.time + (distance == kNever ? kNever : std::max(distance / a.velocity[chain_.axis], 0.0));
     if (chain_.chain_end <= lift_time && chain_.chain_end <= crossing_time) {
       if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
       start_next_chain();
     } else if (lift_time <= crossing_time) {
       if (!this->due_by(lift_time, end_time)) return std::nullopt;
-      const Event event = this->apply(Event{lift_time, std::min(active, target),
-                                            static_cast<std::int32_t>(std::max(active, target))});
-      // apply() wrapped both into the box: the active one may have left the cell it was in.
-      grid_.move(active, grid_.locate(this->system_.particles[active].position));
-      chain_.active = target;
-      return event;
+      return this->lift(lift, lift_time);
     } else {
       if (!this->due_by(crossing_time, end_time)) return std::nullopt;
-      grid_.move(active, grid_.adjacent(grid_.cell_of(active), crossing.axis, crossing.upward));
+      const std::size_t axis = chain_.axis;
+      cell_ = grid_.adjacent(cell_, axis, true);
+      at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
+      // Back in the cell it set out from, nothing has changed: the same cells would follow,
+      // round and round, for ever (a flight of half a box side without a lift).
+      if (++crossings_ >= cells_along_[axis]) {
+        throw JamError(fmt::format(
+            "event-chain Monte Carlo: particle {} went round the box along axis {} without a lift "
+            "at t = {}; shorten the chains below half a box side or add particles",
+            chain_.active, axis, this->system_.absolute(a.time)));
+      }
     }
   }
+}
+
+// Engine::apply's swap-rule collision of the pair, bit for bit, with each particle's state in
+// registers: both brought to t (the resting one stays put), r = first - partner through the
+// nearest image, the velocities exchanged, r . dp with the first one's mass, both wrapped.
+template <std::size_t D>
+std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
+  const std::uint32_t moving = chain_.active, target = lift.target;
+  System<D>& system = this->system_;
+  std::optional<Event> result(std::in_place);
+  Event& event = *result;
+  event.time = t;
+  event.first = std::min(moving, target);
+  event.partner = static_cast<std::int32_t>(std::max(moving, target));
+  this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
+  if (this->events_at_now_ > 64 * system.particles.size() + 1000) this->throw_stuck(event);
+  this->now_ = t;
+  Particle<D>& pm = system.particles[moving];
+  Particle<D>& pt = system.particles[target];
+  Vec<D> xm = pm.position + pm.velocity * (t - pm.time);
+  Vec<D> xt = pt.position + pt.velocity * (t - pt.time);
+  const Vec<D> vm = pm.velocity, vt = pt.velocity;
+  const bool moving_first = moving < target;
+  const Vec<D>& xa = moving_first ? xm : xt;
+  const Vec<D>& xb = moving_first ? xt : xm;
+  Vec<D> r = xa - xb;
+  for (std::size_t k = 0; k < D; ++k) {
+    if (!(std::abs(r[k]) <= half_box_[k])) [[unlikely]]
+      r[k] = nearest_image(r[k], system.box.size[k]);
+  }
+  // The first one's velocity after less before.
+  const Vec<D> change = moving_first ? vt - vm : vm - vt;
+  ParticleRecord& rm = system.records[moving];
+  ParticleRecord& rt = system.records[target];
+  const double mass = (moving_first ? rm : rt).mass;
+  event.impulse = mass * dot(r, change);
+  for (std::size_t k = 0; k < D; ++k) {
+    event.momentum[k] = mass * change[k];
+    event.contact[k] = r[k];
+  }
+  wrap_into_box(xm, rm.image);
+  wrap_into_box(xt, rt.image);
+  pm.position = xm;
+  pm.velocity = vt;
+  pm.time = t;
+  pt.position = xt;
+  pt.velocity = vm;
+  pt.time = t;
+  ++rm.pair_collisions;
+  ++rt.pair_collisions;
+  ++rm.changes;
+  ++rt.changes;
+  rm.last_collision = t;
+  rt.last_collision = t;
+  event.time = system.absolute(t);
+  // The one that stopped rests where it is; the one struck moves on from its cell.
+  take_out(lift.slot, lift.cell);
+  rest(moving, locate(xm));
+  chain_.active = target;
+  cell_ = lift.cell;
+  at_ = grid_.coordinates_of(cell_);
+  crossings_ = 0;
+  return result;
 }
 
 template <std::size_t D>
@@ -124,7 +463,7 @@ void EcmcEngine<D>::start_next_chain() {
   this->velocity_changes_.push_back({chain_.active, t, a.velocity, Vec<D>{}});
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
-  grid_.move(chain_.active, grid_.locate(a.position));
+  rest(chain_.active, locate(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
   this->velocity_changes_.push_back({chain_.active, t, Vec<D>{}, along<D>(chain_.axis, speed_)});
@@ -138,6 +477,7 @@ void EcmcEngine<D>::start_moving_at(double t) {
   next.time = t;
   next.velocity = along<D>(chain_.axis, speed_);
   chain_.chain_end = t + chain_duration_;
+  set_moving(chain_.active);
 }
 
 template <std::size_t D>

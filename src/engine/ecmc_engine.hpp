@@ -18,12 +18,23 @@
 // in the block of cells around it, and not in the layer behind (CellGrid::for_each_ahead), so the
 // nearest lift there is the next event if it comes before the active particle leaves its cell;
 // otherwise the cell changes and the cells are searched again. No calendar: the next event is
-// always the active particle's.
+// always the active particle's. The particles at rest are kept in lists per cell, their positions
+// and radii side by side with their indices, so that a search reads a few runs of contiguous
+// memory and never the System; the System's stored states are brought up to date at every lift,
+// as Engine::apply would (the lifts are its swap-rule collisions bit for bit).
+//
+// Lifts are measured from where the active particle's flight began, through the nearest image: a
+// flight of about half a box side without a lift would go round the box for ever, and throws a
+// JamError instead (back in the cell it set out from). Chains well below half a box side never
+// make one.
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <pcg_random.hpp>
+#include <vector>
 
 #include "carom/engine/engine.hpp"
 #include "carom/engine/sampler.hpp"
@@ -47,22 +58,98 @@ class EcmcEngine final : public Engine<D> {
   double speed() const { return speed_; }
 
  private:
-  void rebased(double shift) override { chain_.chain_end -= shift; }
+  void rebased(double shift) override {
+    chain_.chain_end -= shift;
+    crossings_ = 0;
+  }
   void velocity_reset(std::uint32_t) override;
+
+  // A particle at rest as the search reads it: its stored position and radius, its index and
+  // its cell.
+  struct Resting {
+    Vec<D> position;
+    double radius;
+    std::uint32_t id;
+    std::uint32_t cell;
+  };
+  // The nearest lift found: how far from the active particle's stored position (kNever if none),
+  // the partner, and where it rests (its index in resting_, its cell).
+  struct Lift {
+    double distance;
+    std::uint32_t target;
+    std::uint32_t slot;
+    std::uint32_t cell;
+  };
+  // Memory for the lists: large ones in 2 MiB pages where the system offers them (a search reads
+  // rows of cells a box side apart, each on a page of its own otherwise).
+  template <class T>
+  struct LargePages {
+    using value_type = T;
+    LargePages() = default;
+    template <class U>
+    LargePages(const LargePages<U>&) {}
+    T* allocate(std::size_t n);
+    void deallocate(T* p, std::size_t) { std::free(p); }
+    friend bool operator==(const LargePages&, const LargePages&) { return true; }
+  };
 
   // Stops the active particle at the chain's end and starts the next chain.
   void start_next_chain();
-  // The nearest lift of the active particle `a` among the particles around its cell: the partner
-  // and the distance from a's stored position (kNever if none).
-  std::pair<std::uint32_t, double> nearest_lift(const Particle<D>& a) const;
+  // The nearest lift of the active particle `a` among the particles around its cell (the cells
+  // CellGrid::for_each_ahead visits): ties go to the lower index.
+  Lift nearest_lift(const Particle<D>& a) const;
+  template <std::size_t Axis>
+  Lift nearest_lift(const Particle<D>& a) const;
+  // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
+  // bit; then the target moves on.
+  std::optional<Event> lift(const Lift& lift, double t);
+  // How far the active particle `a` is from leaving cell_ (kNever if it never does): what
+  // grid_.next_crossing(cell_, a.position, a.velocity) divides by the speed (the delay is
+  // max(distance / speed, 0)), bit for bit, for a velocity along the axis alone.
+  double crossing_distance(const Particle<D>& a) const;
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
   void start_moving_at(double t);
+  // Puts particle i at rest into cell `cell`'s list, or takes the one in `slot` out of it.
+  void rest(std::uint32_t i, std::uint32_t cell);
+  void take_out(std::uint32_t slot, std::uint32_t cell);
+  // Takes the particle i, which rests in cell_of_[i], out to move: the active one.
+  void set_moving(std::uint32_t i);
+  // Room for one more particle a cell: every list laid out again.
+  void widen_cells();
+  // grid_.locate(position), bit for bit: inside the box without libm's floor.
+  std::uint32_t locate(const Vec<D>& position) const;
+  // wrap(position, box, image), bit for bit, inline.
+  void wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const;
 
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;
+  // The grid's geometry only: which cells are searched, and when the active particle leaves
+  // its cell. The particles at rest are listed here instead: cell c's are resting_[c *
+  // capacity_ + k] for k below fill_[c], their stored positions side by side, so that a search
+  // reads a few contiguous runs of memory. The active particle is in no list.
   CellGrid<D> grid_;
+  std::vector<Resting, LargePages<Resting>> resting_;
+  std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
+  mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
+  mutable std::vector<double> alongs_;           // and their separations along the axis
+  std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
+  std::uint32_t capacity_ = 1;
+  std::uint32_t cell_ = 0;             // the cell the active particle is in now
+  std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
+  std::array<std::uint32_t, D> cells_along_{};
+  std::array<std::uint32_t, D> strides_{};
+  Vec<D> widths_;
+  // Three cells or more along every axis: the search finds the cells ahead itself, for a cell
+  // one from every edge at these offsets from it (along each axis).
+  bool inner_ahead_ = false;
+  std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
+  std::size_t inner_count_ = 0;
+  // Cells crossed since the active particle's stored state was set: back in the cell it set out
+  // from, the chain would go round the box forever (see step()).
+  std::uint32_t crossings_ = 0;
+  Vec<D> half_box_;  // 0.5 x each side, as image_offset computes it
 };
 
 }  // namespace carom
