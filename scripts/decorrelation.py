@@ -3,23 +3,24 @@
 disks per CPU second: the global orientational order |psi6| and the pressure.
 
 Regenerates the decorrelation table and figure in docs/validation.md:
-    python3 scripts/decorrelation.py [--carom build/carom] [--phi 0.70 0.72] [--budget 120]
+    python3 scripts/decorrelation.py [--carom build/carom] [--phi 0.70 0.71 0.72] [--budget 120]
         [--plot docs/images/decorrelation.svg]
 At each packing fraction: one common start (`carom init`, its default draw: a triangular lattice at
-these densities) brought towards equilibrium by --equilibrate units of event chains; from its end (the run's
-`--format json` state, written back as a classic start) each sampler runs for about --budget CPU seconds (ECMC as it is; EDMD with Maxwell-Boltzmann
-velocities at kT = 1 and the elastic rule), the length in time units set by a short timing run of
-the same sampler from the same start. Each writes --frames GSD frames and --log rows at the same
-cadence. `carom analyze` gives |psi6| of each frame (global: the modulus of the mean over the
-disks of psi6_j with their six nearest neighbours); the log gives Z over each interval. For each
-series: its normalised autocorrelation function and integrated autocorrelation time
-tau = 1 + 2 sum_k rho(k) (in intervals; Sokal's automatic window, the smallest M with M >= 5
-tau(M)), converted to time units and then to CPU seconds through the run's CPU seconds per time
-unit (the user time of carom, frames and log included). The table also gives Z over the whole
-run with its block-average error (the summary's), how far apart its two halves are in errors, and
-the CPU seconds that error says Z +- 0.01 would take (CPU s x (error / 0.01)^2). A tau is resolved only when the series
-spans at least 50 tau and the window closed; otherwise the windowed estimate is given as a lower
-bound ("> tau"). A tau below one interval is given as "< interval". Prints a Markdown table.
+these densities) brought towards equilibrium by --equilibrate units of event chains; from its end
+(the run's `--format json` state, written back as a classic start) each sampler runs for about
+--budget CPU seconds (ECMC as it is; EDMD with Maxwell-Boltzmann velocities at kT = 1 and the
+elastic rule), the length in time units set by a short timing run of the same sampler from the same
+start. Each writes --frames GSD frames and --log rows at the same cadence. `carom analyze` gives
+|psi6| of each frame (global: the modulus of the mean over the disks of psi6_j with their six
+nearest neighbours); the log gives Z over each interval. For each series: its normalised
+autocorrelation function and integrated autocorrelation time tau = 1 + 2 sum_k rho(k) (in
+intervals; Sokal's automatic window, the smallest M with M >= 5 tau(M)), converted to time units
+and then to CPU seconds through the run's CPU seconds per time unit (the user time of carom, frames
+and log included). The table also gives Z over the whole run with its block-average error (the
+summary's), how far apart its two halves are in errors, and the CPU seconds that error says Z +-
+0.01 would take (CPU s x (error / 0.01)^2). A tau is resolved only when the series spans at least
+50 tau and the window closed; otherwise the windowed estimate is given as a lower bound ("> tau").
+A tau below one interval is given as "< interval". Prints a Markdown table.
 """
 import argparse
 import csv
@@ -181,8 +182,8 @@ def measure(args, phi, folder):
         results.append(entry)
         print(f"packing {name}, {run['sampler']}: {run['length']:.4g} units in {run['cpu']:.0f} "
               f"CPU s ({entry['cpu_per_unit']:.4g} s a unit), {run['events']} events, Z "
-              f"{entry['Z_mean']:.4f}, |psi6| {entry['psi6_first']:.3f} -> {entry['psi6_last']:.3f}",
-              flush=True)
+              f"{entry['Z_mean']:.4f}, |psi6| {entry['psi6_first']:.3f} -> "
+              f"{entry['psi6_last']:.3f}", flush=True)
     return results
 
 
@@ -237,7 +238,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--carom", default="build/carom")
     parser.add_argument("--n", type=int, default=65536)
-    parser.add_argument("--phi", type=float, nargs="+", default=[0.70, 0.72])
+    parser.add_argument("--phi", type=float, nargs="+", default=[0.70, 0.71, 0.72])
     parser.add_argument("--equilibrate", type=float, default=300.0,
                         help="time units of event chains from the lattice to the common start")
     parser.add_argument("--budget", type=float, default=120.0,
