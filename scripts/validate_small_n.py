@@ -175,6 +175,8 @@ def main():
                         help="log rows over the measurement (the block analysis' series)")
     parser.add_argument("--n", type=int, action="append", choices=[s[0] for s in SYSTEMS],
                         help="only this N (repeatable)")
+    parser.add_argument("--packing", type=float, action="append",
+                        help="only this packing fraction (repeatable)")
     parser.add_argument("--jobs", type=int, default=2, help="carom processes at once")
     parser.add_argument("--tolerance", type=float, default=2.0,
                         help="exit 1 when a point lies more than this many combined errors away")
@@ -200,9 +202,13 @@ def main():
         if args.n and n not in args.n:
             continue
         for eta in etas:
+            if args.packing and not any(abs(eta - p) < 1e-9 for p in args.packing):
+                continue
             points.append((n, aspect_text, label, aspect, eta,
                            *published(args.data, n, aspect_text, eta)))
 
+    if not points:
+        sys.exit("no state point left by --n and --packing")
     started = time.time()
     column = "EDMD" if args.sampler == "md" else "ECMC"
     print(f"| N | box Lx : Ly | packing | published beta P d^2 | carom ({column}) beta P d^2 "
