@@ -57,6 +57,11 @@ void check(const RunArguments& args) {
       throw UsageError(e.what());
     }
   }
+  if (args.seed_given && !args.start.temperature && args.start.sampler == SamplerKind::md) {
+    throw UsageError(
+        "--seed needs --kT T (the velocities it draws, and Andersen's draws) or --sampler ecmc "
+        "(the chains' particles it draws): alone it would seed nothing");
+  }
   if (!args.checkpoint_every.empty() && args.run.checkpoint.empty()) {
     throw UsageError("--checkpoint-every needs --checkpoint FILE: where to save");
   }
@@ -200,8 +205,20 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
                   "velocities, or to rethermalise one")
       ->check(finite_number());
   add_whole_option(run, "--seed", args.start.seed, std::uint64_t{0},
-                   "Random seed of --kT's velocities (and Andersen's draws)")
-      ->default_str("1");
+                   "Random seed of --kT's velocities (and Andersen's draws), or of the event "
+                   "chains' particles")
+      ->default_str("1")
+      ->each([&args](const std::string&) { args.seed_given = true; });
+  add_choice<SamplerKind>(
+      run, "--sampler", args.start.sampler,
+      "md: event-driven molecular dynamics; ecmc: event-chain Monte Carlo (Bernard, Krauth and "
+      "Wilson 2009), equilibrium positions at kT = 1 in a periodic box, faster at high density: "
+      "a unit of time moves every particle one diameter on average, and lifts take the place of "
+      "collisions");
+  run->add_option("--chain-length", args.start.chain_length,
+                  "The displacement of each event chain, in mean diameters (default: 0.24 of "
+                  "the box's side, Li et al. 2022)")
+      ->check(finite_number());
   add_choice<ThermostatKind>(
       run, "--thermostat", args.thermostat,
       "Hold the run at --kT: rescale (every --thermostat-every, every velocity relative to the "
@@ -237,10 +254,10 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   auto* resume = run->add_flag("--resume", args.resume,
                                "FILE is a checkpoint: continue that run to END_TIME, exactly as "
                                "if it had never stopped (its rule, boundary and engine apply)");
-  run->get_option("--seed")->needs(run->get_option("--kT"));
   for (const char* fixed_by_checkpoint :
        {"--rule", "--restitution", "--tc", "--boundary", "--engine", "--kT", "--thermostat",
-        "--thermostat-every", "--thermostat-rate", "--shear", "--velocity-profile"}) {
+        "--thermostat-every", "--thermostat-rate", "--shear", "--velocity-profile", "--sampler",
+        "--chain-length", "--seed"}) {
     run->get_option(fixed_by_checkpoint)->excludes(resume);
   }
   return run;

@@ -14,7 +14,8 @@ namespace carom::cli {
 // What `carom run` is asked: the library's own descriptions of the start and of the run, which
 // the options fill directly, and what only the command line knows.
 struct RunArguments {
-  StartSpec start;  // FILE, --rule, --restitution, --tc, --boundary, --engine, --kT, --seed
+  StartSpec start;  // FILE, --rule, --restitution, --tc, --boundary, --engine, --kT, --seed,
+                    // --sampler, --chain-length
   RunSpec run;      // the outputs, their cadences, --equilibrate, --transport, --check
   std::string end_time;
   std::string checkpoint_every;  // a number of events or of seconds: checkpoint_cadence
@@ -30,6 +31,7 @@ struct RunArguments {
   std::optional<double> thermostat_every, thermostat_rate;
   std::optional<double> shear;
   bool velocity_profile = false;
+  bool seed_given = false;  // --seed was given (it needs something to seed)
 };
 
 // Declares `carom run` and its options on `app`, filling `args` when parsed.

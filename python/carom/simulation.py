@@ -19,6 +19,9 @@ class Simulation:
     touching particles exchange whole velocities); restitution < 1 makes elastic collisions inelastic, and a particle that
     collided less than `tc` ago collides elastically (the TC model against inelastic collapse).
     engine: "fast" (O(1) per event) or "reference" (the classic assignment's O(N^2) algorithm, for checking).
+    sampler: "md" (dynamics) or "ecmc" (event-chain Monte Carlo: equilibrium positions at kT = 1 in
+    a periodic box; velocities are ignored and masses must be 1), with chain_length (in mean
+    diameters; 0: 0.24 of the box's side) and seed (of the chains' particles).
 
     The start is checked as `carom run` checks a file: finite numbers, positive radii and
     masses, particles inside the box, clear of the walls and of each other (touching is fine);
@@ -30,7 +33,8 @@ class Simulation:
 
     def __init__(self, positions, velocities, box, radii=_D["radius"], masses=_D["mass"],
                  boundary=_D["boundary"], rule=_D["rule"], restitution=_D["restitution"],
-                 tc=_D["tc"], engine=_D["engine"]):
+                 tc=_D["tc"], engine=_D["engine"], sampler=_D["sampler"],
+                 chain_length=_D["chain_length"], seed=_D["seed"]):
         positions = _float_array("positions", positions)
         if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
             raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
@@ -43,7 +47,8 @@ class Simulation:
         self._running = False
         self._core = _carom.Simulation.from_arrays(
             positions, velocities, box, radii, masses, boundary, rule,
-            _number("restitution", restitution), _number("tc", tc), engine)
+            _number("restitution", restitution), _number("tc", tc), engine, sampler,
+            _number("chain_length", chain_length), seed)
 
     @classmethod
     def _wrap(cls, core):

@@ -12,10 +12,12 @@ namespace carom::python {
 
 namespace {
 
-Settings settings_from(py::handle rule, double restitution, double tc, py::handle engine) {
+Settings settings_from(py::handle rule, double restitution, double tc, py::handle engine,
+                       py::handle sampler, double chain_length, std::uint64_t seed) {
   Settings settings;
   settings.rule = {choice<Rule>("rule", rule), restitution, tc};
   settings.engine = choice<EngineKind>("engine", engine);
+  settings.sampler = {choice<SamplerKind>("sampler", sampler), chain_length, seed};
   return settings;
 }
 
@@ -32,6 +34,8 @@ py::dict defaults() {
   d["restitution"] = settings.rule.restitution;
   d["tc"] = settings.rule.elastic_within;
   d["engine"] = std::string(name_of(settings.engine));
+  d["sampler"] = std::string(name_of(settings.sampler.kind));
+  d["chain_length"] = settings.sampler.chain_length;
   d["seed"] = start.seed;
   d["boundary"] = std::string(name_of(initial.boundary));
   d["kT"] = initial.temperature;
@@ -58,6 +62,7 @@ py::list names() {
 py::dict choices() {
   py::dict d;
   d["rule"] = names<Rule>();
+  d["sampler"] = names<SamplerKind>();
   d["boundary"] = names<Boundary>();
   d["engine"] = names<EngineKind>();
   d["thermostat"] = names<ThermostatKind>();
@@ -78,13 +83,14 @@ void export_simulation(py::module_& m) {
           [](const py::array_t<double>& positions, const py::array_t<double>& velocities,
              const py::array_t<double>& box, const py::array_t<double>& radii,
              const py::array_t<double>& masses, py::handle boundary, py::handle rule,
-             double restitution, double tc, py::handle engine) {
-            return PythonSimulation::from_arrays(positions, velocities, box, radii, masses,
-                                                 choice<Boundary>("boundary", boundary),
-                                                 settings_from(rule, restitution, tc, engine));
+             double restitution, double tc, py::handle engine, py::handle sampler,
+             double chain_length, std::uint64_t seed) {
+            return PythonSimulation::from_arrays(
+                positions, velocities, box, radii, masses, choice<Boundary>("boundary", boundary),
+                settings_from(rule, restitution, tc, engine, sampler, chain_length, seed));
           },
           "positions"_a, "velocities"_a, "box"_a, "radii"_a, "masses"_a, "boundary"_a, "rule"_a,
-          "restitution"_a, "tc"_a, "engine"_a)
+          "restitution"_a, "tc"_a, "engine"_a, "sampler"_a, "chain_length"_a, "seed"_a)
       .def_static("read", [](const StartSpec& spec) { return PythonSimulation(load_start(spec)); })
       .def_static("init",
                   [](const InitStart& init) {

@@ -269,7 +269,9 @@ Keywords<StartRequest> start_keywords() {
       .field("tc", "tc", &R::spec, &S::tc)
       .field("engine", "engine", &R::spec, &S::engine)
       .field("kT", "temperature", &R::spec, &S::temperature)
-      .field("seed", "seed", &R::spec, &S::seed);
+      .field("seed", "seed", &R::spec, &S::seed)
+      .field("sampler", "sampler", &R::spec, &S::sampler)
+      .field("chain_length", "chain_length", &R::spec, &S::chain_length);
   add_thermostat_and_shear(k);
   return k;
 }
@@ -305,7 +307,10 @@ Keywords<InitRequest> init_keywords() {
       .field("restitution", "restitution", &R::settings, &Settings::rule,
              &CollisionRule::restitution)
       .field("tc", "tc", &R::settings, &Settings::rule, &CollisionRule::elastic_within)
-      .field("engine", "engine", &R::settings, &Settings::engine);
+      .field("engine", "engine", &R::settings, &Settings::engine)
+      .field("sampler", "sampler", &R::settings, &Settings::sampler, &Sampler::kind)
+      .field("chain_length", "chain_length", &R::settings, &Settings::sampler,
+             &Sampler::chain_length);
   add_thermostat_and_shear(k);
   return k;
 }
@@ -341,6 +346,7 @@ void export_specs(py::module_& m) {
   bind_request<InitStart>(m, "InitSpec", init_keywords(), [](InitRequest r) {
     r.settings.rule.rule = r.spec.rule;
     r.settings.thermostat = r.asked.thermostat_at(r.spec.options.temperature, r.spec.options.seed);
+    r.settings.sampler.seed = r.spec.options.seed;  // the chains' particles too
     return InitStart{r.spec, r.settings, r.asked.shear_request()};
   });
 }

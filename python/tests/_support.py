@@ -9,7 +9,8 @@ import numpy as np
 NOT_DETERMINISTIC = ("input", "wall_seconds", "events_per_second")
 # Each run (carom run, sim.run) cuts the part of the measurement window it covers into 20
 # intervals to check that Z settled: runs cut into other pieces give other verdicts.
-PIECE_DEPENDENT = ("compressibility_factor_drift", "pressure_tensor_error", "transport")
+PIECE_DEPENDENT = ("compressibility_factor_drift", "compressibility_factor_error", "pressure_tensor_error",
+                   "transport")
 
 
 # What a checkpoint keeps of its run's measurements (the drift verdict's intervals, the transport

@@ -261,7 +261,7 @@ def corruptions(good):
         "empty": "",
         "garbage": "garbage\n",
         "not-an-object": "[1, 2, 3]\n",
-        "unknown-format": good.replace('"carom_checkpoint": 4', '"carom_checkpoint": 99'),
+        "unknown-format": good.replace('"carom_checkpoint": 5', '"carom_checkpoint": 99'),
         "dimension-4": good.replace('"dimension": 2', '"dimension": 4'),
         "particles-missing": re.sub(r'"particles"', '"particlez"', good),
         "a-classic-file": "1\n1\n10 10\n5 5 1 1\n",
@@ -272,7 +272,7 @@ def corruptions(good):
 def test_corrupt_checkpoint_raises_input_error(cli, tmp_path, running, kind):
     running.save(tmp_path / "good.ckpt")
     good = (tmp_path / "good.ckpt").read_text()
-    assert '"carom_checkpoint": 4' in good and '"dimension": 2' in good and '"particles"' in good
+    assert '"carom_checkpoint": 5' in good and '"dimension": 2' in good and '"particles"' in good
     bad = corruptions(good)[kind]
     assert bad != good
     path = tmp_path / "bad.ckpt"

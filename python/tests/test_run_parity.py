@@ -26,7 +26,8 @@ FILES = ("series.csv", "events.csv", "run.ckpt", "summary.json")
 # Fields of the summary that depend on the wall clock, or (the drift verdict) on where a run
 # was cut: the verdict is made by each piece over what it saw.
 CLOCK = ("wall_seconds", "events_per_second")
-PIECEWISE = ("compressibility_factor_drift", "pressure_tensor_error", "transport")
+PIECEWISE = ("compressibility_factor_drift", "compressibility_factor_error", "pressure_tensor_error",
+             "transport")
 
 
 def outputs(dim):

@@ -106,6 +106,32 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
   return o;
 }
 
+template <std::size_t D>
+Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement) {
+  const double kT = o.temperature;
+  if (kT > 0.0) {
+    o.pressure /= kT;
+    if (o.pressure_tensor) {
+      for (double& component : *o.pressure_tensor) component /= kT;
+    }
+  }
+  o.temperature = 1.0;
+  if (measurement.counts.fluxes) {
+    const Fluxes& fluxes = *measurement.counts.fluxes;
+    std::array<double, D> z{};
+    for (std::size_t k = 0; k < D; ++k) {
+      // Diagonal components first: xx, yy, zz at 0, 1, 2.
+      const double moved = fluxes.kinetic_stress[k];  // m v x (the displacement along k)
+      z[k] = moved > 0.0 ? 1.0 + fluxes.collisional_stress[k] / moved
+                         : std::numeric_limits<double>::quiet_NaN();
+    }
+    o.directional_z = z;
+  }
+  return o;
+}
+
+template Observables<2> at_unit_temperature(Observables<2>, const Measurement&);
+template Observables<3> at_unit_temperature(Observables<3>, const Measurement&);
 template double kinetic_energy(const System<2>&);
 template double kinetic_energy(const System<3>&);
 template Vec<2> momentum(const System<2>&);

@@ -121,11 +121,13 @@ void EcmcEngine<D>::start_next_chain() {
   ParticleRecord& record = this->system_.records[chain_.active];
   const double t = chain_.chain_end;
   advance(a, t);
+  this->velocity_changes_.push_back({chain_.active, t, a.velocity, Vec<D>{}});
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
   grid_.move(chain_.active, grid_.locate(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
+  this->velocity_changes_.push_back({chain_.active, t, Vec<D>{}, along<D>(chain_.axis, speed_)});
 }
 
 template <std::size_t D>

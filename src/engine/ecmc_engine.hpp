@@ -26,19 +26,10 @@
 #include <pcg_random.hpp>
 
 #include "carom/engine/engine.hpp"
+#include "carom/engine/sampler.hpp"
 #include "cell_grid.hpp"
 
 namespace carom {
-
-// Where a chain is: the active particle, the axis it moves along and the stored time the chain
-// ends at; and the generator that draws the next chains' active particles. With the stored
-// states, all an event-chain run continues from.
-struct ChainState {
-  std::uint32_t active = 0;
-  std::uint8_t axis = 0;
-  double chain_end = 0.0;
-  pcg32 rng;
-};
 
 template <std::size_t D>
 class EcmcEngine final : public Engine<D> {

@@ -6,6 +6,9 @@
 #include <cmath>
 
 #include "carom/engine/checkpoint_state.hpp"
+#include "carom/engine/initial.hpp"
+#include "ecmc_engine.hpp"
+#include "run_engine.hpp"
 
 namespace carom {
 
@@ -24,6 +27,22 @@ void check_settings(const Settings& settings) {
         fmt::format("the TC time must be a number >= 0, got {}", rule.elastic_within));
   }
   check_thermostat(settings.thermostat);
+  if (settings.sampler.kind == SamplerKind::ecmc) {
+    if (settings.thermostat.kind != ThermostatKind::none) {
+      throw std::invalid_argument("event chains sample at kT = 1 and take no thermostat");
+    }
+    if (rule.restitution != 1.0) {
+      throw std::invalid_argument("event chains sample hard particles: the restitution must be 1");
+    }
+    if (settings.engine == EngineKind::reference) {
+      throw std::invalid_argument("event chains have one engine: the reference engine is dynamics'");
+    }
+    const double length = settings.sampler.chain_length;
+    if (!(length >= 0.0) || !std::isfinite(length)) {
+      throw std::invalid_argument(
+          fmt::format("a chain length must be a number above 0, got {}", length));
+    }
+  }
 }
 
 namespace {
@@ -32,15 +51,29 @@ namespace {
 template <std::size_t D>
 std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& settings) {
   check_settings(settings);
-  return make_engine(settings.engine, std::move(system), settings.rule);
+  return make_run_engine(settings, std::move(system), std::nullopt);
+}
+
+}  // namespace
+
+namespace {
+
+// `settings` with an event chain's default length resolved for `system`.
+template <std::size_t D>
+Settings resolved(Settings settings, const System<D>& system) {
+  Sampler& sampler = settings.sampler;
+  if (sampler.kind == SamplerKind::ecmc && sampler.chain_length == 0.0) {
+    sampler.chain_length = default_chain_length(system, mean_diameter(system));
+  }
+  return settings;
 }
 
 }  // namespace
 
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
-    : engine_(checked_engine(std::move(system), settings)),
-      settings_(settings),
+    : settings_(resolved(settings, system)),
+      engine_(checked_engine(std::move(system), settings_)),
       time_(engine_->time()),
       slice_(engine_->slice_length()),
       rebase_period_(rebase_period(state().size())),
@@ -62,8 +95,8 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
 
 template <std::size_t D>
 Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
-    : engine_(make_engine(checkpoint.settings.engine, checkpoint.system, checkpoint.settings.rule)),
-      settings_(checkpoint.settings),
+    : settings_(checkpoint.settings),
+      engine_(make_run_engine(checkpoint.settings, checkpoint.system, checkpoint.chain)),
       time_(checkpoint.time),
       settled_(checkpoint.settled),
       counts_(checkpoint.counts),
@@ -140,7 +173,7 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
     // is an instant the run is whole at, like any target: the events are the same.
     const double slice_end = time_ + slice_;
     const double stop_at = std::min({t, next_due_time(), slice_end > time_ ? slice_end : t});
-    while (const std::optional<Event> event = engine_->step(stop_at)) {
+    while (const std::optional<Event> event = next_event(stop_at)) {
       record(*event);
       ++processed;
       const bool stop = stop_ != nullptr && stop_->load(std::memory_order_relaxed) != 0;
@@ -156,6 +189,19 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
     if (stop_at == t) return RunStatus::reached;
     if (stop_ != nullptr && stop_->load(std::memory_order_relaxed) != 0) return RunStatus::stopped;
   }
+}
+
+template <std::size_t D>
+std::optional<Event> Simulation<D>::next_event(double end_time) {
+  std::optional<Event> event = engine_->step(end_time);
+  engine_->take_velocity_changes([this](const typename Engine<D>::VelocityChange& change) {
+    if (!counts_.fluxes) return;
+    const System<D>& system = state();
+    const std::uint32_t i = change.particle;
+    counts_.fluxes->change_velocity<D>(system.absolute(change.at), change.at,
+                                       system.records[i].mass, change.before, change.after);
+  });
+  return event;
 }
 
 template <std::size_t D>
@@ -226,7 +272,7 @@ void Simulation<D>::call_or_await(Scheduled& entry) {
 template <std::size_t D>
 void Simulation<D>::complete_instant() {
   const double now = time_;
-  while (const std::optional<Event> event = engine_->step(now)) record(*event);
+  while (const std::optional<Event> event = next_event(now)) record(*event);
   settle_at(now);
   if (!instant_awaited_) return;
   instant_awaited_ = false;
@@ -441,7 +487,26 @@ template <std::size_t D>
 Checkpoint<D> Simulation<D>::checkpoint(const std::string& source) const {
   return {source,          state(),          settings_,     time_, settled_,
           counts_,         measurement_,     measure_from_, {},    thermostat_instants_,
-          thermostat_rng_, thermostat_next_, std::nullopt};
+          thermostat_rng_, thermostat_next_, std::nullopt,  chain()};
+}
+
+template <std::size_t D>
+std::optional<ChainState> Simulation<D>::chain() const {
+  const auto* chains = dynamic_cast<const EcmcEngine<D>*>(engine_.get());
+  if (chains == nullptr) return std::nullopt;
+  return chains->chain();
+}
+
+template <std::size_t D>
+double Simulation<D>::temperature() const {
+  return settings_.sampler.kind == SamplerKind::ecmc ? 1.0 : kinetic_temperature(state());
+}
+
+template <std::size_t D>
+Observables<D> Simulation<D>::observables_over(const Measurement& stretch, double now) const {
+  Observables<D> o = measure(state(), stretch, now);
+  if (settings_.sampler.kind == SamplerKind::ecmc) return at_unit_temperature(o, stretch);
+  return o;
 }
 
 template class Simulation<2>;

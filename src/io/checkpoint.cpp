@@ -115,6 +115,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
       {"restitution", c.settings.rule.restitution},
       {"tc", c.settings.rule.elastic_within},
       {"engine", name_of(c.settings.engine)},
+      {"sampler", name_of(c.settings.sampler.kind)},
       {"time", c.time},
       {"epoch", c.system.epoch},
       {"settled", c.settled},
@@ -140,6 +141,17 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
                           {"seed", t.seed},          {"instants", c.thermostat_instants},
                           {"rng", rng.str()}};
     if (resets_as_events(t)) head["thermostat"]["next"] = c.thermostat_next;
+  }
+  if (c.settings.sampler.kind == SamplerKind::ecmc) {
+    if (!c.chain) throw std::logic_error("an event-chain checkpoint without its chain");
+    std::ostringstream rng;
+    rng << c.chain->rng;
+    head["chains"] = {{"chain_length", c.settings.sampler.chain_length},
+                      {"seed", c.settings.sampler.seed},
+                      {"active", c.chain->active},
+                      {"axis", c.chain->axis},
+                      {"chain_end", c.chain->chain_end},
+                      {"rng", rng.str()}};
   }
   // A number the run overflowed would be written as null: a checkpoint carom could not read.
   if (const auto where = first_non_finite(head)) {

@@ -67,6 +67,31 @@ void validate(const Checkpoint<D>& c, int format) {
 
   const System<D>& s = c.system;
   const Box<D>& box = s.box;
+  if ((c.settings.sampler.kind == SamplerKind::ecmc) != c.chain.has_value()) {
+    fail("an event-chain run needs its chain, and dynamics has none");
+  }
+  if (c.chain) {
+    // Chains move one particle, the active one, along the chain's axis; the rest are at rest.
+    const ChainState& chain = *c.chain;
+    if (chain.active >= s.size()) {
+      fail(fmt::format("the active particle {} is not one of the {}", chain.active, s.size()));
+    }
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      const Vec<D>& v = s.particles[i].velocity;
+      for (std::size_t k = 0; k < D; ++k) {
+        const bool moves = i == chain.active && k == chain.axis;
+        if (moves ? !(v[k] > 0.0) : v[k] != 0.0) {
+          fail(fmt::format("particle {} has velocity component {} = {}: event chains move only "
+                           "the active particle {}, along axis {}",
+                           i, k, v[k], chain.active, chain.axis));
+        }
+      }
+    }
+    if (!(chain.chain_end >= s.particles[chain.active].time)) {
+      fail(fmt::format("the chain ends at {}, before the active particle's stored time {}",
+                       chain.chain_end, s.particles[chain.active].time));
+    }
+  }
   constexpr std::uint64_t kMost = std::numeric_limits<std::uint64_t>::max();
   const auto sum = [&](std::uint64_t a, std::uint64_t b) { return a > kMost - b ? kMost : a + b; };
   std::uint64_t walls = 0, pairs = 0;  // saturating

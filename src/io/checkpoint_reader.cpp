@@ -261,6 +261,26 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         fail(e.what());
       }
     }
+    if (format >= 5) c.settings.sampler.kind = f.template choice<SamplerKind>(j, "sampler");
+    if (const auto found = j.find("chains"); found != j.end()) {  // from carom 1.9
+      const std::string where = "\"chains\"";
+      Sampler& sampler = c.settings.sampler;
+      sampler.chain_length = f.number(f.at(*found, "chain_length", where), "the chain length");
+      if (!(sampler.chain_length > 0.0)) {
+        fail(fmt::format("the chain length {} is not above 0", sampler.chain_length));
+      }
+      sampler.seed = f.count(f.at(*found, "seed", where), "the chains' seed");
+      ChainState chain;
+      const std::uint64_t active = f.count(f.at(*found, "active", where), "the active particle");
+      const std::uint64_t axis = f.count(f.at(*found, "axis", where), "the chain's axis");
+      if (axis >= D) fail(fmt::format("the chain's axis {} is not one of {} axes", axis, D));
+      chain.active = static_cast<std::uint32_t>(std::min<std::uint64_t>(active, UINT32_MAX));
+      chain.axis = static_cast<std::uint8_t>(axis);
+      chain.chain_end = f.number(f.at(*found, "chain_end", where), "the chain's end");
+      std::istringstream rng(f.text(f.at(*found, "rng", where), "the chains' rng"));
+      if (!(rng >> chain.rng)) fail("the chains' \"rng\" is not a pcg32 state");
+      c.chain = chain;
+    }
     if (const auto found = j.find("transport"); found != j.end()) {
       c.records.transport = f.transport(*found);
     }

@@ -69,7 +69,7 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
   std::optional<SymmetricTensor> tensor;
   if (started_ && row.time > last_.time) {
     const Measurement interval{last_.time, 0.0, difference(row.totals, last_.totals), std::nullopt};
-    const Observables<D> o = measure(system, interval, row.time);
+    const Observables<D> o = simulation.observables_over(interval, row.time);
     row.pressure = o.pressure;
     row.z = o.compressibility_factor;
     row.measured = true;
@@ -77,13 +77,17 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
     if (row.totals.fluxes && last_.totals.fluxes) {
       tensor =
           pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, box_volume(system.box));
+      // Event chains' pressures are beta P, as at_unit_temperature gives the row's pressure.
+      if (simulation.settings().sampler.kind == SamplerKind::ecmc) {
+        for (double& component : *tensor) component /= kinetic_temperature(system);
+      }
     }
   }
   take(row, window(simulation));
   const Counts& c = row.totals;
   std::string line = fmt::format(
       "{},{},{},{},{},{},{},{},{},{},{},{},{}", row.time, c.events, c.pair_collisions,
-      field(c.virial), field(c.wall_momentum), field(kinetic_temperature(system)),
+      field(c.virial), field(c.wall_momentum), field(simulation.temperature()),
       field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
       field(pressure_.mean()), field(pressure_.error()), field(z_.mean()), field(z_.error()));
   const SymmetricTensor moment =

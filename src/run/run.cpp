@@ -105,6 +105,7 @@ struct Runner::State {
   std::uint64_t events = 0;                              // the events of that time
   std::optional<DriftVerdict> drift;                     // of the last run
   std::optional<SymmetricTensor> pressure_tensor_error;  // of the last run
+  std::optional<double> compressibility_factor_error;    // of the last run
   std::optional<TransportEstimate> transport;            // of the last run
 
   template <std::size_t D>
@@ -218,6 +219,8 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   records = records_now();
   drift = z_drift ? z_drift->verdict() : std::nullopt;
   pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
+  compressibility_factor_error =
+      z_drift ? z_drift->compressibility_factor_error() : std::nullopt;
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();
@@ -243,6 +246,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   outcome.report.seed = start.seed;
   outcome.report.drift = drift;
   outcome.report.pressure_tensor_error = pressure_tensor_error;
+  outcome.report.compressibility_factor_error = compressibility_factor_error;
   outcome.report.transport = transport;
   if (summary) {
     write_json(summary->stream(), simulation, outcome.report, false);
@@ -288,6 +292,7 @@ RunReport Runner::report() const {
   report.seed = state_->start.seed;
   report.drift = state_->drift;
   report.pressure_tensor_error = state_->pressure_tensor_error;
+  report.compressibility_factor_error = state_->compressibility_factor_error;
   report.transport = state_->transport;
   return report;
 }

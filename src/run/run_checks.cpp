@@ -150,7 +150,8 @@ void check_run_spec(const RunSpec& spec) {
   check_files_apart({}, output_files(spec));
 }
 
-void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared) {
+void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared,
+                      SamplerKind sampler) {
   check_latest_time(spec.end_time);
   if (!spec.dump.empty() && (spec.end_time - now) / spec.dump_every > kMostRows) {
     throw RequestError(
@@ -166,6 +167,11 @@ void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool shear
     throw RequestError({option("transport"),
                         " needs a periodic box: walls take momentum and energy out of the fluxes "
                         "the coefficients come from"});
+  }
+  if (spec.transport && sampler == SamplerKind::ecmc) {
+    throw RequestError({option("transport"), " needs dynamics (", option("sampler", "md"),
+                        "): event chains have no velocities, so no fluxes to take coefficients "
+                        "from"});
   }
   if (spec.transport && sheared) {
     throw RequestError({option("transport"),
@@ -189,7 +195,8 @@ void check_run(const Simulation<D>& simulation, const Start& start, const RunSpe
 
   simulation.check_target(spec.end_time);
   const double now = simulation.time();
-  check_run_in_box(spec, now, simulation.state().box.periodic(), simulation.state().box.sheared());
+  check_run_in_box(spec, now, simulation.state().box.periodic(), simulation.state().box.sheared(),
+                   simulation.settings().sampler.kind);
   check_outputs_fit(simulation, spec);
   if (spec.measure_from) {
     const double from = *spec.measure_from;

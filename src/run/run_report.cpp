@@ -41,6 +41,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   const Counts& window = simulation.measurement().counts;
   const Observables<D> o = simulation.observables();
   const CollisionRule& rule = simulation.settings().rule;
+  const Sampler& sampler = simulation.settings().sampler;
+  const bool chain = sampler.kind == SamplerKind::ecmc;
   // Infinity (no collision yet) is not a json number: null says "undefined".
   const auto number = [](double x) {
     return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
@@ -106,6 +108,11 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"restitution", rule.restitution},
       {"tc", rule.elastic_within},
       {"engine", name_of(simulation.settings().engine)},
+      {"sampler", name_of(sampler.kind)},
+      // Event chains: the chain length in mean diameters (the default resolved) and the seed of
+      // the chains' particles.
+      {"chain_length", chain ? nlohmann::ordered_json(sampler.chain_length) : nlohmann::ordered_json(nullptr)},
+      {"chain_seed", chain ? nlohmann::ordered_json(sampler.seed) : nlohmann::ordered_json(nullptr)},
       {"thermostat", thermostat_json(simulation.settings().thermostat)},
       // A run draws random numbers only for --kT; the start file's seed is carom init's.
       {"seed",
@@ -114,6 +121,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"equilibrate", simulation.measurement().start_time},
       {"events", counts.events},
       {"pair_collisions", counts.pair_collisions},
+      // Event chains: the lifts (each a pair event), the moves handed on.
+      {"lifts", chain ? nlohmann::ordered_json(counts.pair_collisions) : nlohmann::ordered_json(nullptr)},
       {"wall_collisions", counts.wall_collisions},
       {"elastic_by_tc", counts.elastic_by_tc},
       {"window_events", window.events},
@@ -130,6 +139,13 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
                                               : nlohmann::ordered_json(o.wall_pressure)},
       {"compressibility_factor", number(o.compressibility_factor)},
+      // Over the drift verdict's intervals of the window, taken as independent.
+      {"compressibility_factor_error", optional(report.compressibility_factor_error)},
+      // Event chains: Z along x, y (and z), from the lifts and the displacement along each.
+      {"directional_compressibility_factor",
+       o.directional_z ? nlohmann::ordered_json(std::vector<double>(o.directional_z->begin(),
+                                                                     o.directional_z->end()))
+                       : nlohmann::ordered_json(nullptr)},
       {"compressibility_factor_drift",
        report.drift ? nlohmann::ordered_json{{"first_half", report.drift->first},
                                              {"second_half", report.drift->second},

@@ -22,7 +22,9 @@ namespace {
 std::string describe_defaults(const StartSpec& spec, const StartRecord& record, Boundary boundary,
                               Rule rule) {
   const bool periodic = !spec.boundary && boundary == Boundary::periodic;
-  const bool elastic = !spec.rule && rule == Rule::elastic && spec.restitution == 1.0;
+  // Event chains have no rule to note.
+  const bool elastic = !spec.rule && rule == Rule::elastic && spec.restitution == 1.0 &&
+                       spec.sampler == SamplerKind::md;
   if (!periodic && !elastic) return "";
   const std::string taken = periodic && elastic ? "periodic boundary and elastic rule"
                             : periodic          ? "periodic boundary"
@@ -220,13 +222,45 @@ void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
 
 }  // namespace
 
+void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
+                           bool rule_named, bool draws_velocities) {
+  if (settings.sampler.kind != SamplerKind::ecmc) return;
+  const MessagePiece chains = option("sampler", "ecmc");
+  const auto refuse = [&](MessagePiece what, const std::string& why) {
+    throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"), "): ",
+                        chains, " ", why});
+  };
+  if (!periodic) {
+    throw RequestError({chains, " needs a periodic box (", option("boundary", "periodic"),
+                        "): its chains have no walls to meet"});
+  }
+  if (shear.rate != 0.0) refuse(option("shear"), "samples equilibrium, not a flow");
+  if (settings.thermostat.kind != ThermostatKind::none) {
+    refuse(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
+  }
+  if (settings.rule.restitution != 1.0) refuse(option("restitution"), "samples hard particles");
+  if (rule_named) refuse(option("rule"), "moves no two particles at once, under any rule");
+  if (settings.engine == EngineKind::reference) {
+    refuse(option("engine", "reference"), "has its own engine");
+  }
+  if (draws_velocities) refuse(option("temperature"), "samples positions, at kT = 1");
+  if (!(settings.sampler.chain_length >= 0.0) || !std::isfinite(settings.sampler.chain_length)) {
+    throw RequestError({option("chain_length"), " must be a number above 0 (0: the default)"});
+  }
+}
+
 Start load_start(const StartSpec& spec) {
   return std::visit(
       [&](auto&& input) {
         const Boundary boundary = input.system.box.boundary;
         const Rule rule =
             spec.rule.value_or(default_rule(input.record, boundary, spec.restitution));
-        const Settings settings{{rule, spec.restitution, spec.tc}, spec.engine, spec.thermostat};
+        const Settings settings{{rule, spec.restitution, spec.tc},
+                                spec.engine,
+                                spec.thermostat,
+                                {spec.sampler, spec.chain_length, spec.seed}};
+        check_sampler_request(settings, boundary == Boundary::periodic, spec.shear,
+                              spec.rule.has_value(), spec.temperature.has_value());
         std::string note = describe_defaults(spec, input.record, boundary, rule);
         std::optional<std::uint64_t> seed;
         if (spec.temperature) {
@@ -236,7 +270,8 @@ Start load_start(const StartSpec& spec) {
             throw RequestError({option("temperature"), fmt::format(": {}", e.what())});
           }
           seed = spec.seed;
-        } else if (kinetic_energy(input.system) == 0.0 && !spec.shear.profile) {
+        } else if (kinetic_energy(input.system) == 0.0 && !spec.shear.profile &&
+                   spec.sampler == SamplerKind::md) {
           note += std::string(note.empty() ? "" : "; ") +
                   "every particle is at rest (kT = 0), so nothing will happen: --kT T draws "
                   "Maxwell-Boltzmann velocities";
@@ -270,6 +305,7 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
                  const ShearRequest& shear) {
   require_dimension(dimension);
   check_settings(settings);
+  check_sampler_request(settings, options.boundary == Boundary::periodic, shear, false, false);
   AnySystem system =
       dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
@@ -285,6 +321,7 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
                    const ShearRequest& shear) {
   require_dimension(arrays.dimension);
+  check_sampler_request(settings, arrays.boundary == Boundary::periodic, shear, false, false);
   AnySystem system =
       arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);

@@ -16,7 +16,7 @@ void ZDrift<D>::observe(const Simulation<D>& simulation) {
     const Measurement interval{*last_time, 0.0,
                                difference(simulation.current_counts(), record_.last_totals),
                                std::nullopt};
-    const Observables<D> o = measure(simulation.state(), interval, now);
+    const Observables<D> o = simulation.observables_over(interval, now);
     if (std::isfinite(o.compressibility_factor)) record_.z.push_back(o.compressibility_factor);
     if (o.pressure_tensor) record_.pressure_tensors.push_back(*o.pressure_tensor);
   }
@@ -50,6 +50,12 @@ std::optional<SymmetricTensor> ZDrift<D>::pressure_tensor_error() const {
     error[c] = std::sqrt(mean_and_variance_of_mean(component).second);
   }
   return error;
+}
+
+template <std::size_t D>
+std::optional<double> ZDrift<D>::compressibility_factor_error() const {
+  if (record_.z.size() < 2 * kLeastPerHalf) return std::nullopt;
+  return std::sqrt(mean_and_variance_of_mean(record_.z).second);
 }
 
 template class ZDrift<2>;

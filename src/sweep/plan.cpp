@@ -36,6 +36,7 @@ bool is_choice(std::string_view key, std::string_view name) {
   if (key == "rule") return from_name<Rule>(name).has_value();
   if (key == "boundary") return from_name<Boundary>(name).has_value();
   if (key == "thermostat") return from_name<ThermostatKind>(name).has_value();
+  if (key == "sampler") return from_name<SamplerKind>(name).has_value();
   return from_name<EngineKind>(name).has_value();
 }
 
@@ -43,6 +44,7 @@ std::string choices(std::string_view key) {
   if (key == "rule") return names_list<Rule>();
   if (key == "boundary") return names_list<Boundary>();
   if (key == "thermostat") return names_list<ThermostatKind>();
+  if (key == "sampler") return names_list<SamplerKind>();
   return names_list<EngineKind>();
 }
 

@@ -46,6 +46,8 @@ constexpr std::array kKeys = {
     KeyInfo{"thermostat_rate", run, number},
     KeyInfo{"shear", run, number},
     KeyInfo{"velocity_profile", run, flag},
+    KeyInfo{"sampler", run, choice},
+    KeyInfo{"chain_length", run, number},
     KeyInfo{"phi", compress, number},
     KeyInfo{"jam", compress, flag},
     KeyInfo{"rate", compress, number},

@@ -185,11 +185,14 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "transport") run.transport = as_flag(v);
     if (s.key == "shear") shear = as_number(v);
     if (s.key == "velocity_profile") velocity_profile = as_flag(v);
+    if (s.key == "sampler") start.sampler = as_choice<SamplerKind>(v);
+    if (s.key == "chain_length") start.chain_length = as_number(v);
   }
-  if (find_setting(settings, "seed") != nullptr && !start.temperature) {
+  if (find_setting(settings, "seed") != nullptr && !start.temperature &&
+      start.sampler == SamplerKind::md) {
     throw RequestError(
-        "--seed needs --kT T: it seeds the velocities --kT draws (and Andersen's resets), and "
-        "without them it would seed nothing");
+        "--seed needs --kT T (it seeds the velocities --kT draws, and Andersen's resets) or "
+        "--sampler ecmc (the chains' particles): without them it would seed nothing");
   }
   start.shear = shear_request(shear, velocity_profile);
   start.thermostat = thermostat_request(thermostat, start.temperature, thermostat_every,
@@ -223,12 +226,15 @@ void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) 
 }
 
 // The run's settings, and the task's seed when the run draws random numbers (new velocities at
-// kT, Andersen's resets) without a seed of its own and carom init's start has one: a seed, set or
+// kT, Andersen's resets, event chains) without a seed of its own and carom init's start has one: a seed, set or
 // swept, then seeds every draw of its task, not only carom init's.
 std::vector<PlanSetting> action_settings(const SweepPlan& plan, const SweepTask& task) {
   std::vector<PlanSetting> settings = task.action;
   const PlanSetting* seed = find_setting(task.start, "seed");
-  if (plan.kind() == TaskKind::run && seed != nullptr && find_setting(settings, "kT") != nullptr &&
+  const PlanSetting* sampler = find_setting(settings, "sampler");
+  const bool draws = find_setting(settings, "kT") != nullptr ||
+                     (sampler != nullptr && value_text(sampler->value) == "ecmc");
+  if (plan.kind() == TaskKind::run && seed != nullptr && draws &&
       find_setting(settings, "seed") == nullptr) {
     settings.push_back(*seed);
   }
@@ -240,7 +246,9 @@ std::vector<PlanSetting> action_settings(const SweepPlan& plan, const SweepTask&
 // velocity again with a seed of its own.
 std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTask& task) {
   const PlanSetting* seed = find_setting(task.start, "seed");
-  if (seed == nullptr || !seed->swept || spec.kind != TaskKind::run || !spec.start.temperature) {
+  const bool chains = spec.start.sampler == SamplerKind::ecmc;
+  if (seed == nullptr || !seed->swept || spec.kind != TaskKind::run ||
+      !(spec.start.temperature || chains)) {
     return std::nullopt;
   }
   const PlanSetting* own_run_seed = find_setting(task.action, "seed");
@@ -251,14 +259,14 @@ std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTas
        o.packing_fraction <= random_placement_limit(static_cast<std::size_t>(spec.dimension)));
   if (own_run_seed == nullptr || random_placement || o.polydispersity > 0.0) return std::nullopt;
   return fmt::format(
-      "carom init places every particle on a lattice ({}) with one radius, and [run] kT draws "
-      "every velocity again with [run] seed = {}: the tasks of a state point would be the same "
-      "run. Remove [run] seed (the swept seed then draws the velocities), or make the start "
-      "random (random = true, or polydispersity)",
+      "carom init places every particle on a lattice ({}) with one radius, and [run] {} with "
+      "[run] seed = {}: the tasks of a state point would be the same run. Remove [run] seed (the "
+      "swept seed then draws them), or make the start random (random = true, or polydispersity)",
       o.placement == Placement::lattice
           ? std::string("lattice = true")
           : fmt::format("phi above {}",
                         random_placement_limit(static_cast<std::size_t>(spec.dimension))),
+      chains ? "sampler = \"ecmc\" draws every chain's particle" : "kT draws every velocity again",
       value_text(own_run_seed->value));
 }
 
@@ -358,7 +366,12 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
       const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));
       const bool periodic = boundary == Boundary::periodic;
       check_shear_box(s.shear, periodic, rule);
-      check_run_in_box(spec.run, 0.0, periodic, s.shear.rate != 0.0);
+      check_run_in_box(spec.run, 0.0, periodic, s.shear.rate != 0.0, s.sampler);
+      check_sampler_request({{rule, s.restitution, s.tc},
+                             s.engine,
+                             s.thermostat,
+                             {s.sampler, s.chain_length, s.seed}},
+                            periodic, s.shear, s.rule.has_value(), s.temperature.has_value());
     }
   } catch (const std::invalid_argument& e) {
     throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());

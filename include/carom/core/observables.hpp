@@ -61,10 +61,22 @@ struct Observables {
   // Its trace over D is the pressure but for the kinetic part, which here is the lab frame's
   // sum m v v averaged in time rather than N kT.
   std::optional<SymmetricTensor> pressure_tensor;
+  // Event chains (at_unit_temperature): Z along each axis (x, y[, z]), 1 + (the lifts' virial
+  // along it) / (the displacement along it), from the fluxes (Michel, Kapfer and Krauth, J. Chem.
+  // Phys. 140, 054116 (2014)); empty for dynamics.
+  std::optional<std::array<double, D>> directional_z;
 };
 
 // The observables of `system` at time `now` over the window `measurement` opened.
 template <std::size_t D>
 Observables<D> measure(const System<D>& system, const Measurement& measurement, double now);
+
+// Event-chain Monte Carlo samples positions at kT = 1. Measured as dynamics (measure()), its one
+// moving particle has the kinetic temperature m v^2 / (D N), a unit of the sampler's clock rather
+// than of the system; Z = 1 + (the lifts' virial) / (v^2 elapsed) comes out exact. These are the
+// same observables in kT = 1: the pressure and its tensor are beta P, the temperature 1, and the
+// window's fluxes give Z along each axis. Z, rates and the packing are unchanged.
+template <std::size_t D>
+Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement);
 
 }  // namespace carom

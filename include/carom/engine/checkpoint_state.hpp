@@ -28,6 +28,7 @@ struct Checkpoint {
   pcg32 thermostat_rng;                   // Andersen's draws to come
   double thermostat_next = kNever;        // Andersen's resets as events: the next one's time
   std::optional<std::uint64_t> seed;      // of the velocities the run began with (its summary's)
+  std::optional<ChainState> chain;        // an event-chain run's chain in flight
 };
 
 using AnyCheckpoint = std::variant<Checkpoint<2>, Checkpoint<3>>;

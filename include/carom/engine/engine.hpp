@@ -100,6 +100,21 @@ class Engine {
   // The same as a stored time: exact, where time() may be rounded.
   double stored_time() const { return now_; }
 
+  // A velocity the engine changed other than in an event step() returned (event chains turning
+  // at a chain's end): particle's, at stored time `at`, from `before` to `after`.
+  struct VelocityChange {
+    std::uint32_t particle = 0;
+    double at = 0.0;
+    Vec<D> before, after;
+  };
+  // Calls `take(change)` for each such change since the last call, in order, and forgets them:
+  // the Simulation keeps the fluxes' kinetic rates right with them.
+  template <class F>
+  void take_velocity_changes(F&& take) {
+    for (const VelocityChange& change : velocity_changes_) take(change);
+    velocity_changes_.clear();
+  }
+
  protected:
   // Throws std::invalid_argument for a periodic box with a side not above two diameters (grown
   // to growth.until), or records that do not match the particles (none at all means mass 1 and
@@ -154,6 +169,7 @@ class Engine {
     fastest_ = std::max(fastest_, std::sqrt(speed2) * (1.0 + 1e-9));
   }
   double now_ = 0.0;                 // the stored time of the last processed event
+  std::vector<VelocityChange> velocity_changes_;  // see take_velocity_changes
   std::uint64_t events_at_now_ = 0;  // consecutive events at exactly now_, to detect a jam
 
  private:

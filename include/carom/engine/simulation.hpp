@@ -28,6 +28,7 @@
 #include "carom/core/observables.hpp"
 #include "carom/core/thermostat.hpp"
 #include "carom/engine/engine.hpp"
+#include "carom/engine/sampler.hpp"
 
 namespace carom {
 
@@ -37,10 +38,14 @@ struct Settings {
   CollisionRule rule;  // Rule::swap, restitution 1, TC time kDefaultTc
   EngineKind engine = EngineKind::fast;
   Thermostat thermostat{};  // none
+  // Dynamics, or event chains (which take no rule, engine or thermostat: see check_settings).
+  Sampler sampler{};
 };
 
 // Throws std::invalid_argument for settings no run can have: a restitution outside (0, 1], below
-// 1 under the swap rule, a negative TC time, or a thermostat check_thermostat refuses.
+// 1 under the swap rule, a negative TC time, or a thermostat check_thermostat refuses; for event
+// chains, a thermostat, a restitution below 1, the reference engine or a chain length not above
+// 0 (or infinite).
 void check_settings(const Settings& settings);
 
 // When an observer looks at a run.
@@ -175,7 +180,12 @@ class Simulation {
   // The measurement window and the observables measured over it.
   // The window's fluxes are brought to time().
   Measurement measurement() const;
-  Observables<D> observables() const { return measure(state(), measurement(), time_); }
+  Observables<D> observables() const { return observables_over(measurement(), time_); }
+  // The observables over any stretch of the run (a window opened at its start with its counts,
+  // ending at `now`): measure()'s, and an event-chain run's in its units (at_unit_temperature).
+  Observables<D> observables_over(const Measurement& stretch, double now) const;
+  // kT now: the kinetic temperature of dynamics; 1 for event chains, which sample at kT = 1.
+  double temperature() const;
   // Opens the window now: counts from zero, the kinetic energy now.
   void reset_measurement();
   // Opens the window at time t (now if t is not ahead): equilibrate until then.
@@ -199,6 +209,8 @@ class Simulation {
   // What a checkpoint holds: everything needed to continue exactly. `source` names the input
   // the run began from.
   Checkpoint<D> checkpoint(const std::string& source) const;
+  // An event-chain run's chain in flight (nullopt for dynamics).
+  std::optional<ChainState> chain() const;
 
  private:
   struct Scheduled {
@@ -213,6 +225,9 @@ class Simulation {
   double next_due_time() const;
   // Records a processed event and calls the observers it makes due.
   void record(const Event& event);
+  // The engine's next event up to `end_time` (step()), its velocity changes between events taken
+  // into the fluxes first.
+  std::optional<Event> next_event(double end_time);
   // Keeps the fluxes from now on.
   void track_fluxes();
   // The fluxes' kinetic rates computed afresh from every particle (incremental updates gather
@@ -232,8 +247,8 @@ class Simulation {
   // Andersen's resets as events: one particle drawn at random, at time_, reset.
   void reset_one_velocity();
 
+  Settings settings_;  // the chain length resolved (default_chain_length for 0)
   std::unique_ptr<Engine<D>> engine_;
-  Settings settings_;
   double time_ = 0.0;
   double stored_time_ = 0.0;  // see stored_time()
   // Every event up to time_ is processed and every time observer due then has been called (false

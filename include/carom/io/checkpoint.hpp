@@ -17,7 +17,10 @@
 
 namespace carom {
 
-// Format 4 (carom 1.8) adds what the summary needs of the measurement window (its records: the
+// Format 5 (carom 1.9) adds the sampler ("sampler": md or ecmc) and event chains' chain in
+// flight ("chains"), so that a carom without them refuses such a checkpoint rather than continue
+// it as dynamics. Format 4
+// (carom 1.8) adds what the summary needs of the measurement window (its records: the
 // drift verdict's intervals, the pressure tensor's, transport's blocks, with the window and end
 // they measure) and the velocities' seed, so that a run resumed at any instant, its end included,
 // reports the uninterrupted run's summary; a carom that knows only format 3 refuses it rather
@@ -27,7 +30,7 @@ namespace carom {
 // the dimension, the TC model's last-collision times, the run's counts apart from the measurement
 // window's, whether the run is whole at its time; absolute stored times) and format 1 (carom
 // 1.0) are still read, their stored times re-based at once to the latest of them.
-inline constexpr int kCheckpointFormat = 4;
+inline constexpr int kCheckpointFormat = 5;
 
 // json, numbers in shortest round-trip form; written through AtomicFile by the caller.
 template <std::size_t D>

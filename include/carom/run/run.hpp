@@ -105,9 +105,10 @@ void check_run_spec(const RunSpec& spec);
 
 // The checks of Runner::check that need the run's box but not its particles, for a run from time
 // `now`: an end time beyond what a double resolves (RunLengthError), more than 10^7 frames or log
-// rows, --transport without a periodic box or in a sheared one (RequestError). carom sweep checks
-// every task's run with it before any runs.
-void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared);
+// rows, --transport without a periodic box, in a sheared one or with event chains (RequestError).
+// carom sweep checks every task's run with it before any runs.
+void check_run_in_box(const RunSpec& spec, double now, bool periodic, bool sheared,
+                      SamplerKind sampler);
 
 class Runner {
  public:

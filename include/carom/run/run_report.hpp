@@ -31,6 +31,8 @@ struct RunReport {
   std::optional<DriftVerdict> drift;  // of Z over the measurement window, if measured
   // The standard error of the window's pressure tensor (ZDrift::pressure_tensor_error).
   std::optional<SymmetricTensor> pressure_tensor_error;
+  // The same for Z (ZDrift::compressibility_factor_error).
+  std::optional<double> compressibility_factor_error;
   // The transport coefficients of a run that measured them (--transport), once two blocks of
   // its window are done.
   std::optional<TransportEstimate> transport;

@@ -57,6 +57,8 @@ struct StartSpec {
   std::uint64_t seed = 1;             // of those velocities
   Thermostat thermostat;              // none (thermostat_request makes one)
   ShearRequest shear;                 // none
+  SamplerKind sampler = SamplerKind::md;
+  double chain_length = 0.0;  // event chains': in mean diameters (0: default_chain_length)
 };
 
 // The thermostat `carom run --thermostat KIND --kT T [--thermostat-every DT] [--thermostat-rate
@@ -67,6 +69,13 @@ struct StartSpec {
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
                               std::uint64_t seed);
+
+// Throws RequestError, naming the options, when `settings` ask for event chains and the run asks
+// for what only dynamics has: a box with walls (`periodic` false), a shear, a thermostat, a
+// restitution below 1, a collision rule or engine named (`rule_named`), or velocities drawn
+// (`draws_velocities`).
+void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
+                           bool rule_named, bool draws_velocities);
 
 // A run made ready to go.
 struct Start {

@@ -40,6 +40,8 @@ class ZDrift final : public Observer<D> {
   // The standard error of the pressure tensor's mean over the intervals (taken as independent:
   // each is 1/20 of the window), once there are as many as a verdict needs.
   std::optional<SymmetricTensor> pressure_tensor_error() const;
+  // The same for Z.
+  std::optional<double> compressibility_factor_error() const;
   const DriftRecord& record() const { return record_; }
 
  private:

@@ -1,0 +1,148 @@
+// Event chains as a Simulation runs them (Settings::sampler): the chains' turns reach the fluxes,
+// so the pressure tensor and Z along each axis are exact; the observables are in kT = 1; a
+// checkpoint holds the chain in flight and its generator, so a resumed run is the run in one.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "carom/engine/checkpoint_state.hpp"
+#include "carom/engine/initial.hpp"
+#include "carom/engine/simulation.hpp"
+#include "carom/io/checkpoint.hpp"
+#include "carom/io/input_error.hpp"
+
+namespace carom {
+namespace {
+
+template <std::size_t D>
+System<D> periodic_gas(std::uint64_t n, double phi) {
+  InitialOptions options;
+  options.n = n;
+  options.packing_fraction = phi;
+  options.boundary = Boundary::periodic;
+  options.placement = Placement::lattice;
+  options.seed = 5;
+  return make_initial<D>(options);
+}
+
+Settings chains(double chain_length = 0.0) {
+  Settings settings;
+  settings.sampler = {SamplerKind::ecmc, chain_length, 11};
+  return settings;
+}
+
+template <std::size_t D>
+void expect_same_run(const Simulation<D>& a, const Simulation<D>& b) {
+  ASSERT_EQ(a.counts(), b.counts());
+  ASSERT_EQ(a.state().epoch, b.state().epoch);
+  for (std::size_t i = 0; i < a.state().size(); ++i) {
+    const Particle<D>& p = a.state().particles[i];
+    const Particle<D>& q = b.state().particles[i];
+    ASSERT_EQ(p.position, q.position) << i;
+    ASSERT_EQ(p.velocity, q.velocity) << i;
+    ASSERT_EQ(p.time, q.time) << i;
+  }
+  ASSERT_EQ(a.chain(), b.chain());
+}
+
+template <std::size_t D>
+void resumed_runs_are_the_run_in_one(std::uint64_t n, double phi) {
+  Simulation<D> whole(periodic_gas<D>(n, phi), chains());
+  whole.run_until(30.0);
+  Simulation<D> first(periodic_gas<D>(n, phi), chains());
+  first.run_until(7.5);
+  first.run_until(first.time(), 1234);  // stopped mid-instant: between lifts
+  std::stringstream saved;
+  write_checkpoint(saved, first.checkpoint("gas"));
+  AnyCheckpoint read = read_checkpoint(saved, "saved");
+  Simulation<D> resumed(std::get<Checkpoint<D>>(read));
+  resumed.run_until(30.0);
+  expect_same_run(whole, resumed);
+  EXPECT_GT(whole.counts().pair_collisions, 20 * n);
+}
+
+TEST(EcmcRun, ResumedFromACheckpointIsTheRunInOne2D) { resumed_runs_are_the_run_in_one<2>(200, 0.6); }
+TEST(EcmcRun, ResumedFromACheckpointIsTheRunInOne3D) { resumed_runs_are_the_run_in_one<3>(216, 0.4); }
+
+// One particle moves at v at every instant, along x, y (and z) in turn: the kinetic stress's
+// diagonal sums to m v^2 t, and each axis has its share, only if every chain's turn reached the
+// fluxes.
+template <std::size_t D>
+void every_turn_reaches_the_fluxes() {
+  Simulation<D> simulation(periodic_gas<D>(D == 2 ? 300 : 343, D == 2 ? 0.5 : 0.3), chains(3.0));
+  simulation.run_until(40.0);
+  const Fluxes fluxes = *simulation.current_counts().fluxes;
+  const double n = static_cast<double>(simulation.state().size());
+  const double speed = n * mean_diameter(simulation.state());
+  double total = 0.0;
+  for (std::size_t k = 0; k < D; ++k) {
+    total += fluxes.kinetic_stress[k];
+    EXPECT_NEAR(fluxes.kinetic_stress[k] / (speed * speed * 40.0), 1.0 / D, 0.02) << k;
+  }
+  EXPECT_NEAR(total / (speed * speed * 40.0), 1.0, 1e-12);
+  const Observables<D> o = simulation.observables();
+  ASSERT_TRUE(o.directional_z.has_value());
+  for (std::size_t k = 0; k < D; ++k) EXPECT_NEAR((*o.directional_z)[k], o.compressibility_factor, 0.1 * o.compressibility_factor) << k;
+  EXPECT_EQ(o.temperature, 1.0);
+  EXPECT_NEAR(o.pressure, o.compressibility_factor * n / box_volume(simulation.state().box),
+              1e-12 * o.pressure);
+  double trace = 0.0;
+  for (std::size_t k = 0; k < D; ++k) trace += (*o.pressure_tensor)[k];
+  EXPECT_NEAR(trace / D, o.pressure, 0.02 * o.pressure);
+}
+
+TEST(EcmcRun, EveryChainsTurnReachesTheFluxes2D) { every_turn_reaches_the_fluxes<2>(); }
+TEST(EcmcRun, EveryChainsTurnReachesTheFluxes3D) { every_turn_reaches_the_fluxes<3>(); }
+
+// A checkpoint whose chain does not fit its particles is refused, as any other broken one.
+TEST(EcmcRun, ACheckpointsChainIsChecked) {
+  Simulation<2> simulation(periodic_gas<2>(100, 0.5), chains());
+  simulation.run_until(2.0);
+  std::stringstream saved;
+  write_checkpoint(saved, simulation.checkpoint("gas"));
+  const auto refused = [&](const std::function<void(nlohmann::json&)>& edit,
+                           const std::string& words) {
+    nlohmann::json j = nlohmann::json::parse(saved.str());
+    j.erase("checksum");
+    edit(j);
+    std::istringstream in(j.dump());
+    try {
+      read_checkpoint(in, "ck");
+      ADD_FAILURE() << "accepted; expected \"" << words << "\"";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused([](nlohmann::json& j) { j.erase("chains"); }, "needs its chain");
+  refused([](nlohmann::json& j) { j["sampler"] = "md"; }, "dynamics has none");
+  refused([](nlohmann::json& j) { j.erase("sampler"); }, "sampler");
+  refused([](nlohmann::json& j) { j["chains"]["active"] = 100; }, "not one of the 100");
+  refused([](nlohmann::json& j) { j["chains"]["axis"] = 2; }, "not one of 2 axes");
+  refused([](nlohmann::json& j) { j["chains"]["rng"] = "x"; }, "not a pcg32 state");
+  refused(
+      [](nlohmann::json& j) {
+        const std::uint64_t other = j["chains"]["active"].get<std::uint64_t>() == 0 ? 1 : 0;
+        j["particles"][other][2] = 0.5;  // a second particle moving
+      },
+      "event chains move only the active particle");
+  // Untouched, it is read.
+  std::istringstream in(saved.str());
+  EXPECT_NO_THROW(read_checkpoint(in, "ck"));
+}
+
+TEST(EcmcRun, TheDefaultChainLengthIsResolvedAndKept) {
+  const System<2> gas = periodic_gas<2>(400, 0.5);
+  Simulation<2> simulation(gas, chains());
+  const double side = std::sqrt(box_volume(gas.box));
+  EXPECT_DOUBLE_EQ(simulation.settings().sampler.chain_length, 0.24 * side / mean_diameter(gas));
+  EXPECT_THROW(Simulation<2>(gas, chains(-1.0)), std::invalid_argument);
+  Settings thermostat = chains();
+  thermostat.thermostat = {ThermostatKind::rescale, 1.0, 1.0, 0.0, 1};
+  EXPECT_THROW(Simulation<2>(gas, thermostat), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace carom
