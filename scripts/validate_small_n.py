@@ -18,9 +18,10 @@ Each state point: --replicas independent runs, half of them from `carom init`'s 
 lattice (--seed s) and half from a fluid (`carom init --random` at packing 0.4, --seed s, grown to
 the packing by `carom compress --unit-diameter`), so that a start that has not been forgotten
 shows as a difference between the two halves. Each run is `carom run START T --equilibrate TE
---log ... --summary ...` (with --sampler and --chain-length passed through when given); T and TE
-are chosen from a short trial run so that the run has about --events events measured after
---equilibrate-events. beta P d^2 = Z N d^2 / (Lx Ly): kT = 1 and Z = P V / (N kT) as carom
+--log ... --summary ...` (with --sampler and --chain-length passed through when given, and for
+event chains the run's --seed, which draws the chains' particles); T and TE are chosen from a
+short trial run so that the run has about --events events (collisions, or lifts and chain ends)
+measured after --equilibrate-events. beta P d^2 = Z N d^2 / (Lx Ly): kT = 1 and Z = P V / (N kT) as carom
 reports it. A run's error is the block-average error of its log (Flyvbjerg-Petersen); the state
 point's value is the mean over the runs, its error the larger of the runs' block errors combined
 and the scatter of the runs' means (over sqrt(runs)). The table compares it with the published
@@ -77,10 +78,12 @@ def last_log_row(path):
     return rows[-1]
 
 
-def sampler_options(args):
+def sampler_options(args, seed):
     opts = []
     if args.sampler != "md":
-        opts += ["--sampler", args.sampler]
+        # The run's seed draws the chains' particles: without it two runs from one lattice
+        # (whose seeds differ only in velocities, which chains ignore) would be the same run.
+        opts += ["--sampler", args.sampler, "--seed", str(seed)]
     if args.chain_length is not None:
         opts += ["--chain-length", repr(args.chain_length)]
     return opts
@@ -109,7 +112,7 @@ def one_run(carom, args, n, aspect, eta, seed, kind, folder):
     start = os.path.join(folder, f"start-{tag}.txt")
     make_start(carom, n, aspect, eta, seed, kind, start)
     d = diameter_of(start)
-    extra = sampler_options(args)
+    extra = sampler_options(args, seed)
     # A trial run gives the events per unit of run time, from which T and TE follow.
     trial = os.path.join(folder, f"trial-{tag}.json")
     run([carom, "run", start, repr(args.trial_time), *extra, "--summary", trial, "-q",
@@ -166,9 +169,11 @@ def main():
                                                      "and half from a fluid (default 4)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the first run")
     parser.add_argument("--events", type=float,
-                        help="events measured per run (default 3e7; quick 2e5)")
+                        help="events measured per run (default 3e7 md, 1e8 ecmc, whose events "
+                             "cost a third; quick 2e5)")
     parser.add_argument("--equilibrate-events", type=float,
-                        help="events before measuring, per run (default 1e7; quick 5e4)")
+                        help="events before measuring, per run (default 1e7 md, 2e7 ecmc; "
+                             "quick 5e4)")
     parser.add_argument("--trial-time", type=float, default=1.0,
                         help="length of the trial run that gives the events per unit time")
     parser.add_argument("--log-rows", type=int, default=2000,
@@ -192,8 +197,10 @@ def main():
     if not os.access(carom, os.X_OK):
         sys.exit(f"no carom binary at {carom}: build it or pass --carom")
     replicas = args.replicas or (2 if args.quick else 4)
-    args.events = args.events or (2e5 if args.quick else 3e7)
-    args.equilibrate_events = args.equilibrate_events or (5e4 if args.quick else 1e7)
+    ecmc = args.sampler == "ecmc"
+    args.events = args.events or (2e5 if args.quick else 1e8 if ecmc else 3e7)
+    args.equilibrate_events = args.equilibrate_events or (5e4 if args.quick else
+                                                          2e7 if ecmc else 1e7)
     if replicas < 2:
         sys.exit("--replicas must be at least 2")
 
