@@ -140,7 +140,9 @@ def one_run(carom, args, n, aspect, eta, seed, kind, folder):
     drift = s.get("compressibility_factor_drift") or {}
     return {"seed": seed, "kind": kind, "value": z * to_bp, "error": z_err * to_bp,
             "events": s.get("window_events", s["events"]), "seconds": seconds,
-            "drift_sigmas": drift.get("sigmas")}
+            "drift_sigmas": drift.get("sigmas"),
+            # Event chains: Z along x and y apart (a strained solid's differ).
+            "directional": s.get("directional_compressibility_factor")}
 
 
 def combine(runs):
@@ -246,7 +248,9 @@ def main():
             notes.append(
                 f"N={n} eta={eta:.2f}: runs " +
                 ", ".join(f"{r['kind'][0]}{r['seed']} {r['value']:.4f}+-{r['error']:.4f}"
-                          f" (drift {r['drift_sigmas'] if r['drift_sigmas'] is None else round(r['drift_sigmas'], 1)} sd)"
+                          f" (drift {r['drift_sigmas'] if r['drift_sigmas'] is None else round(r['drift_sigmas'], 1)} sd"
+                          + ("; Z along x, y " + " ".join(f"{z:.2f}" for z in r["directional"])
+                             if r.get("directional") else "") + ")"
                           for r in runs) +
                 f"; error from blocks {blocks:.4f}, from the scatter {scatter:.4f}; " +
                 "; ".join(f"{k} starts {v[0]:.4f} +- {v[1]:.4f}" for k, v in by_kind.items()) +
