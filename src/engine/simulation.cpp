@@ -73,6 +73,7 @@ Settings resolved(Settings settings, const System<D>& system) {
 template <std::size_t D>
 Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : settings_(resolved(settings, system)),
+      chains_(settings_.sampler.kind == SamplerKind::ecmc),
       engine_(checked_engine(std::move(system), settings_)),
       time_(engine_->time()),
       slice_(engine_->slice_length()),
@@ -96,6 +97,7 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
 template <std::size_t D>
 Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
     : settings_(checkpoint.settings),
+      chains_(settings_.sampler.kind == SamplerKind::ecmc),
       engine_(make_run_engine(checkpoint.settings, checkpoint.system, checkpoint.chain)),
       time_(checkpoint.time),
       settled_(checkpoint.settled),
@@ -212,7 +214,9 @@ void Simulation<D>::record(const Event& event) {
     const System<D>& system = state();
     const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
     Fluxes& fluxes = *counts_.fluxes;
-    if (fluxes.shear_rate != 0.0) [[unlikely]] {
+    if (chains_) {
+      fluxes.add_lift<D>(event);
+    } else if (fluxes.shear_rate != 0.0) [[unlikely]] {
       fluxes.add_event_as<D, true>(event, engine_->stored_time(), system.records[event.first].mass,
                                    flux_velocity(system.particles[event.first], system.box),
                                    system.records[partner].mass,
@@ -228,6 +232,9 @@ void Simulation<D>::record(const Event& event) {
   time_ = event.time;
   settled_ = false;
   if (--events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
+    // Lifts leave the kinetic integrals behind (Fluxes::add_lift): brought to the epoch's new
+    // origin first.
+    if (chains_ && counts_.fluxes) counts_.fluxes->integrate_to(engine_->stored_time());
     engine_->rebase();
     events_to_rebase_ = rebase_period_;
     if (counts_.fluxes) {

@@ -103,6 +103,21 @@ struct Fluxes {
     stored = to;
   }
 
+  // What an event-chain lift adds: the moving particle stops and the one it touched moves on
+  // with its velocity, so the kinetic rates stay as they were (exactly: add_event would add
+  // zeros) and the kinetic integrals need not be brought to the event; only the collisional
+  // stress sym(r dp) changes. The integrals stay at `stored` until the next velocity change
+  // (change_velocity), rebase or look (advanced).
+  template <std::size_t D>
+  void add_lift(const Event& event) {
+    Vec<D> dp, r;
+    for (std::size_t k = 0; k < D; ++k) {
+      dp[k] = event.momentum[k];
+      r[k] = event.contact[k];
+    }
+    add_symmetric_outer<D>(collisional_stress, r, dp);
+  }
+
   // Brings the integrals to the time of a processed event, `event_stored` as a stored time (as
   // advanced() does, in place), then adds what the event did, from the velocities after it
   // (`first_after`, and `partner_after` for a pair) and the momentum dp the first particle

@@ -248,6 +248,7 @@ class Simulation {
   void reset_one_velocity();
 
   Settings settings_;  // the chain length resolved (default_chain_length for 0)
+  bool chains_ = false;  // settings_.sampler.kind is event chains
   std::unique_ptr<Engine<D>> engine_;
   double time_ = 0.0;
   double stored_time_ = 0.0;  // see stored_time()
