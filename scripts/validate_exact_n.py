@@ -5,7 +5,7 @@ Regenerates the table "Exact-N pressures in small periodic boxes" in docs/valida
     /usr/bin/python3 scripts/validate_exact_n.py [--carom build/carom] [--quick]
 
 Reference: B. Li, Y. Nishikawa, P. Hoellmer, L. Carillo, A. C. Maggs, W. Krauth, "Hard-disk
-computer simulations - a historic perspective", J. Chem. Phys. 157, 234111 (2022); data file
+pressure computations - a historic perspective", J. Chem. Phys. 157, 234111 (2022); data file
 DigitizedData/ThisWork.csv of github.com/jellyfysh/HistoricDisks, commit
 8c601dccb25f2ff0d3c92a127a13ba08f324da69 (beta P (2 sigma)^2 with sigma the radius, that is
 beta P d^2 with d the diameter; errors are one standard error).

@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""The hard-disk pressure loop: a sweep's beta P d^2 against packing, beside the published one.
+
+    carom sweep examples/hard_disk_loop.toml -o hard_disk_loop          # hours: see the plan
+    /usr/bin/python3 scripts/plot_loop.py hard_disk_loop/results.csv    # -> docs/images/hard_disk_loop.svg
+
+Reads a sweep's results.csv (or the sweep's folder): one row a task with `phi` (a swept key, or
+the `packing_fraction` column), `status`, `Z` and `Z_error`. beta P d^2 = Z N d^2 / V = Z 4 phi / pi
+for equal disks of diameter d (Z = P V / (N kT), so neither kT nor the unit of length enters).
+Tasks of one packing (several seeds) are averaged; the error is the larger of their block-average
+errors combined and the standard error of their scatter (one task: its run's block error). Tasks not done are left out and counted.
+
+Drawn beside it from docs/data/historic_disks/ (HistoricDisks, GPL-3.0): E. P. Bernard and
+W. Krauth, Phys. Rev. Lett. 107, 155704 (2011) (event-chain Monte Carlo) and M. Engel et al.,
+Phys. Rev. E 87, 042134 (2013) (massively parallel Monte Carlo and event-driven MD), at the N
+of the sweep (--n, default 256^2 = 65536). Also prints a Markdown table of carom's points next
+to theirs at the same packing, the difference in combined standard errors.
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import historic_disks
+
+# (file, sampling method as the file spells it, label, marker)
+REFERENCES = [
+    ("Bernard_2011.csv", "straight ECMC", "Bernard & Krauth 2011 (ECMC)", "s"),
+    ("Engel_2013.csv", "MPMC", "Engel et al. 2013 (MPMC)", "^"),
+    ("Engel_2013.csv", "EDMD", "Engel et al. 2013 (EDMD)", "v"),
+]
+
+
+def read_results(path):
+    """{phi: (beta P d^2, error, tasks)} over the done tasks, and the count of tasks not done."""
+    if os.path.isdir(path):
+        path = os.path.join(path, "results.csv")
+    by_phi, not_done = {}, 0
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if row.get("status", "done") != "done" or not row.get("Z"):
+                not_done += 1
+                continue
+            phi = float(row.get("phi") or row["packing_fraction"])
+            z = float(row["Z"])
+            z_err = float(row["Z_error"]) if row.get("Z_error") else float("nan")
+            to_bp = 4.0 * phi / math.pi
+            by_phi.setdefault(round(phi, 9), []).append((z * to_bp, z_err * to_bp))
+    points = {}
+    for phi, vals in sorted(by_phi.items()):
+        k = len(vals)
+        mean = sum(v for v, _ in vals) / k
+        # The larger of the runs' block errors combined and the scatter of their means: two
+        # runs can agree by chance far better than either is known.
+        err = math.sqrt(sum(e * e for _, e in vals)) / k
+        if k > 1:
+            err = max(err, math.sqrt(sum((v - mean) ** 2 for v, _ in vals) / (k - 1) / k))
+        points[phi] = (mean, err, k)
+    return points, not_done
+
+
+def reference(file, sampling, n, data):
+    try:
+        group = historic_disks.find_group(os.path.join(data, file), n, "(1 : 1)", sampling)
+    except LookupError:
+        return None
+    return {round(x, 9): (y, e) for x, y, e in group["points"]}
+
+
+def main():
+    here = os.path.dirname(os.path.abspath(__file__))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("results", help="the sweep's results.csv, or its folder")
+    parser.add_argument("-o", "--output",
+                        default=os.path.join(os.path.dirname(here), "docs", "images",
+                                             "hard_disk_loop.svg"),
+                        help="the figure (.svg or .png; default docs/images/hard_disk_loop.svg)")
+    parser.add_argument("--n", type=int, default=65536,
+                        help="the sweep's N, whose published data are drawn (default 65536)")
+    parser.add_argument("--label", help="the legend of carom's points (default: carom (ECMC), N)")
+    parser.add_argument("--data", default=historic_disks.DATA, help="the published data folder")
+    args = parser.parse_args()
+
+    points, not_done = read_results(args.results)
+    if not points:
+        sys.exit(f"{args.results}: no task done yet ({not_done} not done)")
+    refs = [(label, marker, reference(file, sampling, args.n, args.data))
+            for file, sampling, label, marker in REFERENCES]
+    refs = [r for r in refs if r[2]]
+
+    import matplotlib
+    matplotlib.use("Agg")
+    matplotlib.rcParams["svg.hashsalt"] = "carom"
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    for label, marker, data in refs:
+        xs = sorted(data)
+        ax.errorbar(xs, [data[x][0] for x in xs], yerr=[data[x][1] for x in xs], marker=marker,
+                    ms=4, lw=0.8, capsize=2, fillstyle="none", label=f"{label}, N = {args.n}")
+    xs = sorted(points)
+    ax.errorbar(xs, [points[x][0] for x in xs], yerr=[points[x][1] for x in xs], marker="o",
+                ms=5, lw=1.2, capsize=3, color="black",
+                label=args.label or f"carom (ECMC), N = {args.n}")
+    ax.set_xlabel("packing fraction $\\eta$")
+    ax.set_ylabel("$\\beta P d^2$")
+    ax.set_title("Hard disks: the pressure loop of the liquid-hexatic transition")
+    ax.legend(fontsize=8, loc="best")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(args.output, metadata={"Date": None} if args.output.endswith(".svg") else None)
+
+    names = [label for label, _, _ in refs]
+    print("| packing | carom beta P d^2 | tasks | " + " | ".join(names) + " |")
+    print("|---|---|---|" + "---|" * len(names))
+    for x in xs:
+        m, e, k = points[x]
+        cells = []
+        for _, _, data in refs:
+            if x in data:
+                y, ye = data[x]
+                comb = math.hypot(e, ye)
+                dev = (m - y) / comb if comb > 0 and not math.isnan(comb) else float("nan")
+                cells.append(f"{y:.5f} +- {ye:.5f} ({dev:+.1f})")
+            else:
+                cells.append("-")
+        print(f"| {x:.3f} | {m:.5f} +- {e:.5f} | {k} | " + " | ".join(cells) + " |")
+    print(f"\n{len(xs)} packings done, {not_done} tasks not done; figure: {args.output}")
+
+
+if __name__ == "__main__":
+    main()
