@@ -27,6 +27,8 @@ import sys
 import tempfile
 import time
 
+from carom_binary import carom_binary
+
 SQRT3 = math.sqrt(3.0)
 
 # (N, eta, box label, aspect Lx/Ly, beta P d^2, standard error) from ThisWork.csv.
@@ -100,7 +102,6 @@ def merged_pairs(values):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    here = os.path.dirname(os.path.abspath(__file__))
     parser.add_argument("--carom", default="build/carom",
                         help="carom binary (relative paths are tried from the current directory, "
                              "then from the repository root)")
@@ -114,12 +115,7 @@ def main():
                         help="pair collisions before measuring (default 5e6; quick 2e5)")
     args = parser.parse_args()
 
-    carom = args.carom
-    if not os.path.isabs(carom) and not os.path.exists(carom):
-        carom = os.path.join(os.path.dirname(here), carom)
-    carom = os.path.abspath(carom)
-    if not os.access(carom, os.X_OK):
-        sys.exit(f"no carom binary at {carom}: build it or pass --carom")
+    carom = carom_binary(args.carom)
     blocks = args.blocks or (4 if args.quick else 24)
     block_collisions = args.block_collisions or (2e5 if args.quick else 5e6)
     eq_collisions = args.equilibrate_collisions or (2e5 if args.quick else 5e6)

@@ -40,6 +40,8 @@ import sys
 import tempfile
 import time
 
+from carom_binary import carom_binary
+
 import historic_disks
 
 SQRT3 = math.sqrt(3.0)
@@ -155,7 +157,6 @@ def combine(runs):
 
 
 def main():
-    here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--carom", default="build/carom",
                         help="carom binary (relative paths are tried from the current directory, "
@@ -192,12 +193,7 @@ def main():
                         help="the published data file")
     args = parser.parse_args()
 
-    carom = args.carom
-    if not os.path.isabs(carom) and not os.path.exists(carom):
-        carom = os.path.join(os.path.dirname(here), carom)
-    carom = os.path.abspath(carom)
-    if not os.access(carom, os.X_OK):
-        sys.exit(f"no carom binary at {carom}: build it or pass --carom")
+    carom = carom_binary(args.carom)
     replicas = args.replicas or (2 if args.quick else 4)
     ecmc = args.sampler == "ecmc"
     args.events = args.events or (2e5 if args.quick else 1e8 if ecmc else 3e7)

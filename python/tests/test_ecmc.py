@@ -1,6 +1,7 @@
-"""Event-chain Monte Carlo (`--sampler ecmc`, sampler="ecmc") from every front end: the same run
-gives the same files, byte for byte, from the command line and Python, in one piece or resumed
-from checkpoints; every output works; what needs dynamics is refused by name."""
+"""Event-chain Monte Carlo (`--sampler ecmc`, sampler="ecmc") from every front end: the command
+line, Python's read, init and Simulation, and sweeps give the same run; every output works; what
+needs dynamics is refused by name. (The same files in pieces and from either front end:
+test_run_parity.)"""
 
 import json
 
@@ -9,7 +10,6 @@ import pytest
 
 import carom
 from _support import assert_bitwise_equal
-from test_run_parity import CLOCK, PIECEWISE, assert_same_files, cli_options, files, folder, outputs
 
 
 @pytest.fixture(params=[2, 3], ids=["disks", "spheres"])
@@ -23,45 +23,13 @@ def start(request, cli, tmp_path):
     return path, dim
 
 
-def test_pieces_give_the_files_of_one_run_in_either_front_end(cli, tmp_path, start, monkeypatch):
+def test_the_summary_says_how_the_chains_ran(cli, tmp_path, start):
+    """(The files of a run of chains in pieces and from either front end: test_run_parity.)"""
     start_file, dim = start
-    options = outputs(dim)
-    chains = dict(sampler="ecmc", seed=7)
-    flags = cli_options(options)
-
-    whole_cli = folder(tmp_path, "whole_cli", start_file)
-    cli("run", "start.txt", "6", "--equilibrate", "2", "-q", *cli_options(chains), *flags,
-        cwd=whole_cli)
-
-    pieces_cli = folder(tmp_path, "pieces_cli", start_file)
-    cli("run", "start.txt", "3.5", "--equilibrate", "2", "-q", *cli_options(chains), *flags,
-        cwd=pieces_cli)
-    cli("run", "--resume", "run.ckpt", "6", "-q", *flags, cwd=pieces_cli)
-
-    whole_python = folder(tmp_path, "whole_python", start_file)
-    monkeypatch.chdir(whole_python)
-    carom.read("start.txt", **chains).run(6, equilibrate=2, **options)
-
-    resumed_python = folder(tmp_path, "resumed_python", start_file)
-    monkeypatch.chdir(resumed_python)
-    carom.read("start.txt", **chains).run(3.5, equilibrate=2, **options)
-    carom.resume("run.ckpt").run(6, **options)
-
-    one_object = folder(tmp_path, "one_object", start_file)
-    monkeypatch.chdir(one_object)
-    sim = carom.read("start.txt", **chains)
-    sim.run(2.2, equilibrate=2, **options)
-    sim.run(3.5, **options)
-    sim.advance(2.5, **options)
-
-    reference = files(whole_cli, dim)
-    assert_same_files(reference, files(whole_python, dim), "one piece, Python")
-    reference = files(whole_cli, dim, CLOCK + PIECEWISE)
-    for name, where in [("pieces, command line", pieces_cli),
-                        ("pieces, Python", resumed_python),
-                        ("pieces of one Simulation", one_object)]:
-        assert_same_files(reference, files(where, dim, CLOCK + PIECEWISE), name)
-    summary = reference["summary.json"]
+    path = tmp_path / "summary.json"
+    cli("run", start_file, "6", "--equilibrate", "2", "--sampler", "ecmc", "--seed", "7", "-q",
+        "--summary", path, "-o", tmp_path / "end.txt")
+    summary = json.loads(path.read_text())
     assert summary["sampler"] == "ecmc" and summary["chain_seed"] == 7
     assert summary["lifts"] == summary["pair_collisions"] > 1000
     assert summary["temperature"] == 1.0
@@ -162,38 +130,3 @@ def test_every_output_reads_back(cli, tmp_path):
     # The pressure tensor in beta P, as the pressure: its trace over D is about the pressure.
     trace = (float(last["pxx"]) + float(last["pyy"])) / 2
     assert trace == pytest.approx(float(last["pressure"]), rel=0.05)
-
-
-def test_a_sweep_of_chains_is_its_tasks_commands_run_alone(cli, tmp_path):
-    """sampler = "ecmc" in a plan's [run]: every task runs chains seeded by its own seed (the
-    swept one), and its files are those of its task.txt commands run alone."""
-    import os
-    import subprocess
-    from pathlib import Path
-
-    from test_sweep import CLOCK as SWEEP_CLOCK, PLAN, SHORT, TASKS, TASK_FILES, contents
-
-    (tmp_path / "sweep").mkdir()
-    plan = tmp_path / "sweep" / "plan.toml"
-    plan.write_text(PLAN.format(**SHORT).replace("[run]\n", '[run]\nsampler = "ecmc"\n'))
-    cli("sweep", plan, "-o", "out", "-q", cwd=tmp_path / "sweep")
-    swept = contents(tmp_path / "sweep" / "out")
-    alone = tmp_path / "alone"
-    env = dict(os.environ, PATH=f"{Path(cli.exe).parent}{os.pathsep}{os.environ['PATH']}")
-    lifts = set()
-    for task in TASKS:
-        (alone / "out" / task).mkdir(parents=True)
-        commands = tmp_path / "sweep" / "out" / task / "task.txt"
-        assert "--sampler ecmc" in commands.read_text()
-        proc = subprocess.run(["bash", "-e", str(commands)], cwd=alone, env=env,
-                              capture_output=True, timeout=60)
-        assert proc.returncode == 0, proc.stderr.decode()
-        for name in TASK_FILES:
-            assert (alone / "out" / task / name).read_bytes() == swept[f"{task}/{name}"], \
-                f"{task}/{name}"
-        summary = json.loads((alone / "out" / task / "summary.json").read_text())
-        assert {k: v for k, v in summary.items() if k not in SWEEP_CLOCK} \
-            == swept[f"{task}/summary.json"], task
-        assert summary["sampler"] == "ecmc"
-        lifts.add(summary["lifts"])
-    assert len(lifts) == len(TASKS)  # four different runs, the seeds' replicas included

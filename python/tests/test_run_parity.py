@@ -81,31 +81,38 @@ def folder(tmp_path, name, start_file):
     return made
 
 
-def test_pieces_give_the_files_of_one_run_in_either_front_end(cli, tmp_path, start,
+# Dynamics, and event chains (`--sampler ecmc`): the same outputs, resumed the same way.
+SAMPLERS = {"dynamics": {}, "chains": {"sampler": "ecmc", "seed": 7}}
+
+
+@pytest.mark.parametrize("sampler", SAMPLERS)
+def test_pieces_give_the_files_of_one_run_in_either_front_end(cli, tmp_path, start, sampler,
                                                               monkeypatch):
     start_file, dim = start
     options = outputs(dim)
     flags = cli_options(options)
+    chosen = SAMPLERS[sampler]
+    how = cli_options(chosen)
 
     whole_cli = folder(tmp_path, "whole_cli", start_file)
-    cli("run", "start.txt", "6", "--equilibrate", "2", "-q", *flags, cwd=whole_cli)
+    cli("run", "start.txt", "6", "--equilibrate", "2", "-q", *how, *flags, cwd=whole_cli)
 
     pieces_cli = folder(tmp_path, "pieces_cli", start_file)
-    cli("run", "start.txt", "3.5", "--equilibrate", "2", "-q", *flags, cwd=pieces_cli)
+    cli("run", "start.txt", "3.5", "--equilibrate", "2", "-q", *how, *flags, cwd=pieces_cli)
     cli("run", "--resume", "run.ckpt", "6", "-q", *flags, cwd=pieces_cli)
 
     whole_python = folder(tmp_path, "whole_python", start_file)
     monkeypatch.chdir(whole_python)
-    carom.read("start.txt").run(6, equilibrate=2, **options)
+    carom.read("start.txt", **chosen).run(6, equilibrate=2, **options)
 
     resumed_python = folder(tmp_path, "resumed_python", start_file)
     monkeypatch.chdir(resumed_python)
-    carom.read("start.txt").run(3.5, equilibrate=2, **options)
+    carom.read("start.txt", **chosen).run(3.5, equilibrate=2, **options)
     carom.resume("run.ckpt").run(6, **options)
 
     one_object = folder(tmp_path, "one_object", start_file)
     monkeypatch.chdir(one_object)
-    sim = carom.read("start.txt")
+    sim = carom.read("start.txt", **chosen)
     sim.run(2.2, equilibrate=2, **options)
     sim.run(3.5, **options)      # the same files, kept open
     sim.advance(2.5, **options)  # to 6
@@ -120,6 +127,7 @@ def test_pieces_give_the_files_of_one_run_in_either_front_end(cli, tmp_path, sta
     # The comparisons are not vacuous: the files hold the whole run.
     summary = reference["summary.json"]
     assert summary["end_time"] == 6.0 and summary["window_pair_collisions"] > 0
+    assert summary["sampler"] == chosen.get("sampler", "md")
     frames = reference[DUMPS[dim]].decode()
     assert frames.count("Time=" if dim == 2 else "ITEM: TIMESTEP") == 13  # t = 0, 0.5, ..., 6
 

@@ -192,9 +192,13 @@ def test_a_folder_whose_name_is_not_utf8_gets_the_same_files(cli, tmp_path, clie
     assert_same_contents(contents(Path(out)), reference, "carom.sweep")
 
 
-def test_each_task_is_its_commands_run_alone(cli, tmp_path):
+@pytest.mark.parametrize("sampler", ["md", "ecmc"], ids=["dynamics", "chains"])
+def test_each_task_is_its_commands_run_alone(cli, tmp_path, sampler):
+    """Dynamics, and event chains (sampler = "ecmc"), each task's chains drawn by its own swept
+    seed: four different runs."""
     (tmp_path / "sweep").mkdir()
-    plan = write_plan(tmp_path / "sweep", **SHORT)
+    plan = write_plan(tmp_path / "sweep", PLAN.format(**SHORT).replace(
+        "[run]\n", f'[run]\nsampler = "{sampler}"\n'))
     cli("sweep", plan, "-o", "out", "-q", cwd=tmp_path / "sweep")
     swept = contents(tmp_path / "sweep" / "out")
     alone = tmp_path / "alone"
@@ -212,6 +216,9 @@ def test_each_task_is_its_commands_run_alone(cli, tmp_path):
         summary = json.loads((alone / "out" / task / "summary.json").read_text())
         assert {k: v for k, v in summary.items() if k not in CLOCK} \
             == swept[f"{task}/summary.json"], task
+        assert summary["sampler"] == sampler
+    distinct = {swept[f"{task}/summary.json"]["pair_collisions"] for task in TASKS}
+    assert len(distinct) == len(TASKS)
 
 
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])

@@ -437,12 +437,8 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   pt.position = xt;
   pt.velocity = vm;
   pt.time = t;
-  ++rm.pair_collisions;
-  ++rt.pair_collisions;
-  ++rm.changes;
-  ++rt.changes;
-  rm.last_collision = t;
-  rt.last_collision = t;
+  rm.count_pair_collision(t);
+  rt.count_pair_collision(t);
   event.time = system.absolute(t);
   // The one that stopped rests where it is; the one struck moves on from its cell.
   take_out(lift.slot, lift.cell);

@@ -97,11 +97,10 @@ Event Engine<D>::apply(Event event) {
       wrap(a.position, system_.box, ra.image);
       wrap(b.position, system_.box, rb.image);
     }
-    ++ra.pair_collisions;
-    ++rb.pair_collisions;
-    ++ra.changes;
-    ++rb.changes;
-    rb.last_collision = t;
+    ra.count_pair_collision(t);
+    rb.count_pair_collision(t);
+    event.time = system_.absolute(t);
+    return event;
   }
   ra.last_collision = t;
   event.time = system_.absolute(t);

@@ -64,6 +64,13 @@ struct ParticleRecord {
   std::uint32_t changes = 0;
 
   std::uint64_t version() const { return changes; }
+  // A pair collision (or lift) at stored time t changed its velocity: counted, and the TC model's
+  // time and the version moved on.
+  void count_pair_collision(double t) {
+    ++pair_collisions;
+    ++changes;
+    last_collision = t;
+  }
   friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
     return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
            a.pair_collisions == b.pair_collisions && a.last_collision == b.last_collision &&
