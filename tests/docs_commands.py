@@ -23,6 +23,7 @@ from pathlib import Path
 NOT_RUN = [
     (r"^make (demo|test|build|bench|fuzz|fuzz-checkpoint)\b", "sets up or rebuilds the project"),
     (r"^(nice -n \d+ )?(/usr/bin/)?python3 scripts/validate_", "regenerates a validation table: hours"),
+    (r"^(/usr/bin/)?python3 scripts/decorrelation\.py", "the decorrelation study: 16 CPU minutes"),
     (r"^/usr/bin/python3 bench/run_bench.py", "the benchmark table: many minutes"),
     (r"^cmake ", "a full rebuild in another folder"),
     (r"^/tmp/b/", "binaries of that rebuild"),
