@@ -54,10 +54,6 @@ std::unique_ptr<Engine<D>> checked_engine(System<D> system, const Settings& sett
   return make_run_engine(settings, std::move(system), std::nullopt);
 }
 
-}  // namespace
-
-namespace {
-
 // `settings` with an event chain's default length resolved for `system`.
 template <std::size_t D>
 Settings resolved(Settings settings, const System<D>& system) {
@@ -506,13 +502,13 @@ std::optional<ChainState> Simulation<D>::chain() const {
 
 template <std::size_t D>
 double Simulation<D>::temperature() const {
-  return settings_.sampler.kind == SamplerKind::ecmc ? 1.0 : kinetic_temperature(state());
+  return chains_ ? 1.0 : kinetic_temperature(state());
 }
 
 template <std::size_t D>
 Observables<D> Simulation<D>::observables_over(const Measurement& stretch, double now) const {
   Observables<D> o = measure(state(), stretch, now);
-  if (settings_.sampler.kind == SamplerKind::ecmc) return at_unit_temperature(o, stretch);
+  if (chains_) return at_unit_temperature(o, stretch);
   return o;
 }
 
