@@ -17,19 +17,18 @@ namespace carom {
 
 namespace {
 
-// A system as chains start in it: a periodic box, unit masses, every particle at rest at the
-// latest stored time.
+// The grid the chains search: cells one largest diameter wide or more, with room for three along
+// every axis even with a handful of particles (a grid allows about two cells a particle).
+template <std::size_t D>
+CellGrid<D> chain_grid(const System<D>& system) {
+  return CellGrid<D>(system.box, 2.0 * largest_radius(system),
+                     std::max<std::size_t>(system.size(), 6));
+}
+
+// A system as chains start in it: every particle at rest at the latest stored time.
 template <std::size_t D>
 System<D> at_rest(System<D> system) {
-  if (!system.box.periodic() || system.box.sheared()) {
-    throw std::invalid_argument("event-chain Monte Carlo needs a periodic box that is not sheared");
-  }
-  for (const ParticleRecord& r : system.records) {
-    if (r.mass != 1.0) {
-      throw std::invalid_argument(
-          "event-chain Monte Carlo samples positions only: every mass must be 1");
-    }
-  }
+  check_chain_start(system);
   double latest = 0.0;
   for (const Particle<D>& p : system.particles) latest = std::max(latest, p.time);
   if (system.records.empty()) system.records.resize(system.size());
@@ -53,10 +52,33 @@ Vec<D> along(std::size_t axis, double speed) {
 }  // namespace
 
 template <std::size_t D>
+void check_chain_start(const System<D>& system) {
+  if (!system.box.periodic() || system.box.sheared()) {
+    throw std::invalid_argument("event-chain Monte Carlo needs a periodic box that is not sheared");
+  }
+  for (const ParticleRecord& r : system.records) {
+    if (r.mass != 1.0) {
+      throw std::invalid_argument(
+          "event-chain Monte Carlo samples positions only: every mass must be 1");
+    }
+  }
+  const CellGrid<D> grid = chain_grid(system);
+  for (std::size_t k = 0; k < D; ++k) {
+    if (grid.cells_along(k) < 3) {
+      throw std::invalid_argument(fmt::format(
+          "event-chain Monte Carlo needs a box three of the largest diameters wide or more along "
+          "every axis; this one is {} wide along axis {}, and the largest diameter is {}",
+          system.box.size[k], "xyz"[k], 2.0 * largest_radius(system)));
+    }
+  }
+}
+
+template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainState& chain)
     : Engine<D>(std::move(system), {Rule::swap, 1.0, 0.0}, {}),
       chain_(chain),
-      grid_(this->system_.box, 2.0 * largest_radius(this->system_), this->system_.size()) {
+      grid_(chain_grid(this->system_)) {
+  check_chain_start(this->system_);
   if (!(chain_length > 0.0)) {
     throw std::invalid_argument(
         fmt::format("a chain length must be above 0, not {}", chain_length));
@@ -88,17 +110,13 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   alongs_.resize(gathered_.size());
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of_[i]);
   // The cells ahead of a cell one from every edge, relative to it.
-  inner_ahead_ = true;
-  for (std::size_t k = 0; k < D; ++k) inner_ahead_ = inner_ahead_ && cells_along_[k] >= 3;
-  if (inner_ahead_) {
-    std::uint32_t inner = 0;
-    for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
-    for (std::size_t axis = 0; axis < D; ++axis) {
-      std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
-      inner_count_ = grid_.cells_ahead(inner, axis, cells);
-      for (std::size_t c = 0; c < inner_count_; ++c) {
-        inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
-      }
+  std::uint32_t inner = 0;
+  for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
+  for (std::size_t axis = 0; axis < D; ++axis) {
+    std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
+    inner_count_ = grid_.cells_ahead(inner, axis, cells);
+    for (std::size_t c = 0; c < inner_count_; ++c) {
+      inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
     }
   }
   set_moving(chain_.active);
@@ -191,7 +209,13 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   take_out(slot, cell);
   cell_ = cell;
   at_ = grid_.coordinates_of(cell);
-  crossings_ = 0;
+  start_flight();
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::start_flight() {
+  start_column_ = at_[chain_.axis];
+  columns_crossed_ = 0;
 }
 
 // x less the nearest whole number of sides: image_separation's component when x is more than
@@ -202,7 +226,8 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
 
 template <std::size_t D>
 template <std::size_t Axis>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
+                                                         double ahead) const {
   const Vec<D> p = a.position, half = half_box_, side = this->system_.box.size;
   const double radius = a.radius;
   const Resting* const resting = resting_.data();
@@ -228,9 +253,9 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
     }
     count += fill[cell];
   };
-  // The cells CellGrid::for_each_ahead visits. With three cells or more along every axis: the
-  // cell's and the next along Axis, each with its neighbours across (wrapping around the box).
-  bool inner = inner_ahead_ && at_[Axis] + 1 < cells_along_[Axis];
+  // The cells CellGrid::for_each_ahead visits: the cell's and the next along Axis, each with its
+  // neighbours across (wrapping around the box).
+  bool inner = at_[Axis] + 1 < cells_along_[Axis];
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
   }
@@ -238,7 +263,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
     for (std::size_t c = 0; c < inner_count_; ++c) {
       visit(static_cast<std::uint32_t>(cell_ + inner_offsets_[Axis][c]));
     }
-  } else if (inner_ahead_) {
+  } else {
     std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
     for (std::size_t k = 0; k < D; ++k) {
       const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
@@ -264,18 +289,17 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
         }
       }
     }
-  } else {
-    std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
-    const std::size_t count = grid_.cells_ahead(cell_, Axis, cells);
-    for (std::size_t c = 0; c < count; ++c) visit(cells[c]);
   }
-  // lift_distance(image_separation(a, b, box), Axis, sigma) with no limit: the axis first (half
-  // are behind), and no bound to cut candidates short, which changes no nearest lift (the nearest
-  // is never cut).
+  // lift_distance(r, Axis, sigma) with no limit, r = p - b through b's image in the two columns
+  // searched: the axis first (half are behind), and no bound to cut candidates short, which
+  // changes no nearest lift (the nearest is never cut). The two columns lie within a cell width
+  // of their middle, p + ahead, less than half a side: the image is the one within half a side
+  // of it, and the separation is image_separation's wherever that is the nearest image.
+  const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
   const auto separation_along = [&](const Resting& b) {
     double along = p[Axis] - b.position[Axis];
-    if (!(std::abs(along) <= half[Axis])) [[unlikely]]
-      along = nearest_image(along, side[Axis]);
+    if (!(along >= low && along <= high)) [[unlikely]]
+      along -= side[Axis] * std::nearbyint((along - centre) / side[Axis]);
     return along;
   };
   // Spheres: the axis first for every one, keeping those ahead without a branch on which (with
@@ -328,34 +352,43 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) c
 }
 
 template <std::size_t D>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a) const {
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
+                                                         double ahead) const {
   static_assert(D == 2 || D == 3);
   if constexpr (D == 3) {
-    if (chain_.axis == 2) return nearest_lift<2>(a);
+    if (chain_.axis == 2) return nearest_lift<2>(a, ahead);
   }
-  return chain_.axis == 0 ? nearest_lift<0>(a) : nearest_lift<1>(a);
+  return chain_.axis == 0 ? nearest_lift<0>(a, ahead) : nearest_lift<1>(a, ahead);
 }
 
 template <std::size_t D>
-double EcmcEngine<D>::crossing_distance(const Particle<D>& a) const {
+double EcmcEngine<D>::distance_to_next_column(const Particle<D>& a) const {
   const std::size_t k = chain_.axis;
-  if (cells_along_[k] == 1) return kNever;
-  const double width = grid_.width(k), side = this->system_.box.size[k];
-  double offset = a.position[k] - (at_[k] + 0.5) * width;
-  if (!(std::abs(offset) <= 0.5 * side)) offset -= side * std::nearbyint(offset / side);
-  return 0.5 * width - offset;
+  // The box sides the flight has wrapped round since it started (in the box, at column
+  // start_column_).
+  const std::uint32_t laps = (start_column_ + columns_crossed_) / cells_along_[k];
+  const double next_column = static_cast<double>(at_[k] + 1) * widths_[k];
+  if (laps == 0) [[likely]]
+    return next_column - a.position[k];
+  return (next_column + laps * this->system_.box.size[k]) - a.position[k];
 }
 
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   while (true) {
+    // A whole lap without a lift (from the start column's cells through to their next image,
+    // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
+    if (columns_crossed_ > cells_along_[chain_.axis]) [[unlikely]] {
+      if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+      start_next_chain();
+      continue;
+    }
     const Particle<D>& a = this->system_.particles[chain_.active];
-    const Lift lift = nearest_lift(a);
-    const double distance = crossing_distance(a);
+    const double ahead = distance_to_next_column(a);
+    const Lift lift = nearest_lift(a, ahead);
     // A lift no farther than the crossing comes no later (a.time + x / v rounds monotonically
     // in x): then only its time is needed.
-    if (lift.distance <= distance && lift.distance != kNever && a.velocity[chain_.axis] == speed_)
-        [[likely]] {
+    if (lift.distance <= ahead && lift.distance != kNever) [[likely]] {
       const double lift_time = a.time + lift.distance / speed_;
       if (chain_.chain_end <= lift_time) {
         if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
@@ -365,29 +398,17 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
       if (!this->due_by(lift_time, end_time)) return std::nullopt;
       return this->lift(lift, lift_time);
     }
-    const double lift_time = lift.distance == kNever ? kNever : a.time + lift.distance / speed_;
-    const double crossing_time =
-        a.time + (distance == kNever ? kNever : std::max(distance / a.velocity[chain_.axis], 0.0));
-    if (chain_.chain_end <= lift_time && chain_.chain_end <= crossing_time) {
+    const double crossing_time = a.time + std::max(ahead / speed_, 0.0);
+    if (chain_.chain_end <= crossing_time) {
       if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
       start_next_chain();
-    } else if (lift_time <= crossing_time) {
-      if (!this->due_by(lift_time, end_time)) return std::nullopt;
-      return this->lift(lift, lift_time);
-    } else {
-      if (!this->due_by(crossing_time, end_time)) return std::nullopt;
-      const std::size_t axis = chain_.axis;
-      cell_ = grid_.adjacent(cell_, axis, true);
-      at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
-      // Back in the cell it set out from, nothing has changed: the same cells would follow,
-      // round and round, for ever (a flight of half a box side without a lift).
-      if (++crossings_ >= cells_along_[axis]) {
-        throw JamError(fmt::format(
-            "event-chain Monte Carlo: particle {} went round the box along axis {} without a lift "
-            "at t = {}; shorten the chains below half a box side or add particles",
-            chain_.active, axis, this->system_.absolute(a.time)));
-      }
+      continue;
     }
+    if (!this->due_by(crossing_time, end_time)) return std::nullopt;
+    const std::size_t axis = chain_.axis;
+    cell_ = grid_.adjacent(cell_, axis, true);
+    at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
+    ++columns_crossed_;
   }
 }
 
@@ -446,7 +467,7 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
-  crossings_ = 0;
+  start_flight();
   return result;
 }
 
@@ -481,6 +502,8 @@ void EcmcEngine<D>::velocity_reset(std::uint32_t) {
   throw std::logic_error("event-chain Monte Carlo has no velocities to reset");
 }
 
+template void check_chain_start(const System<2>&);
+template void check_chain_start(const System<3>&);
 template class EcmcEngine<2>;
 template class EcmcEngine<3>;
 

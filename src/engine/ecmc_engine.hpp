@@ -23,10 +23,12 @@
 // memory and never the System; the System's stored states are brought up to date at every lift,
 // as Engine::apply would (the lifts are its swap-rule collisions bit for bit).
 //
-// Lifts are measured from where the active particle's flight began, through the nearest image: a
-// flight of about half a box side without a lift would go round the box for ever, and throws a
-// JamError instead (back in the cell it set out from). Chains well below half a box side never
-// make one.
+// Lifts are measured from where the active particle's flight began (its stored state), through
+// the image of each candidate that lies in the two columns of cells being searched: the flight
+// knows how many columns it has crossed, so it can be any length, several box sides included.
+// After a whole lap without a lift nothing lies in its lane, and it flies on to the chain's end.
+// That needs three cells or more along every axis (a box three of the largest diameters wide):
+// with fewer, one column's window would hold two images of a particle.
 #pragma once
 
 #include <array>
@@ -58,10 +60,8 @@ class EcmcEngine final : public Engine<D> {
   double speed() const { return speed_; }
 
  private:
-  void rebased(double shift) override {
-    chain_.chain_end -= shift;
-    crossings_ = 0;
-  }
+  // Only times move: the flight's start and the columns it crossed stay as they were.
+  void rebased(double shift) override { chain_.chain_end -= shift; }
   void velocity_reset(std::uint32_t) override;
 
   // A particle at rest as the search reads it: its stored position and radius, its index and
@@ -96,17 +96,21 @@ class EcmcEngine final : public Engine<D> {
   // Stops the active particle at the chain's end and starts the next chain.
   void start_next_chain();
   // The nearest lift of the active particle `a` among the particles around its cell (the cells
-  // CellGrid::for_each_ahead visits): ties go to the lower index.
-  Lift nearest_lift(const Particle<D>& a) const;
+  // CellGrid::for_each_ahead visits), measured from its stored position: ties go to the lower
+  // index.
+  // `ahead` is distance_to_next_column(a).
+  Lift nearest_lift(const Particle<D>& a, double ahead) const;
   template <std::size_t Axis>
-  Lift nearest_lift(const Particle<D>& a) const;
+  Lift nearest_lift(const Particle<D>& a, double ahead) const;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on.
   std::optional<Event> lift(const Lift& lift, double t);
-  // How far the active particle `a` is from leaving cell_ (kNever if it never does): what
-  // grid_.next_crossing(cell_, a.position, a.velocity) divides by the speed (the delay is
-  // max(distance / speed, 0)), bit for bit, for a velocity along the axis alone.
-  double crossing_distance(const Particle<D>& a) const;
+  // Where the column after cell_'s begins along the axis, as the flight has unwrapped it, less
+  // the active particle a's stored position: how far it is from leaving cell_, and the middle of
+  // the two columns of cells a search reads.
+  double distance_to_next_column(const Particle<D>& a) const;
+  // The active particle's flight starts afresh from its stored state, in cell_.
+  void start_flight();
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
   void start_moving_at(double t);
@@ -141,14 +145,14 @@ class EcmcEngine final : public Engine<D> {
   std::array<std::uint32_t, D> cells_along_{};
   std::array<std::uint32_t, D> strides_{};
   Vec<D> widths_;
-  // Three cells or more along every axis: the search finds the cells ahead itself, for a cell
-  // one from every edge at these offsets from it (along each axis).
-  bool inner_ahead_ = false;
+  // The cells ahead of a cell one from every edge, relative to it, per axis (the search finds
+  // the cells ahead itself).
   std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
   std::size_t inner_count_ = 0;
-  // Cells crossed since the active particle's stored state was set: back in the cell it set out
-  // from, the chain would go round the box forever (see step()).
-  std::uint32_t crossings_ = 0;
+  // The column along the axis the flight started in, and how many it has crossed since: after
+  // more than cells_along_[axis] of them, the whole lane was searched (see step()).
+  std::uint32_t start_column_ = 0;
+  std::uint32_t columns_crossed_ = 0;
   Vec<D> half_box_;  // 0.5 x each side, as image_offset computes it
 };
 

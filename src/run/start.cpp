@@ -249,6 +249,21 @@ void check_sampler_request(const Settings& settings, bool periodic, const ShearR
   }
 }
 
+namespace {
+
+// check_chain_start's refusal as a request's, naming `source` (the start file) when there is one.
+void check_chain_request(const Settings& settings, const AnySystem& system,
+                         const std::string& source) {
+  if (settings.sampler.kind != SamplerKind::ecmc) return;
+  try {
+    std::visit([](const auto& s) { check_chain_start(s); }, system);
+  } catch (const std::invalid_argument& e) {
+    throw RequestError(source.empty() ? std::string(e.what()) : fmt::format("{}: {}", source, e.what()));
+  }
+}
+
+}  // namespace
+
 Start load_start(const StartSpec& spec) {
   return std::visit(
       [&](auto&& input) {
@@ -280,7 +295,9 @@ Start load_start(const StartSpec& spec) {
         // Only for the reader's messages: not held while the engine is made (a move frees it;
         // `= {}` would keep its capacity).
         input.line_of = std::vector<std::size_t>();
-        return Start{AnySimulation(AnySystem(std::move(input.system)), settings),
+        AnySystem system(std::move(input.system));
+        check_chain_request(settings, system, spec.path);
+        return Start{AnySimulation(std::move(system), settings),
                      spec.path,
                      spec.path,
                      false,
@@ -309,6 +326,7 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
   AnySystem system =
       dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
+  check_chain_request(settings, system, "");
   return Start{AnySimulation(std::move(system), settings),
                "",
                "(carom.init)",
@@ -325,6 +343,7 @@ Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
   AnySystem system =
       arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
+  check_chain_request(settings, system, "");
   return Start{AnySimulation(std::move(system), settings),
                "",
                "(arrays)",

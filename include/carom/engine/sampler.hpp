@@ -43,6 +43,13 @@ struct Sampler {
 template <std::size_t D>
 double default_chain_length(const System<D>& system, double mean_diameter);
 
+// Throws std::invalid_argument, saying why, unless chains can run in `system`: a periodic box
+// that is not sheared, every mass 1 (chains move positions only), and three cells of the largest
+// diameter or more along every axis (the search's two columns of cells must hold one image of a
+// particle each).
+template <std::size_t D>
+void check_chain_start(const System<D>& system);
+
 // Where an event-chain run is: the active particle, the axis it moves along, the stored time its
 // chain ends at, and the generator that draws the next chains' active particles. With the stored
 // states, all an event-chain run continues from (a checkpoint holds it).
