@@ -67,6 +67,37 @@ void resumed_runs_are_the_run_in_one(std::uint64_t n, double phi) {
 TEST(EcmcRun, ResumedFromACheckpointIsTheRunInOne2D) { resumed_runs_are_the_run_in_one<2>(200, 0.6); }
 TEST(EcmcRun, ResumedFromACheckpointIsTheRunInOne3D) { resumed_runs_are_the_run_in_one<3>(216, 0.4); }
 
+// Counts the events it sees, one by one.
+template <std::size_t D>
+class EventCounter final : public Observer<D> {
+ public:
+  EventCounter() : Observer<D>(Trigger::each_event()) {}
+  void observe(const Simulation<D>&) override { ++seen; }
+  std::uint64_t seen = 0;
+};
+
+// Unwatched, the engine lifts in batches (EcmcEngine::lift_quietly); watched, the Simulation
+// records each lift: the same run, counts, fluxes and window bit for bit, rebases and chain turns
+// included, and in pieces cut by an event limit.
+template <std::size_t D>
+void batches_are_the_lifts_one_by_one(std::uint64_t n, double phi) {
+  Simulation<D> batched(periodic_gas<D>(n, phi), chains(4.0));
+  batched.run_until(5.0, 777);
+  batched.run_until(200.0);
+  Simulation<D> watched(periodic_gas<D>(n, phi), chains(4.0));
+  auto counter = std::make_shared<EventCounter<D>>();
+  watched.add_observer(counter);
+  watched.run_until(200.0);
+  expect_same_run(batched, watched);
+  EXPECT_EQ(batched.measurement(), watched.measurement());
+  EXPECT_EQ(counter->seen, watched.counts().events);
+  // Past several rebases (Simulation::rebase_period).
+  EXPECT_GT(watched.counts().events, 3 * Simulation<D>::rebase_period(n));
+}
+
+TEST(EcmcRun, BatchesAreTheLiftsOneByOne2D) { batches_are_the_lifts_one_by_one<2>(200, 0.6); }
+TEST(EcmcRun, BatchesAreTheLiftsOneByOne3D) { batches_are_the_lifts_one_by_one<3>(216, 0.4); }
+
 // One particle moves at v at every instant, along x, y (and z) in turn: the kinetic stress's
 // diagonal sums to m v^2 t, and each axis has its share, only if every chain's turn reached the
 // fluxes.

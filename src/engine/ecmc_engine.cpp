@@ -412,54 +412,64 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
   }
 }
 
-// Engine::apply's swap-rule collision of the pair, bit for bit, with each particle's state in
-// registers: both brought to t (the resting one stays put), r = first - partner through the
-// nearest image, the velocities exchanged, r . dp with the first one's mass, both wrapped.
+template <std::size_t D>
+std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, Counts& run,
+                                          Counts& window, Event& last) {
+  std::uint64_t done = 0;
+  while (done < most) {
+    const std::optional<Event> event = EcmcEngine::step(end_time);
+    if (!event) break;
+    count_lift<D>(run, window, *event);
+    last = *event;
+    ++done;
+  }
+  return done;
+}
+
+// Engine::apply's swap-rule collision of the pair, bit for bit, with what it does written out for
+// one particle moving along the axis at speed_ and one at rest (unit masses): the mover brought
+// to t along the axis (the one at rest stays where it is, inside the box), r = first - partner
+// through the nearest image, the velocities exchanged, r . dp, the mover wrapped into the box.
+// The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   const std::uint32_t moving = chain_.active, target = lift.target;
+  const std::size_t axis = chain_.axis;
   System<D>& system = this->system_;
   std::optional<Event> result(std::in_place);
   Event& event = *result;
-  event.time = t;
   event.first = std::min(moving, target);
   event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
-  if (this->events_at_now_ > 64 * system.particles.size() + 1000) this->throw_stuck(event);
+  if (this->events_at_now_ > 64 * system.particles.size() + 1000) [[unlikely]] {
+    event.time = t;
+    this->throw_stuck(event);
+  }
   this->now_ = t;
   Particle<D>& pm = system.particles[moving];
   Particle<D>& pt = system.particles[target];
-  Vec<D> xm = pm.position + pm.velocity * (t - pm.time);
-  Vec<D> xt = pt.position + pt.velocity * (t - pt.time);
-  const Vec<D> vm = pm.velocity, vt = pt.velocity;
+  Vec<D> xm = pm.position;
+  xm[axis] += speed_ * (t - pm.time);
   const bool moving_first = moving < target;
-  const Vec<D>& xa = moving_first ? xm : xt;
-  const Vec<D>& xb = moving_first ? xt : xm;
-  Vec<D> r = xa - xb;
+  Vec<D> r = moving_first ? xm - pt.position : pt.position - xm;
   for (std::size_t k = 0; k < D; ++k) {
     if (!(std::abs(r[k]) <= half_box_[k])) [[unlikely]]
       r[k] = nearest_image(r[k], system.box.size[k]);
   }
-  // The first one's velocity after less before.
-  const Vec<D> change = moving_first ? vt - vm : vm - vt;
+  // The first one's velocity after less before: -speed_ or speed_ along the axis.
+  const double change = moving_first ? -speed_ : speed_;
+  event.impulse = 0.0 + r[axis] * change;
+  event.momentum[axis] = change;
+  for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
   ParticleRecord& rm = system.records[moving];
-  ParticleRecord& rt = system.records[target];
-  const double mass = (moving_first ? rm : rt).mass;
-  event.impulse = mass * dot(r, change);
-  for (std::size_t k = 0; k < D; ++k) {
-    event.momentum[k] = mass * change[k];
-    event.contact[k] = r[k];
-  }
   wrap_into_box(xm, rm.image);
-  wrap_into_box(xt, rt.image);
   pm.position = xm;
-  pm.velocity = vt;
+  pm.velocity[axis] = 0.0;
   pm.time = t;
-  pt.position = xt;
-  pt.velocity = vm;
+  pt.velocity[axis] = speed_;
   pt.time = t;
   rm.count_pair_collision(t);
-  rt.count_pair_collision(t);
+  system.records[target].count_pair_collision(t);
   event.time = system.absolute(t);
   // The one that stopped rests where it is; the one struck moves on from its cell.
   take_out(lift.slot, lift.cell);

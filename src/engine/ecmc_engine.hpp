@@ -38,6 +38,7 @@
 #include <pcg_random.hpp>
 #include <vector>
 
+#include "carom/core/measurement.hpp"
 #include "carom/engine/engine.hpp"
 #include "carom/engine/sampler.hpp"
 #include "cell_grid.hpp"
@@ -54,6 +55,11 @@ class EcmcEngine final : public Engine<D> {
   EcmcEngine(System<D> system, double chain_length, const ChainState& chain);
 
   std::optional<Event> step(double end_time) override;
+  // step() in a loop without leaving the engine, for a run that looks at no event alone: the
+  // lifts due by the absolute `end_time`, at most `most`, each counted into `run` and `window` as
+  // Simulation::record counts one (count_lift), the last one left in `last`. Returns how many.
+  std::uint64_t lift_quietly(double end_time, std::uint64_t most, Counts& run, Counts& window,
+                             Event& last);
 
   const ChainState& chain() const { return chain_; }
   // The active particle's speed: N mean diameters per unit time.

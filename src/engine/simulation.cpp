@@ -171,6 +171,11 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
     // is an instant the run is whole at, like any target: the events are the same.
     const double slice_end = time_ + slice_;
     const double stop_at = std::min({t, next_due_time(), slice_end > time_ ? slice_end : t});
+    if (chains_ && !watch_events_) {
+      if (const std::optional<RunStatus> status = lift_quietly(stop_at, max_events, processed)) {
+        return *status;
+      }
+    }
     while (const std::optional<Event> event = next_event(stop_at)) {
       record(*event);
       ++processed;
@@ -190,8 +195,32 @@ RunStatus Simulation<D>::run_until(double t, std::uint64_t max_events) {
 }
 
 template <std::size_t D>
-std::optional<Event> Simulation<D>::next_event(double end_time) {
-  std::optional<Event> event = engine_->step(end_time);
+std::optional<RunStatus> Simulation<D>::lift_quietly(double stop_at, std::uint64_t max_events,
+                                                     std::uint64_t& processed) {
+  // Lifts between looks at the stop flag: a few milliseconds' worth.
+  constexpr std::uint64_t kBatch = 1 << 16;
+  auto& chains = static_cast<EcmcEngine<D>&>(*engine_);
+  while (true) {
+    // Never past a rebase: it comes after the same lift as when lifts are recorded one by one.
+    const std::uint64_t most = std::min({events_to_rebase_, max_events - processed, kBatch});
+    Event last;
+    const std::uint64_t done =
+        chains.lift_quietly(stop_at, most, counts_, measurement_.counts, last);
+    take_velocity_changes();
+    if (done == 0) return std::nullopt;
+    processed += done;
+    after_events(last, done);
+    const bool stop = stop_ != nullptr && stop_->load(std::memory_order_relaxed) != 0;
+    if (stop || processed >= max_events) {
+      complete_instant();
+      return stop ? RunStatus::stopped : RunStatus::event_limit;
+    }
+    if (done < most) return std::nullopt;
+  }
+}
+
+template <std::size_t D>
+void Simulation<D>::take_velocity_changes() {
   engine_->take_velocity_changes([this](const typename Engine<D>::VelocityChange& change) {
     if (!counts_.fluxes) return;
     const System<D>& system = state();
@@ -199,46 +228,43 @@ std::optional<Event> Simulation<D>::next_event(double end_time) {
     counts_.fluxes->change_velocity<D>(system.absolute(change.at), change.at,
                                        system.records[i].mass, change.before, change.after);
   });
+}
+
+template <std::size_t D>
+std::optional<Event> Simulation<D>::next_event(double end_time) {
+  std::optional<Event> event = engine_->step(end_time);
+  take_velocity_changes();
   return event;
 }
 
 template <std::size_t D>
 void Simulation<D>::record(const Event& event) {
-  counts_.add(event);
-  measurement_.counts.add(event);
-  if (counts_.fluxes) {
-    const System<D>& system = state();
-    const auto partner = event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
-    Fluxes& fluxes = *counts_.fluxes;
-    if (chains_) {
-      fluxes.add_lift<D>(event);
-    } else if (fluxes.shear_rate != 0.0) [[unlikely]] {
-      fluxes.add_event_as<D, true>(event, engine_->stored_time(), system.records[event.first].mass,
-                                   flux_velocity(system.particles[event.first], system.box),
-                                   system.records[partner].mass,
-                                   flux_velocity(system.particles[partner], system.box));
-    } else {
-      fluxes.add_event_as<D, false>(event, engine_->stored_time(), system.records[event.first].mass,
-                                    system.particles[event.first].velocity,
-                                    system.records[partner].mass,
-                                    system.particles[partner].velocity);
-    }
-  }
-  last_event_ = event;
-  time_ = event.time;
-  settled_ = false;
-  if (--events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
-    // Lifts leave the kinetic integrals behind (Fluxes::add_lift): brought to the epoch's new
-    // origin first.
-    if (chains_ && counts_.fluxes) counts_.fluxes->integrate_to(engine_->stored_time());
-    engine_->rebase();
-    events_to_rebase_ = rebase_period_;
+  if (chains_) {
+    count_lift<D>(counts_, measurement_.counts, event);
+  } else {
+    counts_.add(event);
+    measurement_.counts.add(event);
     if (counts_.fluxes) {
-      counts_.fluxes->stored = engine_->stored_time();  // the same instant in the new epoch
-      renew_flux_rates();
+      const System<D>& system = state();
+      const auto partner =
+          event.is_wall() ? event.first : static_cast<std::uint32_t>(event.partner);
+      Fluxes& fluxes = *counts_.fluxes;
+      if (fluxes.shear_rate != 0.0) [[unlikely]] {
+        fluxes.add_event_as<D, true>(event, engine_->stored_time(),
+                                     system.records[event.first].mass,
+                                     flux_velocity(system.particles[event.first], system.box),
+                                     system.records[partner].mass,
+                                     flux_velocity(system.particles[partner], system.box));
+      } else {
+        fluxes.add_event_as<D, false>(event, engine_->stored_time(),
+                                      system.records[event.first].mass,
+                                      system.particles[event.first].velocity,
+                                      system.records[partner].mass,
+                                      system.particles[partner].velocity);
+      }
     }
   }
-  stored_time_ = engine_->stored_time();
+  after_events(event, 1);
   if (!watch_events_) return;
   for (Scheduled& entry : observers_) {
     Observer<D>& observer = *entry.observer;
@@ -259,6 +285,26 @@ void Simulation<D>::record(const Event& event) {
         break;
     }
   }
+}
+
+template <std::size_t D>
+void Simulation<D>::after_events(const Event& last, std::uint64_t count) {
+  last_event_ = last;
+  time_ = last.time;
+  settled_ = false;
+  events_to_rebase_ -= count;
+  if (events_to_rebase_ == 0) {  // counts_.events is a multiple of rebase_period_
+    // Lifts leave the kinetic integrals behind (Fluxes::add_lift): brought to the epoch's new
+    // origin first.
+    if (chains_ && counts_.fluxes) counts_.fluxes->integrate_to(engine_->stored_time());
+    engine_->rebase();
+    events_to_rebase_ = rebase_period_;
+    if (counts_.fluxes) {
+      counts_.fluxes->stored = engine_->stored_time();  // the same instant in the new epoch
+      renew_flux_rates();
+    }
+  }
+  stored_time_ = engine_->stored_time();
 }
 
 template <std::size_t D>

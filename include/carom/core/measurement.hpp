@@ -38,6 +38,15 @@ struct Counts {
   }
 };
 
+// A lift of event chains as a run counts it: in the run's counts and its window's, and its
+// collisional stress in the run's fluxes (the kinetic part follows the chains' turns).
+template <std::size_t D>
+inline void count_lift(Counts& run, Counts& window, const Event& lift) {
+  run.add(lift);
+  window.add(lift);
+  if (run.fluxes) run.fluxes->add_lift<D>(lift);
+}
+
 // What was counted between two running totals (of a time-series row, of a drift interval).
 inline Counts difference(const Counts& later, const Counts& earlier) {
   return {later.events - earlier.events,

@@ -225,6 +225,15 @@ class Simulation {
   double next_due_time() const;
   // Records a processed event and calls the observers it makes due.
   void record(const Event& event);
+  // After `count` events were counted, `last` the last: the clock, and a rebase when due.
+  void after_events(const Event& last, std::uint64_t count);
+  // run_until's events up to `stop_at` for event chains that no observer looks at one by one,
+  // lifted by the engine in batches (EcmcEngine::lift_quietly): `processed` goes up by them. A
+  // status when the run stops (its stop flag, or max_events), else nullopt (stop_at reached).
+  std::optional<RunStatus> lift_quietly(double stop_at, std::uint64_t max_events,
+                                        std::uint64_t& processed);
+  // The engine's velocity changes since the last call, taken into the fluxes.
+  void take_velocity_changes();
   // The engine's next event up to `end_time` (step()), its velocity changes between events taken
   // into the fluxes first.
   std::optional<Event> next_event(double end_time);
