@@ -98,17 +98,19 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     widths_[k] = grid_.width(k);
   }
   // The lists, as long as the fullest cell's.
-  cell_of_.resize(n);
+  std::vector<std::uint32_t> cell_of(n);
   fill_.assign(grid_.cell_count(), 0);
   for (std::uint32_t i = 0; i < n; ++i) {
-    cell_of_[i] = grid_.locate(this->system_.particles[i].position);
-    capacity_ = std::max(capacity_, ++fill_[cell_of_[i]]);
+    cell_of[i] = grid_.locate(this->system_.particles[i].position);
+    capacity_ = std::max(capacity_, ++fill_[cell_of[i]]);
   }
   std::fill(fill_.begin(), fill_.end(), 0u);
   resting_.resize(grid_.cell_count() * capacity_);
   gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
   alongs_.resize(gathered_.size());
-  for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of_[i]);
+  for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
+  plain_grid_ = true;
+  for (std::size_t k = 0; k < D; ++k) plain_grid_ = plain_grid_ && cells_along_[k] >= 5;
   // The cells ahead of a cell one from every edge, relative to it.
   std::uint32_t inner = 0;
   for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
@@ -125,7 +127,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
 template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
     : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}) {
-  rest(0, cell_of_[0]);
+  rest(0, locate(this->system_.particles[0].position));
   start_moving_at(this->now_);
 }
 
@@ -139,6 +141,21 @@ template <std::size_t D>
       return grid_.locate(position);
     const auto at = static_cast<std::uint32_t>(x / widths_[k]);
     cell += strides_[k] * std::min(at, cells_along_[k] - 1);
+  }
+  return cell;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate_moved(
+    const Vec<D>& position) const {
+  const std::size_t axis = chain_.axis;
+  const double x = position[axis];
+  if (!(x > 0.0 && x < this->system_.box.size[axis])) [[unlikely]]
+    return grid_.locate(position);
+  std::uint32_t cell =
+      strides_[axis] * std::min(static_cast<std::uint32_t>(x / widths_[axis]), cells_along_[axis] - 1);
+  for (std::size_t k = 0; k < D; ++k) {
+    if (k != axis) cell += strides_[k] * at_[k];
   }
   return cell;
 }
@@ -161,7 +178,6 @@ template <std::size_t D>
   if (fill_[cell] == capacity_) widen_cells();
   const Particle<D>& p = this->system_.particles[i];
   resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i, cell};
-  cell_of_[i] = cell;
 }
 
 template <std::size_t D>
@@ -203,7 +219,8 @@ void EcmcEngine<D>::widen_cells() {
 
 template <std::size_t D>
 void EcmcEngine<D>::set_moving(std::uint32_t i) {
-  const std::uint32_t cell = cell_of_[i];
+  // Where it rests: its stored position located as when it came to rest.
+  const std::uint32_t cell = locate(this->system_.particles[i].position);
   std::uint32_t slot = cell * capacity_;
   while (resting_[slot].id != i) ++slot;
   take_out(slot, cell);
@@ -295,58 +312,68 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
   // changes no nearest lift (the nearest is never cut). The two columns lie within a cell width
   // of their middle, p + ahead, less than half a side: the image is the one within half a side
   // of it, and the separation is image_separation's wherever that is the nearest image.
-  const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
-  const auto separation_along = [&](const Resting& b) {
-    double along = p[Axis] - b.position[Axis];
-    if (!(along >= low && along <= high)) [[unlikely]]
-      along -= side[Axis] * std::nearbyint((along - centre) / side[Axis]);
-    return along;
-  };
-  // Spheres: the axis first for every one, keeping those ahead without a branch on which (with
-  // eighteen cells to search, the branches' misses cost more than the extra pass).
-  std::size_t candidates = count;
-  double* const alongs = alongs_.data();
-  if constexpr (D == 3) {
-    candidates = 0;
-    for (std::size_t c = 0; c < count; ++c) {
-      const std::uint32_t slot = gathered[c];
-      const double along = separation_along(resting[slot]);
-      gathered[candidates] = slot;
-      alongs[candidates] = along;
-      candidates += along < 0.0;
-    }
-  }
-  for (std::size_t c = 0; c < candidates; ++c) {
-    const std::uint32_t slot = gathered[c];
-    const Resting* const b = resting + slot;
-    double along = 0.0;
+  // Plain: a flight that has not wrapped round the box, among cells that do not wrap either, in
+  // a grid five cells across or more: every separation is the plain difference (the checks below
+  // would change none), and none is checked.
+  const auto scan = [&]<bool Plain>(std::bool_constant<Plain>) {
+    const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
+    const auto separation_along = [&](const Resting& b) {
+      double along = p[Axis] - b.position[Axis];
+      if (!Plain && !(along >= low && along <= high)) [[unlikely]]
+        along -= side[Axis] * std::nearbyint((along - centre) / side[Axis]);
+      return along;
+    };
+    // Spheres: the axis first for every one, keeping those ahead without a branch on which (with
+    // eighteen cells to search, the branches' misses cost more than the extra pass).
+    std::size_t candidates = count;
+    double* const alongs = alongs_.data();
     if constexpr (D == 3) {
-      along = alongs[c];
-    } else {
-      along = separation_along(*b);
-      if (!(along < 0.0)) continue;
-    }
-    Vec<D> r;
-    for (std::size_t k = 0; k < D; ++k) {
-      if (k == Axis) {
-        r[k] = along;
-        continue;
+      candidates = 0;
+      for (std::size_t c = 0; c < count; ++c) {
+        const std::uint32_t slot = gathered[c];
+        const double along = separation_along(resting[slot]);
+        gathered[candidates] = slot;
+        alongs[candidates] = along;
+        candidates += along < 0.0;
       }
-      r[k] = p[k] - b->position[k];
-      if (!(std::abs(r[k]) <= half[k])) [[unlikely]]
-        r[k] = nearest_image(r[k], side[k]);
     }
-    const double sigma = radius + b->radius;
-    const double c2 = norm2(r) - sigma * sigma;
-    const double discriminant = along * along - c2;
-    if (discriminant < 0.0) continue;  // never with c2 <= 0
-    const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
-    if (s < best.distance || (s == best.distance && b->id < best.target)) {
-      best = {s, b->id, slot, b->cell};
-      // The lift's partner, if it stays the nearest, is written to soon.
-      __builtin_prefetch(particles + b->id, 1);
-      __builtin_prefetch(records + b->id, 1);
+    for (std::size_t c = 0; c < candidates; ++c) {
+      const std::uint32_t slot = gathered[c];
+      const Resting* const b = resting + slot;
+      double along = 0.0;
+      if constexpr (D == 3) {
+        along = alongs[c];
+      } else {
+        along = separation_along(*b);
+        if (!(along < 0.0)) continue;
+      }
+      Vec<D> r;
+      for (std::size_t k = 0; k < D; ++k) {
+        if (k == Axis) {
+          r[k] = along;
+          continue;
+        }
+        r[k] = p[k] - b->position[k];
+        if (!Plain && !(std::abs(r[k]) <= half[k])) [[unlikely]]
+          r[k] = nearest_image(r[k], side[k]);
+      }
+      const double sigma = radius + b->radius;
+      const double c2 = norm2(r) - sigma * sigma;
+      const double discriminant = along * along - c2;
+      if (discriminant < 0.0) continue;  // never with c2 <= 0
+      const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+      if (s < best.distance || (s == best.distance && b->id < best.target)) {
+        best = {s, b->id, slot, b->cell};
+        // The lift's partner, if it stays the nearest, is written to soon.
+        __builtin_prefetch(particles + b->id, 1);
+        __builtin_prefetch(records + b->id, 1);
+      }
     }
+  };
+  if (inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis]) [[likely]] {
+    scan(std::true_type{});
+  } else {
+    scan(std::false_type{});
   }
   return best;
 }
@@ -473,7 +500,7 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   event.time = system.absolute(t);
   // The one that stopped rests where it is; the one struck moves on from its cell.
   take_out(lift.slot, lift.cell);
-  rest(moving, locate(xm));
+  rest(moving, locate_moved(xm));
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
@@ -490,7 +517,7 @@ void EcmcEngine<D>::start_next_chain() {
   this->velocity_changes_.push_back({chain_.active, t, a.velocity, Vec<D>{}});
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
-  rest(chain_.active, locate(a.position));
+  rest(chain_.active, locate_moved(a.position));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
   this->velocity_changes_.push_back({chain_.active, t, Vec<D>{}, along<D>(chain_.axis, speed_)});

@@ -123,12 +123,15 @@ class EcmcEngine final : public Engine<D> {
   // Puts particle i at rest into cell `cell`'s list, or takes the one in `slot` out of it.
   void rest(std::uint32_t i, std::uint32_t cell);
   void take_out(std::uint32_t slot, std::uint32_t cell);
-  // Takes the particle i, which rests in cell_of_[i], out to move: the active one.
+  // Takes the particle i, at rest, out of its cell's list to move: the active one.
   void set_moving(std::uint32_t i);
   // Room for one more particle a cell: every list laid out again.
   void widen_cells();
   // grid_.locate(position), bit for bit: inside the box without libm's floor.
   std::uint32_t locate(const Vec<D>& position) const;
+  // locate(position) for the active particle moved along the axis from where its flight began
+  // (across the axis it is where cell_ is), bit for bit.
+  std::uint32_t locate_moved(const Vec<D>& position) const;
   // wrap(position, box, image), bit for bit, inline.
   void wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const;
 
@@ -144,7 +147,6 @@ class EcmcEngine final : public Engine<D> {
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
   mutable std::vector<double> alongs_;           // and their separations along the axis
-  std::vector<std::uint32_t> cell_of_;  // each particle's cell (the active one's where it stopped)
   std::uint32_t capacity_ = 1;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
@@ -155,6 +157,8 @@ class EcmcEngine final : public Engine<D> {
   // the cells ahead itself).
   std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
   std::size_t inner_count_ = 0;
+  // Five cells or more along every axis: two cells either way are less than half a side.
+  bool plain_grid_ = false;
   // The column along the axis the flight started in, and how many it has crossed since: after
   // more than cells_along_[axis] of them, the whole lane was searched (see step()).
   std::uint32_t start_column_ = 0;
