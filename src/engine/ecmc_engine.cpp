@@ -473,6 +473,15 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
     this->throw_stuck(event);
   }
   this->now_ = t;
+  // The next search reads the cells around the target's: asked for now, while this lift's
+  // writes go on (at an edge of the grid some of these are other cells: no harm).
+  for (std::size_t c = 0; c < inner_count_; ++c) {
+    const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
+    if (cell < fill_.size()) {
+      __builtin_prefetch(resting_.data() + cell * capacity_);
+      __builtin_prefetch(fill_.data() + cell);
+    }
+  }
   Particle<D>& pm = system.particles[moving];
   Particle<D>& pt = system.particles[target];
   Vec<D> xm = pm.position;
