@@ -116,8 +116,10 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   for (std::size_t k = 0; k < D; ++k) inner += strides_[k];
   for (std::size_t axis = 0; axis < D; ++axis) {
     std::array<std::uint32_t, CellGrid<D>::kBlock> cells;
-    inner_count_ = grid_.cells_ahead(inner, axis, cells);
-    for (std::size_t c = 0; c < inner_count_; ++c) {
+    if (grid_.cells_ahead(inner, axis, cells) != kAhead) {
+      throw std::logic_error("event chains: the cells ahead are not the two columns of three");
+    }
+    for (std::size_t c = 0; c < kAhead; ++c) {
       inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
     }
   }
@@ -257,17 +259,20 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
   // has (eight at a time, the count added after), then the particles in them: one loop.
   std::uint32_t* const gathered = gathered_.data();
   std::size_t count = 0;
+  const auto visit_small = [&](std::uint32_t cell) {  // capacity <= 8
+    using Four = std::uint32_t __attribute__((vector_size(16)));
+    Four slots = Four{0, 1, 2, 3} + cell * capacity;
+    std::memcpy(gathered + count, &slots, sizeof slots);
+    slots += 4;
+    std::memcpy(gathered + count + 4, &slots, sizeof slots);
+    count += fill[cell];
+  };
   const auto visit = [&](std::uint32_t cell) {
-    const std::uint32_t first = cell * capacity;
     if (capacity <= 8) [[likely]] {
-      using Four = std::uint32_t __attribute__((vector_size(16)));
-      Four slots = Four{0, 1, 2, 3} + first;
-      std::memcpy(gathered + count, &slots, sizeof slots);
-      slots += 4;
-      std::memcpy(gathered + count + 4, &slots, sizeof slots);
-    } else {
-      for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = first + k;
+      visit_small(cell);
+      return;
     }
+    for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = cell * capacity + k;
     count += fill[cell];
   };
   // The cells CellGrid::for_each_ahead visits: the cell's and the next along Axis, each with its
@@ -277,8 +282,13 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
   }
   if (inner) [[likely]] {  // no wrapping: fixed offsets
-    for (std::size_t c = 0; c < inner_count_; ++c) {
-      visit(static_cast<std::uint32_t>(cell_ + inner_offsets_[Axis][c]));
+    const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
+    if (capacity <= 8) [[likely]] {
+      for (std::size_t c = 0; c < kAhead; ++c) {
+        visit_small(static_cast<std::uint32_t>(cell_ + offsets[c]));
+      }
+    } else {
+      for (std::size_t c = 0; c < kAhead; ++c) visit(static_cast<std::uint32_t>(cell_ + offsets[c]));
     }
   } else {
     std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
@@ -475,7 +485,7 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   this->now_ = t;
   // The next search reads the cells around the target's: asked for now, while this lift's
   // writes go on (at an edge of the grid some of these are other cells: no harm).
-  for (std::size_t c = 0; c < inner_count_; ++c) {
+  for (std::size_t c = 0; c < kAhead; ++c) {
     const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
     if (cell < fill_.size()) {
       __builtin_prefetch(resting_.data() + cell * capacity_);

@@ -155,8 +155,8 @@ class EcmcEngine final : public Engine<D> {
   Vec<D> widths_;
   // The cells ahead of a cell one from every edge, relative to it, per axis (the search finds
   // the cells ahead itself).
-  std::array<std::array<std::int64_t, CellGrid<D>::kBlock>, D> inner_offsets_{};
-  std::size_t inner_count_ = 0;
+  static constexpr std::size_t kAhead = D == 2 ? 6 : 18;  // cells a search reads
+  std::array<std::array<std::int64_t, kAhead>, D> inner_offsets_{};
   // Five cells or more along every axis: two cells either way are less than half a side.
   bool plain_grid_ = false;
   // The column along the axis the flight started in, and how many it has crossed since: after
