@@ -106,6 +106,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   }
   std::fill(fill_.begin(), fill_.end(), 0u);
   resting_.resize(grid_.cell_count() * capacity_);
+  prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
   gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
   alongs_.resize(gathered_.size());
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
@@ -215,6 +216,7 @@ void EcmcEngine<D>::widen_cells() {
   }
   resting_ = std::move(resting);
   capacity_ = wider;
+  prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
   gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
   alongs_.resize(gathered_.size());
 }
@@ -259,17 +261,16 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
   // has (eight at a time, the count added after), then the particles in them: one loop.
   std::uint32_t* const gathered = gathered_.data();
   std::size_t count = 0;
-  const auto visit_small = [&](std::uint32_t cell) {  // capacity <= 8
+  // Room for 4 x Fours slots a cell: all of them written, the count of those in use added.
+  const auto visit_fours = [&]<int Fours>(std::integral_constant<int, Fours>, std::uint32_t cell) {
     using Four = std::uint32_t __attribute__((vector_size(16)));
     Four slots = Four{0, 1, 2, 3} + cell * capacity;
-    std::memcpy(gathered + count, &slots, sizeof slots);
-    slots += 4;
-    std::memcpy(gathered + count + 4, &slots, sizeof slots);
+    for (int k = 0; k < Fours; ++k, slots += 4) std::memcpy(gathered + count + 4 * k, &slots, 16);
     count += fill[cell];
   };
   const auto visit = [&](std::uint32_t cell) {
     if (capacity <= 8) [[likely]] {
-      visit_small(cell);
+      visit_fours(std::integral_constant<int, 2>{}, cell);
       return;
     }
     for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = cell * capacity + k;
@@ -283,9 +284,13 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
   }
   if (inner) [[likely]] {  // no wrapping: fixed offsets
     const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
-    if (capacity <= 8) [[likely]] {
+    if (capacity <= 4) [[likely]] {
       for (std::size_t c = 0; c < kAhead; ++c) {
-        visit_small(static_cast<std::uint32_t>(cell_ + offsets[c]));
+        visit_fours(std::integral_constant<int, 1>{}, static_cast<std::uint32_t>(cell_ + offsets[c]));
+      }
+    } else if (capacity <= 8) {
+      for (std::size_t c = 0; c < kAhead; ++c) {
+        visit_fours(std::integral_constant<int, 2>{}, static_cast<std::uint32_t>(cell_ + offsets[c]));
       }
     } else {
       for (std::size_t c = 0; c < kAhead; ++c) visit(static_cast<std::uint32_t>(cell_ + offsets[c]));
@@ -484,8 +489,9 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   }
   this->now_ = t;
   // The next search reads the cells around the target's: asked for now, while this lift's
-  // writes go on (at an edge of the grid some of these are other cells: no harm).
-  for (std::size_t c = 0; c < kAhead; ++c) {
+  // writes go on (at an edge of the grid some of these are other cells: no harm). Lists that fit
+  // in a core's cache are there already.
+  for (std::size_t c = 0; c < (prefetch_cells_ ? kAhead : 0); ++c) {
     const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
     if (cell < fill_.size()) {
       __builtin_prefetch(resting_.data() + cell * capacity_);

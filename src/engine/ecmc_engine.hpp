@@ -157,6 +157,9 @@ class EcmcEngine final : public Engine<D> {
   // the cells ahead itself).
   static constexpr std::size_t kAhead = D == 2 ? 6 : 18;  // cells a search reads
   std::array<std::array<std::int64_t, kAhead>, D> inner_offsets_{};
+  // Lists larger than this are fetched ahead of a search (see lift()).
+  static constexpr std::size_t kCacheBytes = std::size_t{1} << 20;
+  bool prefetch_cells_ = false;
   // Five cells or more along every axis: two cells either way are less than half a side.
   bool plain_grid_ = false;
   // The column along the axis the flight started in, and how many it has crossed since: after
