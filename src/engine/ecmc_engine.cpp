@@ -25,10 +25,10 @@ CellGrid<D> chain_grid(const System<D>& system) {
                      std::max<std::size_t>(system.size(), 6));
 }
 
-// A system as chains start in it: every particle at rest at the latest stored time.
+// A system as chains start in it: every particle at rest at the latest stored time (the engine
+// checks that chains can run in it).
 template <std::size_t D>
 System<D> at_rest(System<D> system) {
-  check_chain_start(system);
   double latest = 0.0;
   for (const Particle<D>& p : system.particles) latest = std::max(latest, p.time);
   if (system.records.empty()) system.records.resize(system.size());
@@ -51,8 +51,11 @@ Vec<D> along(std::size_t axis, double speed) {
 
 }  // namespace
 
+namespace {
+
+// check_chain_start with the grid the chains would search in `system`.
 template <std::size_t D>
-void check_chain_start(const System<D>& system) {
+void check_chain_start(const System<D>& system, const CellGrid<D>& grid) {
   if (!system.box.periodic() || system.box.sheared()) {
     throw std::invalid_argument("event-chain Monte Carlo needs a periodic box that is not sheared");
   }
@@ -62,7 +65,6 @@ void check_chain_start(const System<D>& system) {
           "event-chain Monte Carlo samples positions only: every mass must be 1");
     }
   }
-  const CellGrid<D> grid = chain_grid(system);
   for (std::size_t k = 0; k < D; ++k) {
     if (grid.cells_along(k) < 3) {
       throw std::invalid_argument(fmt::format(
@@ -73,12 +75,19 @@ void check_chain_start(const System<D>& system) {
   }
 }
 
+}  // namespace
+
+template <std::size_t D>
+void check_chain_start(const System<D>& system) {
+  check_chain_start(system, chain_grid(system));
+}
+
 template <std::size_t D>
 EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainState& chain)
     : Engine<D>(std::move(system), {Rule::swap, 1.0, 0.0}, {}),
       chain_(chain),
       grid_(chain_grid(this->system_)) {
-  check_chain_start(this->system_);
+  check_chain_start(this->system_, grid_);
   if (!(chain_length > 0.0)) {
     throw std::invalid_argument(
         fmt::format("a chain length must be above 0, not {}", chain_length));
@@ -155,8 +164,8 @@ template <std::size_t D>
   const double x = position[axis];
   if (!(x > 0.0 && x < this->system_.box.size[axis])) [[unlikely]]
     return grid_.locate(position);
-  std::uint32_t cell =
-      strides_[axis] * std::min(static_cast<std::uint32_t>(x / widths_[axis]), cells_along_[axis] - 1);
+  const auto along = static_cast<std::uint32_t>(x / widths_[axis]);
+  std::uint32_t cell = strides_[axis] * std::min(along, cells_along_[axis] - 1);
   for (std::size_t k = 0; k < D; ++k) {
     if (k != axis) cell += strides_[k] * at_[k];
   }
@@ -284,16 +293,19 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
   }
   if (inner) [[likely]] {  // no wrapping: fixed offsets
     const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
+    const auto ahead_cell = [&](std::size_t c) {
+      return static_cast<std::uint32_t>(cell_ + offsets[c]);
+    };
     if (capacity <= 4) [[likely]] {
       for (std::size_t c = 0; c < kAhead; ++c) {
-        visit_fours(std::integral_constant<int, 1>{}, static_cast<std::uint32_t>(cell_ + offsets[c]));
+        visit_fours(std::integral_constant<int, 1>{}, ahead_cell(c));
       }
     } else if (capacity <= 8) {
       for (std::size_t c = 0; c < kAhead; ++c) {
-        visit_fours(std::integral_constant<int, 2>{}, static_cast<std::uint32_t>(cell_ + offsets[c]));
+        visit_fours(std::integral_constant<int, 2>{}, ahead_cell(c));
       }
     } else {
-      for (std::size_t c = 0; c < kAhead; ++c) visit(static_cast<std::uint32_t>(cell_ + offsets[c]));
+      for (std::size_t c = 0; c < kAhead; ++c) visit(ahead_cell(c));
     }
   } else {
     std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
@@ -491,11 +503,13 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   // The next search reads the cells around the target's: asked for now, while this lift's
   // writes go on (at an edge of the grid some of these are other cells: no harm). Lists that fit
   // in a core's cache are there already.
-  for (std::size_t c = 0; c < (prefetch_cells_ ? kAhead : 0); ++c) {
-    const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
-    if (cell < fill_.size()) {
-      __builtin_prefetch(resting_.data() + cell * capacity_);
-      __builtin_prefetch(fill_.data() + cell);
+  if (prefetch_cells_) {
+    for (std::size_t c = 0; c < kAhead; ++c) {
+      const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
+      if (cell < fill_.size()) {
+        __builtin_prefetch(resting_.data() + cell * capacity_);
+        __builtin_prefetch(fill_.data() + cell);
+      }
     }
   }
   Particle<D>& pm = system.particles[moving];

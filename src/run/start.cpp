@@ -258,7 +258,8 @@ void check_chain_request(const Settings& settings, const AnySystem& system,
   try {
     std::visit([](const auto& s) { check_chain_start(s); }, system);
   } catch (const std::invalid_argument& e) {
-    throw RequestError(source.empty() ? std::string(e.what()) : fmt::format("{}: {}", source, e.what()));
+    throw RequestError(source.empty() ? std::string(e.what())
+                                      : fmt::format("{}: {}", source, e.what()));
   }
 }
 
