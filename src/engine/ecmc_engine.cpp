@@ -233,7 +233,9 @@ void EcmcEngine<D>::widen_cells() {
 template <std::size_t D>
 void EcmcEngine<D>::set_moving(std::uint32_t i) {
   // Where it rests: its stored position located as when it came to rest.
-  const std::uint32_t cell = locate(this->system_.particles[i].position);
+  const Particle<D>& p = this->system_.particles[i];
+  flight_ = {p.position, p.time, p.radius};
+  const std::uint32_t cell = locate(p.position);
   std::uint32_t slot = cell * capacity_;
   while (resting_[slot].id != i) ++slot;
   take_out(slot, cell);
@@ -256,10 +258,9 @@ template <std::size_t D>
 
 template <std::size_t D>
 template <std::size_t Axis>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
-                                                         double ahead) const {
-  const Vec<D> p = a.position, half = half_box_, side = this->system_.box.size;
-  const double radius = a.radius;
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
+  const Vec<D> p = flight_.from, half = half_box_, side = this->system_.box.size;
+  const double radius = flight_.radius;
   const Resting* const resting = resting_.data();
   const std::uint32_t* const fill = fill_.data();
   const std::uint32_t capacity = capacity_;
@@ -406,25 +407,24 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
 }
 
 template <std::size_t D>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const Particle<D>& a,
-                                                         double ahead) const {
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
   static_assert(D == 2 || D == 3);
   if constexpr (D == 3) {
-    if (chain_.axis == 2) return nearest_lift<2>(a, ahead);
+    if (chain_.axis == 2) return nearest_lift<2>(ahead);
   }
-  return chain_.axis == 0 ? nearest_lift<0>(a, ahead) : nearest_lift<1>(a, ahead);
+  return chain_.axis == 0 ? nearest_lift<0>(ahead) : nearest_lift<1>(ahead);
 }
 
 template <std::size_t D>
-double EcmcEngine<D>::distance_to_next_column(const Particle<D>& a) const {
+double EcmcEngine<D>::distance_to_next_column() const {
   const std::size_t k = chain_.axis;
   // The box sides the flight has wrapped round since it started (in the box, at column
   // start_column_).
   const std::uint32_t laps = (start_column_ + columns_crossed_) / cells_along_[k];
   const double next_column = static_cast<double>(at_[k] + 1) * widths_[k];
   if (laps == 0) [[likely]]
-    return next_column - a.position[k];
-  return (next_column + laps * this->system_.box.size[k]) - a.position[k];
+    return next_column - flight_.from[k];
+  return (next_column + laps * this->system_.box.size[k]) - flight_.from[k];
 }
 
 template <std::size_t D>
@@ -437,13 +437,12 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
       start_next_chain();
       continue;
     }
-    const Particle<D>& a = this->system_.particles[chain_.active];
-    const double ahead = distance_to_next_column(a);
-    const Lift lift = nearest_lift(a, ahead);
-    // A lift no farther than the crossing comes no later (a.time + x / v rounds monotonically
-    // in x): then only its time is needed.
+    const double ahead = distance_to_next_column();
+    const Lift lift = nearest_lift(ahead);
+    // A lift no farther than the crossing comes no later (the flight's time + x / v rounds
+    // monotonically in x): then only its time is needed.
     if (lift.distance <= ahead && lift.distance != kNever) [[likely]] {
-      const double lift_time = a.time + lift.distance / speed_;
+      const double lift_time = flight_.time + lift.distance / speed_;
       if (chain_.chain_end <= lift_time) {
         if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
         start_next_chain();
@@ -452,7 +451,7 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
       if (!this->due_by(lift_time, end_time)) return std::nullopt;
       return this->lift(lift, lift_time);
     }
-    const double crossing_time = a.time + std::max(ahead / speed_, 0.0);
+    const double crossing_time = flight_.time + std::max(ahead / speed_, 0.0);
     if (chain_.chain_end <= crossing_time) {
       if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
       start_next_chain();
@@ -512,12 +511,11 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
       }
     }
   }
-  Particle<D>& pm = system.particles[moving];
-  Particle<D>& pt = system.particles[target];
-  Vec<D> xm = pm.position;
-  xm[axis] += speed_ * (t - pm.time);
+  const Resting& struck = resting_[lift.slot];
+  Vec<D> xm = flight_.from;
+  xm[axis] += speed_ * (t - flight_.time);
   const bool moving_first = moving < target;
-  Vec<D> r = moving_first ? xm - pt.position : pt.position - xm;
+  Vec<D> r = moving_first ? xm - struck.position : struck.position - xm;
   for (std::size_t k = 0; k < D; ++k) {
     if (!(std::abs(r[k]) <= half_box_[k])) [[unlikely]]
       r[k] = nearest_image(r[k], system.box.size[k]);
@@ -529,11 +527,14 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
   ParticleRecord& rm = system.records[moving];
   wrap_into_box(xm, rm.image);
+  Particle<D>& pm = system.particles[moving];
+  Particle<D>& pt = system.particles[target];
   pm.position = xm;
   pm.velocity[axis] = 0.0;
   pm.time = t;
   pt.velocity[axis] = speed_;
   pt.time = t;
+  flight_ = {struck.position, t, struck.radius};
   rm.count_pair_collision(t);
   system.records[target].count_pair_collision(t);
   event.time = system.absolute(t);

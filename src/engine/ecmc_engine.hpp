@@ -67,7 +67,10 @@ class EcmcEngine final : public Engine<D> {
 
  private:
   // Only times move: the flight's start and the columns it crossed stay as they were.
-  void rebased(double shift) override { chain_.chain_end -= shift; }
+  void rebased(double shift) override {
+    chain_.chain_end -= shift;
+    flight_.time = this->system_.particles[chain_.active].time;
+  }
   void velocity_reset(std::uint32_t) override;
 
   // A particle at rest as the search reads it: its stored position and radius, its index and
@@ -101,20 +104,20 @@ class EcmcEngine final : public Engine<D> {
 
   // Stops the active particle at the chain's end and starts the next chain.
   void start_next_chain();
-  // The nearest lift of the active particle `a` among the particles around its cell (the cells
+  // The nearest lift of the active particle among the particles around its cell (the cells
   // CellGrid::for_each_ahead visits), measured from its stored position: ties go to the lower
   // index.
   // `ahead` is distance_to_next_column(a).
-  Lift nearest_lift(const Particle<D>& a, double ahead) const;
+  Lift nearest_lift(double ahead) const;
   template <std::size_t Axis>
-  Lift nearest_lift(const Particle<D>& a, double ahead) const;
+  Lift nearest_lift(double ahead) const;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on.
   std::optional<Event> lift(const Lift& lift, double t);
   // Where the column after cell_'s begins along the axis, as the flight has unwrapped it, less
-  // the active particle a's stored position: how far it is from leaving cell_, and the middle of
+  // the active particle's stored position: how far it is from leaving cell_, and the middle of
   // the two columns of cells a search reads.
-  double distance_to_next_column(const Particle<D>& a) const;
+  double distance_to_next_column() const;
   // The active particle's flight starts afresh from its stored state, in cell_.
   void start_flight();
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
@@ -125,6 +128,14 @@ class EcmcEngine final : public Engine<D> {
   void take_out(std::uint32_t slot, std::uint32_t cell);
   // Takes the particle i, at rest, out of its cell's list to move: the active one.
   void set_moving(std::uint32_t i);
+  // The active particle's stored state, as the System has it, kept here for the next search: the
+  // System's copy is written at every lift but read by none (a lift's next search starts from
+  // what the last one read, without waiting for the struck particle's state in the System).
+  struct Flight {
+    Vec<D> from;  // stored position
+    double time = 0.0;  // stored time
+    double radius = 0.0;
+  };
   // Room for one more particle a cell: every list laid out again.
   void widen_cells();
   // grid_.locate(position), bit for bit: inside the box without libm's floor.
@@ -138,6 +149,7 @@ class EcmcEngine final : public Engine<D> {
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;
+  Flight flight_;
   // The grid's geometry only: which cells are searched, and when the active particle leaves
   // its cell. The particles at rest are listed here instead: cell c's are resting_[c *
   // capacity_ + k] for k below fill_[c], their stored positions side by side, so that a search
