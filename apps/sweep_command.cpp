@@ -101,9 +101,18 @@ std::string status_text(const SweepProgress& p) {
 
 int finish(const SweepArguments& args, const SweepPlan& plan, const std::string& folder,
            const std::vector<TaskResult>& results, double seconds) {
-  std::size_t done = 0, failed = 0;
+  std::size_t done = 0, failed = 0, drifting = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done) ++done;
+    if (results[i].status == TaskStatus::done && drifted(results[i])) {
+      ++drifting;
+      if (!args.quiet) {
+        std::cerr << fmt::format(
+            "carom: warning: task {}: Z drifted by {:.1f} standard errors over its measurement "
+            "window: it was still changing while measured (equilibrate longer)\n",
+            plan.tasks()[i].name, results[i].measure(kDriftMeasure));
+      }
+    }
     if (results[i].status == TaskStatus::failed) {
       ++failed;
       std::cerr << fmt::format("carom: task {} failed: {}\n", plan.tasks()[i].name,
@@ -118,9 +127,11 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
   }
   if (!args.quiet) {
     std::cerr << fmt::format(
-        "carom: {} of {} tasks done{} in {}: {}/results.csv, summary.csv; {}\n", done,
-        results.size(), failed > 0 ? fmt::format(", {} failed", failed) : "", clock_time(seconds),
-        folder, "report " + sweep_report_page(folder, args.html));
+        "carom: {} of {} tasks done{}{} in {}: {}/results.csv, summary.csv; {}\n", done,
+        results.size(), failed > 0 ? fmt::format(", {} failed", failed) : "",
+        drifting > 0 ? fmt::format(", {} with Z drifting (column {})", drifting, kDriftMeasure)
+                     : "",
+        clock_time(seconds), folder, "report " + sweep_report_page(folder, args.html));
   }
   constexpr std::size_t kMostCounted = 27;  // 100 + 27 = 127, below the signals' 128 + N
   return failed == 0 ? 0 : 100 + static_cast<int>(std::min(failed, kMostCounted));

@@ -536,15 +536,52 @@ TEST(SweepTables, ResultsKeepFullPrecisionAndSummariesAverageOverSeeds) {
   const std::string table = read(folder / "results.csv");
   EXPECT_EQ(table.substr(0, table.find('\n')),
             "phi,seed,status,Z,Z_error,pressure,pressure_error,temperature,collision_rate,"
-            "packing_fraction,error");
-  EXPECT_NE(table.find("\n0.3,1,done,0.30000000000000004,0.25,1,,,,,\n"), std::string::npos)
+            "packing_fraction,Z_drift,error");
+  EXPECT_NE(table.find("\n0.3,1,done,0.30000000000000004,0.25,1,,,,,,\n"), std::string::npos)
       << table;
-  EXPECT_NE(table.find("\n0.3,2,failed,,,,,,,,\"it broke, \"\"badly\"\"\"\n"), std::string::npos);
+  EXPECT_NE(table.find("\n0.3,2,failed,,,,,,,,,\"it broke, \"\"badly\"\"\"\n"), std::string::npos);
   const std::string summary = read(folder / "summary.csv");
   // phi 0.2: two seeds, Z 1 and 2: mean 1.5, standard error 0.5. phi 0.3: one done task, whose
   // own error stands.
   EXPECT_NE(summary.find("\n0.2,2,2,1.5,0.5,1,0,"), std::string::npos) << summary;
   EXPECT_NE(summary.find("\n0.3,2,1,0.30000000000000004,0.25,1,,"), std::string::npos) << summary;
+}
+
+// A task whose Z drifted past three standard errors over its measurement window shows its drift
+// in results.csv, is counted in its state point's row of summary.csv, and is named in the report;
+// one within three is counted nowhere, and the drift is not averaged as a measure.
+TEST(SweepTables, TasksWhoseZDriftedAreFlagged) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  std::vector<TaskResult> results(4, TaskResult::with(TaskStatus::done));
+  const double drift[] = {-3.5, 2.9, std::nan(""), 3.25};
+  for (std::size_t i = 0; i < 4; ++i) {
+    results[i].measures = {{"Z", 1.0}, {"Z_error", 0.25}, {"Z_drift", drift[i]}};
+  }
+  write_sweep_tables(plan, folder / "", results);
+  const std::string table = read(folder / "results.csv");
+  EXPECT_NE(table.find("\n0.2,1,done,1,0.25,,,,,,-3.5,\n"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.3,1,done,1,0.25,,,,,,,\n"), std::string::npos) << table;
+  const std::string summary = read(folder / "summary.csv");
+  EXPECT_EQ(summary.substr(0, summary.find('\n')).find("Z_drift"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(",drifted\n"), std::string::npos) << summary;
+  // phi 0.2: -3.5 and 2.9, one drifted; phi 0.3: none and 3.25, one drifted.
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 3) << summary;
+  EXPECT_NE(summary.find("\n0.2,2,2,1,0,"), std::string::npos) << summary;
+  for (const char* point : {"\n0.2,", "\n0.3,"}) {
+    const std::size_t row = summary.find(point);
+    const std::string line = summary.substr(row + 1, summary.find('\n', row + 1) - row - 1);
+    EXPECT_EQ(line.substr(line.rfind(',')), ",1") << line;
+  }
+  std::ostringstream page;
+  write_sweep_report(page, plan, results);
+  const std::string html = page.str();
+  EXPECT_NE(html.find("Tasks whose Z drifted"), std::string::npos);
+  EXPECT_NE(html.find(plan.tasks()[0].name + "</b>: -3.5 standard errors"), std::string::npos);
+  EXPECT_NE(html.find(plan.tasks()[3].name + "</b>: 3.2 standard errors"), std::string::npos)
+      << html;
+  EXPECT_EQ(html.find(plan.tasks()[1].name + "</b>"), std::string::npos);
+  EXPECT_NE(html.find("<td class=\"drifted\">1 of 2</td>"), std::string::npos);
 }
 
 // Issue 36, item 24: a plan nested deeper than any plan needs (a dotted key or a table header of

@@ -3,6 +3,7 @@
 import csv as _csv
 import os as _os
 import uuid as _uuid
+import warnings as _warnings
 
 import numpy as _np
 
@@ -130,7 +131,22 @@ def sweep(plan, out_dir, client=None):
             core, out_dir, waiting,
             [_carom.TaskResult(status, _os.fsencode(error)) for status, error in returned])
         _carom.finish_sweep(core, out_dir, results)
-    return _results_table(core, _os.path.join(out_dir, b"results.csv"))
+    table = _results_table(core, _os.path.join(out_dir, b"results.csv"))
+    _warn_of_drift(core, table)
+    return table
+
+
+def _warn_of_drift(plan, table):
+    """A warning for each task whose Z drifted past _carom.DRIFT_WARNING standard errors over its
+    measurement window, as `carom sweep` prints one."""
+    names = table.dtype.names if isinstance(table, _np.ndarray) else list(table.columns)
+    if "Z_drift" not in names:
+        return
+    for name, drift in zip(plan.tasks, table["Z_drift"]):
+        if abs(drift) > _carom.DRIFT_WARNING:  # NaN (no verdict) is not
+            _warnings.warn(f"task {name}: Z drifted by {drift:.1f} standard errors over its "
+                           "measurement window: it was still changing while measured "
+                           "(equilibrate longer)", stacklevel=3)
 
 
 def _run_tasks(client, plan, out_dir, indices):

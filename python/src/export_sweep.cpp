@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "carom/run/z_drift.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "exports.hpp"
 
@@ -220,6 +221,8 @@ void export_sweep(py::module_& m) {
   m.def("prepare_sweep", &prepare_sweep, "plan"_a, "out_dir"_a, "report"_a = "");
   m.def("returned_results", &returned_results, "plan"_a, "out_dir"_a, "waiting"_a, "returned"_a);
   m.def("finish_sweep", &finish_sweep, "plan"_a, "out_dir"_a, "results"_a, "report"_a = "");
+  // Past this many standard errors of Z_drift a task was still changing while measured.
+  m.attr("DRIFT_WARNING") = DriftVerdict::kWarning;
 }
 
 }  // namespace carom::python

@@ -631,3 +631,56 @@ def test_ctrl_c_stops_the_tasks_on_the_dask_workers(cli, long_sweep, client):
             fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
     cli("sweep", plan, "-o", out, "-q")
     assert_same_contents(contents(out), reference, "after Ctrl-C")
+
+
+DRIFTING_PLAN = """\
+[start]
+n = 400
+boundary = "periodic"
+
+[run]
+end_time = 10
+equilibrate = 0
+rule = "elastic"
+
+[sweep]
+phi = [0.68]
+seed = [1, 2]
+"""
+
+
+def test_tasks_whose_z_drifted_are_flagged_in_the_tables_the_console_and_python(cli, tmp_path,
+                                                                              client):
+    """Disks at 0.68 melting from init's lattice, measured from t = 0: Z rises by several standard
+    errors between the halves of the window. results.csv shows each task's drift (the summary's
+    verdict), summary.csv counts the state point's drifted tasks, the report names them, and both
+    `carom sweep` and carom.sweep warn; a settled sweep warns of nothing."""
+    plan = write_plan(tmp_path, DRIFTING_PLAN)
+    out = tmp_path / "out"
+    cli("sweep", plan, "-o", out)
+    names = ("phi=0.68,seed=1", "phi=0.68,seed=2")
+    drifts = [json.loads((out / name / "summary.json").read_text())
+              ["compressibility_factor_drift"]["sigmas"] for name in names]
+    assert all(abs(d) > carom._carom.DRIFT_WARNING for d in drifts), drifts
+    for name, drift in zip(names, drifts):
+        assert f"warning: task {name}: Z drifted by {drift:.1f} standard errors" in cli.last_stderr
+    assert "2 with Z drifting (column Z_drift)" in cli.last_stderr
+    rows = (out / "results.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    assert [float(r.split(",")[header.index("Z_drift")]) for r in rows[1:]] == drifts
+    summary = (out / "summary.csv").read_text().splitlines()
+    assert summary[0].endswith(",drifted") and summary[1].endswith(",2"), summary
+    report = (out / "report.html").read_text()
+    assert "Tasks whose Z drifted" in report and all(f"<b>{n}</b>" in report for n in names)
+    cli("sweep", plan, "-o", out, "-q")
+    assert cli.last_stderr == ""
+    with pytest.warns(UserWarning, match=r"task phi=0\.68,seed=1: Z drifted by"):
+        table = carom.sweep(plan, out, client=client)
+    assert list(table["Z_drift"]) == drifts
+
+    settled = tmp_path / "settled"
+    settled.mkdir()
+    cli("sweep", write_plan(settled, **SHORT), "-o", settled / "out")
+    assert "warning" not in cli.last_stderr and "drifting" not in cli.last_stderr
+    assert all(abs(d) <= 3 for d in carom.sweep(settled / "plan.toml", settled / "out",
+                                                  client=client)["Z_drift"])

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "carom/core/equation_of_state.hpp"
+#include "carom/run/z_drift.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "state_points.hpp"
 
@@ -249,7 +250,8 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
       << escaped(plan.name()) << "</title>\n<style>body{font-family:sans-serif;margin:2em;"
       << "max-width:64em}table{border-collapse:collapse}td,th{padding:2px 8px;text-align:right;"
       << "border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:1em}"
-      << "figure{display:inline-block;margin:0 1em 1em 0}</style></head><body>\n";
+      << "figure{display:inline-block;margin:0 1em 1em 0}.drifted{color:#b00;font-weight:bold}"
+      << "</style></head><body>\n";
   out << fmt::format("<h1>carom sweep: {}</h1>\n<p>{} of {} tasks done.</p>\n",
                      escaped(plan.name()), done, results.size());
 
@@ -272,6 +274,7 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
   out << "<th>done</th>";
   for (const std::string& m : s.measures) out << "<th>" << escaped(m) << "</th><th>error</th>";
   if (reference) out << "<th>" << reference_name(*reference) << "</th><th>Z - it, in errors</th>";
+  if (s.drift_measured) out << "<th>Z drifted</th>";
   out << "</tr>\n";
   const std::size_t z = static_cast<std::size_t>(
       std::find(s.measures.begin(), s.measures.end(), "Z") - s.measures.begin());
@@ -288,6 +291,10 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
       out << "<td>" << value_or_blank(expected) << "</td><td>"
           << value_or_blank((e.mean - expected) / e.error) << "</td>";
     }
+    if (s.drift_measured) {
+      out << (p.drifted > 0 ? fmt::format("<td class=\"drifted\">{} of {}</td>", p.drifted, p.done)
+                            : std::string("<td></td>"));
+    }
     out << "</tr>\n";
   }
   out << "</table>\n";
@@ -300,6 +307,21 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
     }
   }
   if (!failures.empty()) out << "<h2>Failed tasks</h2>\n<ul>\n" << failures << "</ul>\n";
+  std::string drifting;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    if (results[i].status == TaskStatus::done && drifted(results[i])) {
+      drifting += fmt::format("<li><b>{}</b>: {:.1f} standard errors</li>\n",
+                              escaped(plan.tasks()[i].name), results[i].measure(kDriftMeasure));
+    }
+  }
+  if (!drifting.empty()) {
+    out << "<h2 class=\"drifted\">Tasks whose Z drifted</h2>\n<p>Z moved between the first and "
+           "the second half of these runs' measurement windows by more than "
+        << DriftVerdict::kWarning
+        << " standard errors: they were still changing while measured, and their state points' "
+           "numbers are not equilibrium values. Equilibrate them longer.</p>\n<ul>\n"
+        << drifting << "</ul>\n";
+  }
   out << "<h2>The plan</h2>\n<pre>" << escaped(plan.text()) << "</pre>\n</body></html>\n";
 }
 

@@ -48,7 +48,12 @@ StatePoints state_points(const SweepPlan& plan, const std::vector<TaskResult>& r
     s.axes.push_back(plan.axes()[a]);
   }
   for (const std::string& name : measure_names(plan)) {
-    if (!is_error(name)) s.measures.push_back(name);
+    // A drift is a verdict on one run: counted (StatePoint::drifted), not averaged.
+    if (name == kDriftMeasure) {
+      s.drift_measured = true;
+    } else if (!is_error(name)) {
+      s.measures.push_back(name);
+    }
   }
   std::vector<std::vector<const TaskResult*>> done;
   // Each state point's index, by its values (hashed: 100,000 state points are grouped in
@@ -71,6 +76,7 @@ StatePoints state_points(const SweepPlan& plan, const std::vector<TaskResult>& r
     ++s.points[p].tasks;
     if (results[i].status == TaskStatus::done) {
       ++s.points[p].done;
+      if (drifted(results[i])) ++s.points[p].drifted;
       done[p].push_back(&results[i]);
     }
   }

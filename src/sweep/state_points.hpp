@@ -17,11 +17,13 @@ struct StatePoint {
   std::vector<std::string> values;  // of the axes, as the plan writes them
   std::size_t tasks = 0, done = 0;
   std::vector<Estimate> estimates;  // one a measure
+  std::size_t drifted = 0;          // done tasks whose Z drifted (carom::drifted)
 };
 
 struct StatePoints {
   std::vector<std::string> axes;      // every swept key but seed
-  std::vector<std::string> measures;  // measure_names(kind) but the *_error ones
+  std::vector<std::string> measures;  // measure_names(kind) but the *_error ones and Z_drift
+  bool drift_measured = false;        // the tasks have a Z_drift (runs, not compressions)
   std::vector<StatePoint> points;     // in the order of their first task
 };
 

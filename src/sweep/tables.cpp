@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "carom/io/atomic_file.hpp"
+#include "carom/run/z_drift.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "state_points.hpp"
 
@@ -51,6 +52,7 @@ void write_summary(std::ostream& out, const SweepPlan& plan,
   for (const std::string& axis : s.axes) out << axis << ',';
   out << "tasks,done";
   for (const std::string& name : s.measures) out << ',' << name << "_mean," << name << "_error";
+  if (s.drift_measured) out << ",drifted";
   out << '\n';
   for (const sweep::StatePoint& point : s.points) {
     for (const std::string& value : point.values) out << quoted(value) << ',';
@@ -58,11 +60,16 @@ void write_summary(std::ostream& out, const SweepPlan& plan,
     for (const sweep::Estimate& e : point.estimates) {
       out << ',' << field(e.mean) << ',' << field(e.error);
     }
+    if (s.drift_measured) out << ',' << point.drifted;
     out << '\n';
   }
 }
 
 }  // namespace
+
+bool drifted(const TaskResult& result) {
+  return std::abs(result.measure(kDriftMeasure)) > DriftVerdict::kWarning;  // NaN: no verdict
+}
 
 double TaskResult::measure(std::string_view name) const {
   for (const auto& [n, value] : measures) {

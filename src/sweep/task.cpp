@@ -198,6 +198,10 @@ TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
       value = number(summary, name.c_str());
     }
     if (name == "events") value = number(summary, "events");
+    if (name == kDriftMeasure) {
+      const auto drift = summary.find("compressibility_factor_drift");
+      if (drift != summary.end() && drift->is_object()) value = number(*drift, "sigmas");
+    }
     result.measures.emplace_back(name, value);
   }
   return result;
@@ -472,7 +476,7 @@ std::vector<std::string> sweep::measures_of(const SweepPlan& plan) {
   if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
   std::vector<std::string> names = {
       "Z",           "Z_error",        "pressure",        "pressure_error",
-      "temperature", "collision_rate", "packing_fraction"};
+      "temperature", "collision_rate", "packing_fraction", std::string(kDriftMeasure)};
   const auto any_task = [&plan](auto&& asks) {
     return std::any_of(plan.tasks().begin(), plan.tasks().end(), [&](const SweepTask& task) {
       return std::any_of(task.action.begin(), task.action.end(), asks);

@@ -181,6 +181,13 @@ struct TaskResult {
 
 // The measures of the plan's tasks, in results.csv's order: a run's (with `transport = true`,
 // its transport coefficients too; with `shear`, the shear's) or a compression's.
+// A run's include Z_drift, its summary's drift verdict: how many standard errors Z moved from the
+// first half of the measurement window to the second (blank without a verdict). Past
+// DriftVerdict::kWarning the task was still changing while measured: the console, summary.csv
+// and the report flag it.
+inline constexpr std::string_view kDriftMeasure = "Z_drift";
+// Whether a task's Z drifted past DriftVerdict::kWarning standard errors.
+bool drifted(const TaskResult& result);
 const std::vector<std::string>& measure_names(const SweepPlan& plan);
 
 struct TaskHooks {
