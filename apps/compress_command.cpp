@@ -122,6 +122,12 @@ void compress_command(CompressArguments args) {
                                   describe_signal(signal), s.packing_fraction, where));
   }
   const std::string_view particles = s.dimension == 2 ? "disks" : "spheres";
+  // The number a jamming study wants, said where it is seen (a compression short of its target
+  // says so below, as an error).
+  if (s.status == "jammed" && !s.target && !args.quiet) {
+    std::cerr << fmt::format("carom: the {} jammed at packing fraction {:.6f} (Z = {:.3g})\n",
+                             particles, s.packing_fraction, s.compressibility_factor);
+  }
   if (!args.unit_diameter && !args.quiet) {
     std::cerr << fmt::format(
         "carom: note: the {} grew to a mean diameter of {:.6g}, the packing's unit of length "

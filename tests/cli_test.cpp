@@ -1572,7 +1572,14 @@ TEST_F(Cli, CompressWritesAStartThatRunsAndRefusesWhatCannotBe) {
   const Result jam =
       carom({"compress", walls, "--jam", "--rate", "0.1", "-o", jammed, "--summary", summary});
   ASSERT_EQ(jam.exit_code, 0) << jam.err;
-  EXPECT_EQ(nlohmann::json::parse(read_file(summary))["status"], "jammed");
+  const nlohmann::json jammed_summary = nlohmann::json::parse(read_file(summary));
+  EXPECT_EQ(jammed_summary["status"], "jammed");
+  // The jamming density is said, as the summary has it.
+  EXPECT_NE(jam.err.find(fmt::format("carom: the disks jammed at packing fraction {:.6f} (Z = ",
+                                     jammed_summary["packing_fraction"].get<double>())),
+            std::string::npos)
+      << jam.err;
+  EXPECT_EQ(ok.err.find("jammed"), std::string::npos) << ok.err;
   EXPECT_EQ(
       carom({"run", jammed, "1", "--rule", "elastic", "--check", "-o", dir_ / "e.txt"}).exit_code,
       0);
