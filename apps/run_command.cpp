@@ -67,6 +67,16 @@ void check(const RunArguments& args) {
   }
   if (!args.checkpoint_every.empty()) checkpoint_cadence(args.checkpoint_every);
   check_progress(args.progress);
+  // -o is the result table: written under a trajectory's name it would read as one to no one.
+  for (const std::string_view format : {".gsd", ".xyz", ".lammpstrj"}) {
+    if (args.output.ends_with(format)) {
+      throw UsageError(fmt::format(
+          "-o writes the run's result (the classic table, --format csv or json), not a {} file: "
+          "for the end state as a start file to go on from, use --final {}{}",
+          format.substr(1), args.output,
+          format == ".gsd" ? "" : " (or a .gsd or .txt name: runs start from those)"));
+    }
+  }
 }
 
 StartSpec start_spec(const RunArguments& args) {
@@ -157,6 +167,12 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
   run->add_option("--summary", args.run.summary,
                   "Also write the json settings, counts and observables (no particles) to this "
                   "file");
+  run->add_option("--final", args.run.final_state,
+                  "When the run reaches END_TIME, write its state to this file as a start that "
+                  "carom run reads back to the last bit: FILE.gsd (GSD, with carom's "
+                  "double-precision copy beside HOOMD's single-precision chunks) or any other "
+                  "name for carom's start format. (-o's table has six decimals: the classic "
+                  "assignment's)");
   run->add_flag("--transport", args.run.transport,
                 "Measure the self-diffusion coefficient, shear viscosity and thermal "
                 "conductivity over the measurement window (Einstein-Helfand at a lag of 50 "

@@ -79,6 +79,9 @@ class Simulation:
         log, log_every: the time series (csv; `carom run --log`). events: every collision (csv).
         checkpoint: saved at the end, on Ctrl-C, and every checkpoint_every (a number of events,
         or seconds as "600s"). summary: the json of observables() written at the end.
+        final: the state at t as a start file that carom.read and `carom run` read back to the
+        last bit: ".gsd" (one GSD frame; carom's double-precision copies ride beside HOOMD's
+        single-precision chunks) or any other name for carom's start format.
         check: verify as the run goes that event times never decrease and, every check_every
         events, that nothing overlaps. equilibrate: open the measurement window at that time.
         transport: measure the self-diffusion coefficient, shear viscosity and thermal

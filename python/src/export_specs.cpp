@@ -218,6 +218,7 @@ Keywords<RunSpec> run_keywords() {
           [](R& r, py::handle v) { r.checkpoint_every = cadence(v); },
           [](R&) { return py::object(py::none()); })
       .field("summary", "summary", &R::summary)
+      .field("final", "final", &R::final_state)
       .field("check", "check", &R::check)
       .custom(
           "check_every", "check_every",

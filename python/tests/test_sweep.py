@@ -195,10 +195,10 @@ def test_a_folder_whose_name_is_not_utf8_gets_the_same_files(cli, tmp_path, clie
 @pytest.mark.parametrize("sampler", ["md", "ecmc"], ids=["dynamics", "chains"])
 def test_each_task_is_its_commands_run_alone(cli, tmp_path, sampler):
     """Dynamics, and event chains (sampler = "ecmc"), each task's chains drawn by its own swept
-    seed: four different runs."""
+    seed: four different runs, each ending in the start file `final` names."""
     (tmp_path / "sweep").mkdir()
     plan = write_plan(tmp_path / "sweep", PLAN.format(**SHORT).replace(
-        "[run]\n", f'[run]\nsampler = "{sampler}"\n'))
+        "[run]\n", f'[run]\nsampler = "{sampler}"\nfinal = "end.gsd"\n'))
     cli("sweep", plan, "-o", "out", "-q", cwd=tmp_path / "sweep")
     swept = contents(tmp_path / "sweep" / "out")
     alone = tmp_path / "alone"
@@ -213,6 +213,8 @@ def test_each_task_is_its_commands_run_alone(cli, tmp_path, sampler):
         for name in TASK_FILES:
             assert (alone / "out" / task / name).read_bytes() == swept[f"{task}/{name}"], \
                 f"{task}/{name}"
+        assert (alone / "out" / task / "end.gsd").read_bytes() == \
+            (tmp_path / "sweep" / "out" / task / "end.gsd").read_bytes()
         summary = json.loads((alone / "out" / task / "summary.json").read_text())
         assert {k: v for k, v in summary.items() if k not in CLOCK} \
             == swept[f"{task}/summary.json"], task
@@ -378,7 +380,7 @@ def test_a_task_that_cannot_run_fails_alone(cli, tmp_path, client):
         == (tmp_path / "cli" / "results.csv").read_bytes()
     assert list(table["status"]) == ["done", "failed"]
     assert table["Z"][0] > 1 and np.isnan(table["Z"][1])
-    assert table["error"][1] == rows[2].split(",", 9)[-1]
+    assert table["error"][1] == rows[2].split(",", 10)[-1]
 
 
 # A compression that jams short of its target at the fast rate: its error names its packing's

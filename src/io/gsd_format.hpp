@@ -27,6 +27,12 @@ inline constexpr std::array<std::uint64_t, 11> kTypeSize = {0, 1, 2, 4, 8, 1, 2,
 template <std::size_t D>
 class GsdFormat final : public TrajectoryFormat<D> {
  public:
+  // `full_precision`: every frame also holds carom's own double-precision copy of the box sides,
+  // positions (in carom's box [0, L)), velocities, diameters and masses (log/carom/box, ...,
+  // which HOOMD keeps as logged quantities and other readers pass over), so that a start read
+  // from it is the state written, to the last bit (read_gsd_start). A run's --final file has
+  // them; its --dump frames, many and read by other programs, do not.
+  explicit GsdFormat(bool full_precision = false) : full_precision_(full_precision) {}
   // Appends frame `index` (HOOMD's configuration/step) at time t (log/time) and updates the
   // index and header in place, so that the file is a valid GSD file after every frame: `out`
   // must be seekable (a file or a string stream opened in binary mode). Throws std::range_error
@@ -64,6 +70,7 @@ class GsdFormat final : public TrajectoryFormat<D> {
   void start(std::ostream& out);
   void write_header(std::ostream& out) const;
 
+  bool full_precision_ = false;
   std::uint64_t frames_ = 0;
   std::uint64_t index_location_ = 0, index_capacity_ = 0;
   std::uint64_t namelist_location_ = 0, namelist_blocks_ = 0;

@@ -187,6 +187,7 @@ struct FrameChunks {
   std::vector<double> position, velocity, diameter, mass;
   std::vector<std::array<std::int32_t, 3>> image;
   bool has_image = true;
+  bool exact = false;  // positions in [0, L) and every value carom's double (take_exact_values)
 };
 
 FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_from_frame_zero) {
@@ -277,9 +278,71 @@ FrameBox read_frame_box(GsdReader& gsd, std::uint64_t frame) {
   return frame_box;
 }
 
+// The double-precision copies carom's full-precision frames carry (GsdFormat's full_precision),
+// in place of `chunks`' and `box`'s single-precision values, when frame `frame` has them: each
+// must round to the single-precision value beside it as the writer rounded it, or the file was
+// changed by a program that left them behind, and they are refused rather than trusted.
 template <std::size_t D>
-ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const FrameBox& frame_box) {
-  const FrameChunks chunks = read_frame_chunks(gsd, frame, true);
+void take_exact_values(GsdReader& gsd, std::uint64_t frame, FrameChunks& chunks,
+                       std::array<double, 3>& box) {
+  constexpr std::array<const char*, 5> kExact = {"log/carom/box", "log/carom/position",
+                                                 "log/carom/velocity", "log/carom/diameter",
+                                                 "log/carom/mass"};
+  std::size_t present = 0;
+  for (const char* name : kExact) present += gsd.has(name, frame) ? 1 : 0;
+  if (present == 0) return;
+  const std::uint64_t n = chunks.n;
+  const auto exact = [&](const char* name, std::uint64_t rows, std::uint64_t columns) {
+    std::optional<GsdReader::Values> v = gsd.values(name, frame);
+    if (present < kExact.size() || !v || v->rows != rows || v->columns != columns) {
+      gsd.fail(fmt::format(
+          "frame {} has some of carom's double-precision chunks (log/carom/box, position, "
+          "velocity, diameter, mass) but not all of them in their shapes",
+          frame));
+    }
+    return std::move(v->data);
+  };
+  const std::vector<double> exact_box = exact("log/carom/box", 3, 1);
+  const std::vector<double> position = exact("log/carom/position", n, 3);
+  const std::vector<double> velocity = exact("log/carom/velocity", n, 3);
+  const std::vector<double> diameter = exact("log/carom/diameter", n, 1);
+  const std::vector<double> mass = exact("log/carom/mass", n, 1);
+  const auto matches = [](double single, double exact) {
+    return single == static_cast<double>(static_cast<float>(exact));
+  };
+  bool same = true;
+  for (std::size_t k = 0; k < D; ++k) same = same && matches(box[k], exact_box[k]);
+  for (std::uint64_t i = 0; i < n && same; ++i) {
+    for (std::size_t k = 0; k < D; ++k) {
+      same = same && matches(chunks.position[3 * i + k], position[3 * i + k] - 0.5 * exact_box[k]);
+      same = same && matches(chunks.velocity[3 * i + k], velocity[3 * i + k]);
+    }
+    same = same && matches(chunks.diameter[i], diameter[i]) && matches(chunks.mass[i], mass[i]);
+  }
+  if (!same) {
+    gsd.fail(fmt::format(
+        "frame {}: its double-precision chunks (log/carom/*) are not the values of its particles "
+        "and box: the file was changed by another program, which kept carom's copies of the "
+        "old ones. Remove the log/carom/box, position, velocity, diameter and mass chunks to "
+        "start from the single-precision values",
+        frame));
+  }
+  for (std::size_t k = 0; k < 3; ++k) box[k] = k < D ? exact_box[k] : box[k];
+  // In carom's box [0, L) already: centred again as particles/position is, and un-centred by
+  // start_from, they would not be these bits.
+  for (std::uint64_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < D; ++k) chunks.position[3 * i + k] = position[3 * i + k];
+  }
+  chunks.velocity = velocity;
+  chunks.diameter = diameter;
+  chunks.mass = mass;
+  chunks.exact = true;
+}
+
+template <std::size_t D>
+ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, FrameBox frame_box) {
+  FrameChunks chunks = read_frame_chunks(gsd, frame, true);
+  take_exact_values<D>(gsd, frame, chunks, frame_box.size);
   const std::array<double, 3>& box = frame_box.size;
   ClassicInput<D> input;
   System<D>& system = input.system;
@@ -288,8 +351,8 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, const FrameBox& 
   for (std::uint64_t i = 0; i < chunks.n; ++i) {
     Particle<D> p;
     for (std::size_t k = 0; k < D; ++k) {
-      // HOOMD's box is centred on the origin
-      p.position[k] = chunks.position[3 * i + k] + 0.5 * box[k];
+      // HOOMD's box is centred on the origin (carom's exact copies are not)
+      p.position[k] = chunks.position[3 * i + k] + (chunks.exact ? 0.0 : 0.5 * box[k]);
       p.velocity[k] = chunks.velocity[3 * i + k];
     }
     p.radius = 0.5 * chunks.diameter[i];

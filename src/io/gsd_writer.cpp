@@ -53,12 +53,18 @@ enum Type : std::uint8_t {
   kDouble = 10
 };
 
-// The chunks of a frame in the order of their ids (the namelist's order).
+// Every chunk a frame may have, in the order of their names (GSD's name list is sorted): a
+// file's ids are the places of its chunks' names among those it writes.
 enum Chunk : std::uint16_t {
   kBox,
   kDimensions,
   kStep,
+  kExactBox,
+  kExactDiameter,
+  kExactMass,
   kPeriodic,
+  kExactPosition,
+  kExactVelocity,
   kTime,
   kN,
   kDiameter,
@@ -71,13 +77,26 @@ enum Chunk : std::uint16_t {
   kChunks
 };
 constexpr std::array<std::string_view, kChunks> kNames = {
-    "configuration/box",  "configuration/dimensions",
-    "configuration/step", "log/carom/periodic",
-    "log/time",           "particles/N",
-    "particles/diameter", "particles/image",
-    "particles/mass",     "particles/position",
-    "particles/typeid",   "particles/types",
-    "particles/velocity"};
+    "configuration/box",  "configuration/dimensions", "configuration/step",
+    "log/carom/box",      "log/carom/diameter",       "log/carom/mass",
+    "log/carom/periodic", "log/carom/position",       "log/carom/velocity",
+    "log/time",           "particles/N",              "particles/diameter",
+    "particles/image",    "particles/mass",           "particles/position",
+    "particles/typeid",   "particles/types",          "particles/velocity"};
+
+// The double-precision copies a full-precision file adds (GsdFormat::full_precision).
+constexpr bool is_exact(Chunk chunk) {
+  return chunk == kExactBox || chunk == kExactDiameter || chunk == kExactMass ||
+         chunk == kExactPosition || chunk == kExactVelocity;
+}
+
+// A chunk's id in a file with or without the copies: its name's place among the file's names
+// (kChunks: how many chunks a frame of the file has).
+constexpr std::uint16_t chunk_id(Chunk chunk, bool full_precision) {
+  std::uint16_t id = 0;
+  for (std::uint16_t c = 0; c < chunk; ++c) id += full_precision || !is_exact(Chunk(c)) ? 1 : 0;
+  return id;
+}
 
 template <class T>
 void put(std::ostream& out, const T& value) {
@@ -97,9 +116,11 @@ void put_zeros(std::ostream& out, std::uint64_t bytes) {
 }
 
 // The name list: the chunks' names, null-terminated, padded to whole blocks.
-std::string name_list() {
+std::string name_list(bool full_precision) {
   std::string names;
-  for (const std::string_view name : kNames) (names += name) += '\0';
+  for (std::uint16_t c = 0; c < kChunks; ++c) {
+    if (full_precision || !is_exact(Chunk(c))) (names += kNames[c]) += '\0';
+  }
   names.resize((names.size() + kNameBlock - 1) / kNameBlock * kNameBlock, '\0');
   return names;
 }
@@ -141,6 +162,9 @@ struct GsdFormat<D>::Values {
   std::array<float, 6> box{};
   std::vector<float> position, velocity, diameter, mass;
   std::vector<std::int32_t> image;
+  // full_precision's: the box sides, and the positions in carom's own box [0, L), as doubles.
+  std::array<double, 3> exact_box{};
+  std::vector<double> exact_position, exact_velocity, exact_diameter, exact_mass;
 };
 
 template <std::size_t D>
@@ -179,7 +203,16 @@ typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& sy
         single(2.0 * p.radius, true, [&] { return fmt::format("the diameter of particle {}", i); });
     v.mass[i] = single(system.records[i].mass, true,
                        [&] { return fmt::format("the mass of particle {}", i); });
+    if (full_precision_) {
+      for (std::size_t k = 0; k < 3; ++k) {
+        v.exact_position.push_back(k < D ? p.position[k] : 0.0);
+        v.exact_velocity.push_back(k < D ? p.velocity[k] : 0.0);
+      }
+      v.exact_diameter.push_back(2.0 * p.radius);
+      v.exact_mass.push_back(system.records[i].mass);
+    }
   }
+  for (std::size_t k = 0; k < D; ++k) v.exact_box[k] = side[k];
   return v;
 }
 
@@ -211,7 +244,7 @@ void GsdFormat<D>::write_header(std::ostream& out) const {
 
 template <std::size_t D>
 void GsdFormat<D>::start(std::ostream& out) {
-  const std::string names = name_list();
+  const std::string names = name_list(full_precision_);
   namelist_location_ = kHeaderSize;
   namelist_blocks_ = names.size() / kNameBlock;
   index_location_ = kHeaderSize + names.size();
@@ -231,17 +264,28 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
 
   out.seekp(0, std::ios::end);
   std::vector<Entry> added;
-  const auto chunk = [&](Chunk id, Type type, std::uint64_t rows, std::uint32_t columns,
+  // Chunks are written in the order of their names: their ids rise within the frame.
+  const auto chunk = [&](Chunk chunk, Type type, std::uint64_t rows, std::uint32_t columns,
                          const auto& write) {
+    const std::uint16_t id = chunk_id(chunk, full_precision_);
     added.push_back({frames_, rows, static_cast<std::int64_t>(out.tellp()), columns, id, type, 0});
     write();
   };
   chunk(kBox, kFloat, 6, 1, [&] { put(out, v.box); });
   chunk(kDimensions, kUint8, 1, 1, [&] { put(out, static_cast<std::uint8_t>(D)); });
   chunk(kStep, kUint64, 1, 1, [&] { put(out, index); });
+  if (full_precision_) {
+    chunk(kExactBox, kDouble, 3, 1, [&] { put(out, v.exact_box); });
+    chunk(kExactDiameter, kDouble, n, 1, [&] { put(out, v.exact_diameter); });
+    chunk(kExactMass, kDouble, n, 1, [&] { put(out, v.exact_mass); });
+  }
   // HOOMD's boxes are periodic; carom's may have walls, which its readers take from here.
   chunk(kPeriodic, kUint8, 1, 1,
         [&] { put(out, static_cast<std::uint8_t>(system.box.periodic() ? 1 : 0)); });
+  if (full_precision_) {
+    chunk(kExactPosition, kDouble, n, 3, [&] { put(out, v.exact_position); });
+    chunk(kExactVelocity, kDouble, n, 3, [&] { put(out, v.exact_velocity); });
+  }
   chunk(kTime, kDouble, 1, 1, [&] { put(out, t); });
   chunk(kN, kUint32, 1, 1, [&] { put(out, n); });
   chunk(kDiameter, kFloat, n, 1, [&] { put(out, v.diameter); });
@@ -290,7 +334,7 @@ std::uint64_t GsdFormat<D>::whole_frames_before(std::istream& in, double t, bool
   };
   std::uint64_t magic = 0;
   if (read(0, &magic, sizeof magic) && magic != kMagic) refuse("it does not start as GSD does");
-  const std::string names = name_list();
+  const std::string names = name_list(full_precision_);
   const std::uint64_t first_index = kHeaderSize + names.size();
   // The header and the names are written first, at once: a file without them whole is one a
   // run was killed as it began.
@@ -327,15 +371,16 @@ std::uint64_t GsdFormat<D>::whole_frames_before(std::istream& in, double t, bool
   };
   // The frames in order, each with its chunks as this writer indexes them, while whole and
   // taken before t.
+  const std::uint64_t per_frame = chunk_id(kChunks, full_precision_);
   std::vector<Entry> kept;
-  for (std::uint64_t frame = 0; (frame + 1) * kChunks <= capacity; ++frame) {
-    const std::span<const Entry> chunks(index.data() + frame * kChunks, kChunks);
+  for (std::uint64_t frame = 0; (frame + 1) * per_frame <= capacity; ++frame) {
+    const std::span<const Entry> chunks(index.data() + frame * per_frame, per_frame);
     bool whole = true;
-    for (std::uint16_t c = 0; c < kChunks; ++c) {
+    for (std::uint16_t c = 0; c < per_frame; ++c) {
       whole = whole && chunks[c].frame == frame && chunks[c].id == c && end_of(chunks[c]);
     }
     double time = 0.0;
-    const Entry& time_chunk = chunks[kTime];
+    const Entry& time_chunk = chunks[chunk_id(kTime, full_precision_)];
     if (!whole || time_chunk.type != kDouble || time_chunk.n != 1 ||
         !read(static_cast<std::uint64_t>(time_chunk.location), &time, sizeof time) ||
         !written_before(time, t, inclusive)) {
@@ -343,17 +388,17 @@ std::uint64_t GsdFormat<D>::whole_frames_before(std::istream& in, double t, bool
     }
     kept.insert(kept.end(), chunks.begin(), chunks.end());
   }
-  const std::uint64_t frames = kept.size() / kChunks;
+  const std::uint64_t frames = kept.size() / per_frame;
   if (frames == 0) return 0;
   // The index as the writer left it after the last frame kept, and the file's length then.
   std::uint64_t location = first_index, block = kFirstIndexCapacity, length = 0;
   for (std::uint64_t frame = 0; frame < frames; ++frame) {
     std::uint64_t frame_end = 0;
-    for (std::uint64_t c = 0; c < kChunks; ++c) {
-      frame_end = std::max(frame_end, *end_of(kept[frame * kChunks + c]));
+    for (std::uint64_t c = 0; c < per_frame; ++c) {
+      frame_end = std::max(frame_end, *end_of(kept[frame * per_frame + c]));
     }
     length = frame_end;
-    if (const auto moved = moved_index_capacity(frame, (frame + 1) * kChunks, block)) {
+    if (const auto moved = moved_index_capacity(frame, (frame + 1) * per_frame, block)) {
       block = *moved;
       location = frame_end;
       length = location + block * sizeof(Entry);

@@ -8,6 +8,7 @@
 #include "carom/engine/invariant_check.hpp"
 #include "carom/io/atomic_file.hpp"
 #include "carom/io/checkpoint.hpp"
+#include "carom/io/final_state.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/io/input_error.hpp"
 #include "carom/io/time_series.hpp"
@@ -248,6 +249,15 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   outcome.report.pressure_tensor_error = pressure_tensor_error;
   outcome.report.compressibility_factor_error = compressibility_factor_error;
   outcome.report.transport = transport;
+  if (!spec.final_state.empty()) {
+    // Event chains' one moving particle has the sampler's speed, not a temperature's.
+    const bool chains = simulation.settings().sampler.kind == SamplerKind::ecmc;
+    AtomicFile final_state(spec.final_state);
+    write_final_state(final_state.stream(), final_format(spec.final_state), simulation.state(),
+                      simulation.time(), chains ? Rule::elastic : simulation.settings().rule.rule,
+                      chains);
+    final_state.commit();
+  }
   if (summary) {
     write_json(summary->stream(), simulation, outcome.report, false);
     summary->commit();

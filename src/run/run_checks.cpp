@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "carom/io/atomic_file.hpp"
+#include "carom/io/final_state.hpp"
 #include "carom/io/trajectory.hpp"
 
 namespace carom {
@@ -23,6 +24,7 @@ constexpr double kMostRows = 1e7;
 // The files a spec writes, named by their options.
 std::vector<NamedFile> output_files(const RunSpec& spec) {
   return {{option("summary"), spec.summary},
+          {option("final"), spec.final_state},
           {option("checkpoint"), spec.checkpoint},
           {option("dump"), spec.dump},
           {option("events"), spec.events},
@@ -147,6 +149,13 @@ void check_run_spec(const RunSpec& spec) {
     throw RequestError(
         {option("measure_from"), fmt::format(" must be >= 0, got {}", *spec.measure_from)});
   }
+  if (!spec.final_state.empty()) {
+    try {
+      final_format(spec.final_state);
+    } catch (const std::invalid_argument& e) {
+      throw RequestError({option("final"), std::string(" ") + e.what()});
+    }
+  }
   check_files_apart({}, output_files(spec));
 }
 
@@ -214,6 +223,7 @@ void check_run(const Simulation<D>& simulation, const Start& start, const RunSpe
   }
   if (!spec.checkpoint.empty()) probe(spec.checkpoint);
   if (!spec.summary.empty() && spec.summary != "-") probe(spec.summary);
+  if (!spec.final_state.empty()) probe(spec.final_state);
 }
 
 template void check_run(const Simulation<2>&, const Start&, const RunSpec&,

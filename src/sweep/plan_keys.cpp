@@ -36,6 +36,7 @@ constexpr std::array kKeys = {
     KeyInfo{"dump", run, file_name},
     KeyInfo{"every", run, number},
     KeyInfo{"events", run, file_name},
+    KeyInfo{"final", run, file_name},
     KeyInfo{"log_every", run, number},
     KeyInfo{"checkpoint_every", run, cadence},
     KeyInfo{"check", run, flag},

@@ -32,6 +32,12 @@ struct KeyInfo {
 // The key `key` of `section`, or nullopt.
 std::optional<KeyInfo> find_key(Section section, std::string_view key);
 
+// Whether a [run] key names a file the task writes in its folder (dump, events, final).
+inline bool names_a_task_file(std::string_view key) {
+  const std::optional<KeyInfo> info = find_key(Section::run, key);
+  return info && info->type == ValueType::file_name;
+}
+
 // Why a key of carom run's is not a plan's (the sweep writes that file itself, or it is about a
 // terminal), or nullopt.
 std::optional<std::string_view> refused_run_key(std::string_view key);

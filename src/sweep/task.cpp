@@ -26,6 +26,7 @@
 #include "carom/run/start.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "io/json_text.hpp"
+#include "plan_keys.hpp"
 #include "task_spec.hpp"
 
 namespace carom {
@@ -339,8 +340,8 @@ std::optional<std::string> start_file(const SweepPlan& plan, const SweepTask& ta
   return std::nullopt;
 }
 
-// The names of the files a task of `plan` may write in its folder: the sweep's own, and the dump
-// and event log the plan names.
+// The names of the files a task of `plan` may write in its folder: the sweep's own, and the dump,
+// event log and end state the plan names.
 std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask& task,
                                          bool reads_a_start_file) {
   std::vector<std::string> names = {task_files::kCommands, task_files::kSummary, task_files::kError,
@@ -353,7 +354,7 @@ std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask&
   names.emplace_back(task_files::kLog);
   names.emplace_back(task_files::kCheckpoint);
   for (const PlanSetting& s : task.action) {
-    if ((s.key == "dump" || s.key == "events") && std::holds_alternative<std::string>(s.value)) {
+    if (sweep::names_a_task_file(s.key) && std::holds_alternative<std::string>(s.value)) {
       names.push_back(std::get<std::string>(s.value));
     }
   }

@@ -178,6 +178,7 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
     if (s.key == "dump") run.dump = in_folder(folder, as_text(v));
     if (s.key == "every") run.dump_every = as_number(v);
     if (s.key == "events") run.events = in_folder(folder, as_text(v));
+    if (s.key == "final") run.final_state = in_folder(folder, as_text(v));
     if (s.key == "log_every") log_every = as_number(v);
     if (s.key == "checkpoint_every") cadence = value_text(v);
     if (s.key == "check") run.check = as_flag(v);
@@ -291,7 +292,10 @@ void write_commands(TaskSpec& spec, const SweepTask& task, const std::vector<Pla
   const RunSpec& run = spec.run;
   std::string command = "carom run " + shell_word(start_path) + " " + value_text(run.end_time);
   for (const PlanSetting& s : action) {
-    if (s.key != "end_time" && s.key != "log_every" && s.key != "checkpoint_every") {
+    if (names_a_task_file(s.key)) {
+      // Named as the task's commands reach it from where they run, as its own files are.
+      append_option(command, {s.key, in_folder(folder, as_text(s.value)), s.line, s.swept});
+    } else if (s.key != "end_time" && s.key != "log_every" && s.key != "checkpoint_every") {
       append_option(command, s);
     }
   }

@@ -44,6 +44,9 @@ struct RunSpec {
   double log_every = 0.0;                   // --log-every
   std::string summary;                      // --summary: the json summary, written at the end
   std::string checkpoint;                   // --checkpoint: saved at the end and when stopped
+  // --final: the state at the end as a start file, at full precision (write_final_state; .gsd
+  // or the classic start format), written when the run reaches its end, as the summary is.
+  std::string final_state;
   std::optional<Trigger> checkpoint_every;  // --checkpoint-every: also this often
   // --transport: self-diffusion, shear viscosity and thermal conductivity over the measurement
   // window (transport.hpp), in the summary; a periodic box only.
