@@ -61,7 +61,8 @@ Examples:
       ->default_str("1");
   add_whole_option(init, "--seed", o.seed, std::uint64_t{0}, "Random seed")->default_str("1");
   add_choice<Boundary>(init, "--boundary", o.boundary,
-                       "The box the file is meant for: with walls, particles keep R from them");
+                       "The box the file is meant for: periodic (the bulk), or walls, from which "
+                       "particles keep R");
   auto* lattice =
       init->add_flag("--lattice", args.lattice, "Place on a lattice (triangular; FCC in 3D)");
   init->add_flag("--random", args.random, "Place at random (random sequential addition)")

@@ -531,7 +531,8 @@ TEST(TrajectoryReader, AGsdDumpOfAWalledRunIsReadWithWalls) {
   InitialOptions init;
   init.n = 30;
   init.packing_fraction = 0.3;
-  const System<2> start = make_initial<2>(init);  // walls
+  init.boundary = Boundary::walls;
+  const System<2> start = make_initial<2>(init);
   const std::string path = (folder / "walls.gsd").string();
   dump_run(start, path, 0.5, 2.0);
   const std::vector<Frame> frames = read_gsd_frames(path);

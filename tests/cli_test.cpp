@@ -176,7 +176,12 @@ TEST_F(Cli, SeedWallsOnlyTableIsExact) {
   EXPECT_EQ(r.out.substr(0, r.out.find('\n')),
             "particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)");
   EXPECT_EQ(without_header(r.out), read_file(kCases + "walls_only.T20.expected"));
-  EXPECT_EQ(r.err, "");
+  // A plain classic file runs as the classic assignment's, and says so once (not with -q).
+  EXPECT_EQ(r.err, "carom: note: " + kCases +
+                       "walls_only.txt records no box or rule (a plain classic file): run between "
+                       "walls with the swap rule, as the classic assignment does (--boundary "
+                       "periodic --rule elastic for a bulk fluid)\n");
+  EXPECT_EQ(carom({"run", kCases + "walls_only.txt", "20", "-q"}).err, "");
 }
 
 TEST_F(Cli, SeedParticlesOnlyTableIsExact) {
@@ -392,13 +397,20 @@ TEST_F(Cli, ARunTakesTheBoxAndRuleItsFileRecordsAndSaysSo) {
   const Result wall = carom({"run", edge, "1"});
   EXPECT_EQ(wall.exit_code, 2);
   EXPECT_NE(wall.err.find("run it with --boundary periodic"), std::string::npos) << wall.err;
-  // The classic assignment's own files: walls, swap, nothing said.
+  // The classic assignment's own files: walls, swap, said once.
   const Result classic = carom({"run", kCases + "normal.txt", "1", "--format", "json"});
-  EXPECT_EQ(classic.err, "");
+  EXPECT_NE(classic.err.find("normal.txt records no box or rule (a plain classic file): run "
+                             "between walls with the swap rule"),
+            std::string::npos)
+      << classic.err;
+  // Asked for (either of them): nothing to say.
+  EXPECT_EQ(carom({"run", kCases + "normal.txt", "1", "--rule", "swap"}).err, "");
   EXPECT_NE(classic.out.find("\"rule\": \"swap\""), std::string::npos);
   // A box with walls that init made: elastic, said so.
   const fs::path walled = dir_ / "walled.txt";
-  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "walls", "-o", walled})
+                .exit_code,
+            0);
   EXPECT_EQ(
       carom({"run", walled, "1", "--format", "csv"}).err,
       "carom: note: elastic rule, as " + walled.string() + " records (--rule chooses otherwise)\n");
@@ -643,7 +655,9 @@ TEST_F(Cli, RunsThatCouldNeverFinishAreRefused) {
 
 TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   const fs::path start = dir_ / "gas.txt";
-  ASSERT_EQ(carom({"init", "--n", "20000", "--phi", "0.5", "-o", start}).exit_code, 0);
+  ASSERT_EQ(
+      carom({"init", "--n", "20000", "--phi", "0.5", "--boundary", "walls", "-o", start}).exit_code,
+      0);
   // `script` gives the run a terminal; its output is what the terminal showed.
   const auto on_terminal = [&](const std::string& extra) {
     const std::string command = quote(CAROM_EXE) + " run " + quote(start) +
@@ -787,7 +801,10 @@ TEST_F(Cli, InitWritesAReproducibleValidStartFile) {
   ASSERT_EQ(a.exit_code, 0) << a.err;
   EXPECT_EQ(a.out, b.out);
   EXPECT_NE(a.out, c.out);
-  EXPECT_EQ(a.out.substr(0, 41), "# carom: boundary=walls rule=elastic\n300\n");
+  // Periodic unless asked for walls: the bulk a study means.
+  EXPECT_EQ(a.out.substr(0, 44), "# carom: boundary=periodic rule=elastic\n300\n");
+  EXPECT_EQ(carom({"init", "--n", "300", "--phi", "0.5", "--boundary", "walls"}).out.substr(0, 41),
+            "# carom: boundary=walls rule=elastic\n300\n");
   const fs::path start = write("start.txt", a.out);
   const Result run = carom({"run", start, "5", "--format", "json"});
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -1004,7 +1021,9 @@ TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
   ASSERT_EQ(carom({"run", start, "2", "--summary", summary, "-o", dir_ / "out.txt"}).exit_code, 0);
   EXPECT_TRUE(nlohmann::json::parse(read_file(summary))["transport"].is_null());
   const fs::path walled = dir_ / "walled.txt";
-  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "walls", "-o", walled})
+                .exit_code,
+            0);
   const Result walls = carom({"run", walled, "2", "--transport", "-o", dir_ / "out.txt"});
   EXPECT_EQ(walls.exit_code, 2);
   EXPECT_NE(walls.err.find("--transport needs a periodic box"), std::string::npos) << walls.err;
@@ -1071,7 +1090,9 @@ TEST_F(Cli, AShearedRunReportsItsStressAndBadShearsAreRefused) {
       0);
   EXPECT_TRUE(nlohmann::json::parse(read_file(summary))["shear"].is_null());
   const fs::path walled = dir_ / "walled.txt";
-  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "-o", walled}).exit_code, 0);
+  ASSERT_EQ(carom({"init", "--n", "50", "--phi", "0.3", "--boundary", "walls", "-o", walled})
+                .exit_code,
+            0);
   const Result walls =
       carom({"run", walled, "1", "--rule", "elastic", "--shear", "1", "-o", dir_ / "out.txt"});
   EXPECT_EQ(walls.exit_code, 2);

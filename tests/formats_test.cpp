@@ -81,6 +81,7 @@ TEST(Formats, ClassicFilesReadBackBitForBit) {
   o.n = 100;
   o.packing_fraction = 0.3;
   o.polydispersity = 0.1;
+  o.boundary = Boundary::walls;  // a plain classic file is read with walls
   const System<2> system = make_initial<2>(o);
   std::stringstream file;
   write_classic(file, system, 0.5);

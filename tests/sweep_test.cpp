@@ -419,7 +419,7 @@ TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {
       << results[1].error;
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
-  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,random placement jammed"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,random placement jammed"), std::string::npos) << table;
 }
 
 // The steps every runner takes, as carom.sweep takes them around Dask workers that return only a
@@ -447,7 +447,7 @@ TEST(SweepTask, PreparedReturnedAndFinishedTasksMakeTheTables) {
     finish_sweep(plan, out, results);
   }
   const std::string table = read(fs::path(out) / "results.csv");
-  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,lost on the way"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,lost on the way"), std::string::npos) << table;
   EXPECT_TRUE(fs::exists(sweep_report_page(out)));
   EXPECT_EQ(prepare_sweep(plan, out).waiting, (std::vector<std::size_t>{1}));  // lock let go
 }
@@ -714,11 +714,12 @@ TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {
 TEST(SweepPlan, WhatTheTasksCommandsWouldRefuseThePlanRefuses) {
   const std::string start = "[start]\nn = 16\nphi = 0.3\n";
   const std::string periodic = start + "boundary = \"periodic\"\n";
+  const std::string walls = start + "boundary = \"walls\"\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {start + "[run]\nend_time = 1\ntransport = true\n",
-       "plan.toml:6: [run] transport = true: --transport needs a periodic box"},
-      {start + "[run]\nend_time = 1\n[sweep]\nshear = [0.5]\n",
-       "plan.toml:7: [sweep] shear = 0.5 (task shear=0.5): --shear needs a periodic box"},
+      {walls + "[run]\nend_time = 1\ntransport = true\n",
+       "plan.toml:7: [run] transport = true: --transport needs a periodic box"},
+      {walls + "[run]\nend_time = 1\n[sweep]\nshear = [0.5]\n",
+       "plan.toml:8: [sweep] shear = 0.5 (task shear=0.5): --shear needs a periodic box"},
       {periodic + "[run]\nend_time = 1\nrule = \"swap\"\nshear = 0.5\n",
        "plan.toml:8: [run] shear = 0.5: --shear needs --rule elastic"},
       {start + "[run]\nend_time = 100\ndump = \"a.xyz\"\nevery = 1e-9\n",

@@ -14,7 +14,8 @@ from _support import assert_bitwise_equal, assert_same_run, deterministic
 @pytest.fixture(params=[2, 3], ids=["disks", "spheres"])
 def sim(request):
     dim = request.param
-    s = carom.init(n=64 if dim == 2 else 108, phi=0.3, dim=dim, seed=61, polydispersity=0.05)
+    s = carom.init(n=64 if dim == 2 else 108, phi=0.3, dim=dim, seed=61, polydispersity=0.05,
+                   boundary="walls")
     s.run(2.0)
     return s
 
@@ -76,7 +77,8 @@ def test_returned_arrays_are_copies(sim):
         assert not np.array_equal(array, before[name]), name
         assert_bitwise_equal(getattr(sim, name), before[name], name)
     # the run goes on as if nothing had been written
-    twin = carom.init(n=sim.n, phi=0.3, dim=sim.dim, seed=61, polydispersity=0.05)
+    twin = carom.init(n=sim.n, phi=0.3, dim=sim.dim, seed=61, polydispersity=0.05,
+                      boundary="walls")
     twin.run(2.0)
     sim.run(3.0)
     twin.run(3.0)
@@ -109,7 +111,7 @@ def test_properties_reflect_the_arguments():
     assert "30 spheres" in text and "periodic" in text and "elastic" in text
     default = carom.init(n=10, phi=0.1)
     assert (default.dim, default.boundary, default.rule, default.restitution, default.tc,
-            default.engine) == (2, "walls", "elastic", 1.0, 1e-5, "fast")
+            default.engine) == (2, "periodic", "elastic", 1.0, 1e-5, "fast")
     assert "10 disks" in repr(default)
 
 
@@ -203,11 +205,11 @@ def test_format_json_is_observables_plus_particles(sim):
 
 def test_jam_raises_jam_error():
     # A disk exactly as wide as the box cannot move apart from the walls.
-    sim = carom.Simulation([[0.5, 5.0]], [[1.0, 0.0]], [1.0, 10.0])
+    sim = carom.Simulation([[0.5, 5.0]], [[1.0, 0.0]], [1.0, 10.0], boundary="walls")
     with pytest.raises(carom.JamError, match="jammed"):
         sim.run(1.0)
     with pytest.raises(RuntimeError):
-        carom.Simulation([[0.5, 5.0]], [[1.0, 0.0]], [1.0, 10.0]).run(1.0)
+        carom.Simulation([[0.5, 5.0]], [[1.0, 0.0]], [1.0, 10.0], boundary="walls").run(1.0)
 
 
 def test_elastic_periodic_run_conserves_energy_and_momentum():
@@ -309,7 +311,7 @@ def test_images_unwrap_the_periodic_box():
     assert np.array_equal(sim.unwrapped_positions, sim.positions + sim.images * sim.box)
     travelled = np.linalg.norm(sim.unwrapped_positions - start, axis=1)
     assert travelled.max() > sim.box.max()
-    walls = carom.init(n=50, phi=0.05, seed=8)
+    walls = carom.init(n=50, phi=0.05, seed=8, boundary="walls")
     walls.run(40.0)
     assert not walls.images.any()
     assert np.array_equal(walls.unwrapped_positions, walls.positions)

@@ -14,21 +14,21 @@ from _support import (assert_bitwise_equal, assert_same_run, assert_same_state, 
 # lattice placements, explicit boxes, aspect ratios, radii and temperatures.
 INIT_CASES = {
     "defaults": dict(n=50, phi=0.3),
-    "2d-walls-random": dict(n=200, phi=0.3, seed=3),
+    "2d-walls-random": dict(n=200, phi=0.3, seed=3, boundary="walls"),
     "2d-periodic-lattice": dict(n=300, phi=0.6, seed=4, boundary="periodic"),
     "2d-periodic-poly-random": dict(n=150, phi=0.35, seed=5, polydispersity=0.1,
                                     boundary="periodic"),
     "2d-walls-poly-lattice": dict(n=120, phi=0.5, seed=6, polydispersity=0.05,
-                                  placement="lattice"),
+                                  placement="lattice", boundary="walls"),
     "2d-lattice-low-phi-hot": dict(n=100, phi=0.2, seed=7, placement="lattice", kT=2.5),
     "2d-random-box": dict(n=100, phi=0.3, seed=8, placement="random", box=[30.0, 20.0]),
     "2d-aspect-radius": dict(n=80, phi=0.25, seed=9, aspect=2.0, radius=0.7),
-    "3d-walls-random": dict(dim=3, n=200, phi=0.2, seed=10),
+    "3d-walls-random": dict(dim=3, n=200, phi=0.2, seed=10, boundary="walls"),
     "3d-periodic-fcc": dict(dim=3, n=500, phi=0.45, seed=11, boundary="periodic"),
     "3d-periodic-poly": dict(dim=3, n=256, phi=0.3, seed=12, polydispersity=0.1,
                              boundary="periodic"),
     "3d-walls-lattice-box": dict(dim=3, n=100, phi=0.15, seed=13, placement="lattice",
-                                 box=[12.0, 10.0, 8.0]),
+                                 box=[12.0, 10.0, 8.0], boundary="walls"),
 }
 
 
@@ -41,10 +41,10 @@ def cli_init(cli, path, **options):
 def test_init_equals_cli_init(cli, tmp_path, options):
     sim = carom.init(**options)
     path = cli_init(cli, tmp_path / "start.txt", **options)
-    read = carom.read(path, boundary=options.get("boundary", "walls"))
+    read = carom.read(path, boundary=options.get("boundary", "periodic"))
     assert sim.n == read.n == options["n"]
     assert sim.dim == read.dim == options.get("dim", 2)
-    assert sim.boundary == read.boundary == options.get("boundary", "walls")
+    assert sim.boundary == read.boundary == options.get("boundary", "periodic")
     for name in ("positions", "velocities", "radii", "masses", "box"):
         assert_bitwise_equal(getattr(sim, name), getattr(read, name), name)
     if options.get("polydispersity"):
@@ -64,21 +64,24 @@ def test_init_seeds_differ(cli, tmp_path):
 
 # (init options, run options, end time): the rules, boundaries, restitution, TC, engines, spheres.
 RUN_CASES = {
-    "swap-walls-2d": (dict(n=100, phi=0.3, seed=2), dict(rule="swap"), 5.0),
+    "swap-walls-2d": (dict(n=100, phi=0.3, seed=2, boundary="walls"), dict(rule="swap"), 5.0),
     "elastic-periodic-2d": (dict(n=200, phi=0.5, seed=3, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic"), 4.0),
-    "restitution-0.8": (dict(n=150, phi=0.3, seed=4), dict(rule="elastic", restitution=0.8), 5.0),
-    "restitution-0.5-tc": (dict(n=150, phi=0.4, seed=5),
+    "restitution-0.8": (dict(n=150, phi=0.3, seed=4, boundary="walls"),
+                        dict(rule="elastic", restitution=0.8), 5.0),
+    "restitution-0.5-tc": (dict(n=150, phi=0.4, seed=5, boundary="walls"),
                            dict(rule="elastic", restitution=0.5, tc=1e-3), 5.0),
-    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=6), dict(rule="swap"), 4.0),
+    "swap-walls-3d": (dict(dim=3, n=150, phi=0.2, seed=6, boundary="walls"), dict(rule="swap"),
+                      4.0),
     "elastic-periodic-3d": (dict(dim=3, n=256, phi=0.4, seed=7, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic"), 2.0),
     "inelastic-periodic-3d": (dict(dim=3, n=108, phi=0.3, seed=8, boundary="periodic"),
                               dict(rule="elastic", boundary="periodic", restitution=0.9,
                                    tc=1e-4), 3.0),
-    "polydisperse-elastic": (dict(n=150, phi=0.35, seed=9, polydispersity=0.1),
+    "polydisperse-elastic": (dict(n=150, phi=0.35, seed=9, polydispersity=0.1, boundary="walls"),
                              dict(rule="elastic"), 4.0),
-    "reference-engine": (dict(n=60, phi=0.3, seed=10), dict(engine="reference", rule="elastic"),
+    "reference-engine": (dict(n=60, phi=0.3, seed=10, boundary="walls"),
+                         dict(engine="reference", rule="elastic"),
                          4.0),
 }
 
@@ -110,7 +113,7 @@ def test_init_then_run_equals_cli_run(cli, run_case):
     # carom.init's Simulation (no file) runs as `carom init` + `carom run` do.
     path, init_options, run_options, end = run_case
     sim = carom.init(**init_options, **{k: v for k, v in run_options.items() if k != "boundary"})
-    assert sim.boundary == run_options.get("boundary", "walls")
+    assert sim.boundary == init_options.get("boundary", "periodic")
     sim.run(end)
     cli_json = cli("run", path, repr(end), *run_cli_args(**run_options), "--format", "json")
     assert particles_of(sim.format("json")) == particles_of(cli_json)
@@ -161,8 +164,8 @@ def test_equilibrate_equals_cli(cli, tmp_path, how):
 CHECKPOINT_CASES = {
     "elastic-periodic-2d": (dict(n=200, phi=0.5, seed=31, boundary="periodic"),
                             dict(rule="elastic", boundary="periodic")),
-    "swap-walls-2d": (dict(n=100, phi=0.3, seed=32), dict(rule="swap")),
-    "inelastic-tc-walls-3d": (dict(dim=3, n=150, phi=0.25, seed=33),
+    "swap-walls-2d": (dict(n=100, phi=0.3, seed=32, boundary="walls"), dict(rule="swap")),
+    "inelastic-tc-walls-3d": (dict(dim=3, n=150, phi=0.25, seed=33, boundary="walls"),
                               dict(rule="elastic", restitution=0.5, tc=1e-3)),
     "elastic-periodic-3d-reference": (dict(dim=3, n=108, phi=0.3, seed=34, boundary="periodic"),
                                       dict(rule="elastic", boundary="periodic",
@@ -309,7 +312,7 @@ def test_bad_thermostats_are_refused_as_on_the_command_line(tmp_path, cli):
 
 
 def test_bad_shears_are_refused_as_on_the_command_line(tmp_path, cli):
-    walls = cli_init(cli, tmp_path / "walls.txt", n=50, phi=0.3)
+    walls = cli_init(cli, tmp_path / "walls.txt", n=50, phi=0.3, boundary="walls")
     with pytest.raises(ValueError, match="periodic box"):
         carom.read(walls, rule="elastic", shear=1.0)
     path = cli_init(cli, tmp_path / "gas.txt", n=50, phi=0.3, boundary="periodic")

@@ -32,9 +32,10 @@ def outside_walls(sim):
 CASES = {
     "2d-periodic-poly-phi": (dict(n=200, phi=0.3, polydispersity=0.1, boundary="periodic"),
                              dict(phi=0.78)),
-    "2d-walls-jam": (dict(n=120, phi=0.3, polydispersity=0.2), dict(jam=True, rate=0.1)),
+    "2d-walls-jam": (dict(n=120, phi=0.3, polydispersity=0.2, boundary="walls"),
+                     dict(jam=True, rate=0.1)),
     "3d-periodic-jam": (dict(dim=3, n=100, phi=0.3, boundary="periodic"), dict(jam=True, rate=0.1)),
-    "3d-walls-phi": (dict(dim=3, n=150, phi=0.2), dict(phi=0.5)),
+    "3d-walls-phi": (dict(dim=3, n=150, phi=0.2, boundary="walls"), dict(phi=0.5)),
 }
 
 

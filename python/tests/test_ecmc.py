@@ -92,14 +92,14 @@ def test_what_needs_dynamics_is_refused_by_name(cli, tmp_path, options, words):
 
 def test_walls_are_refused(cli, tmp_path):
     start = tmp_path / "start.txt"
-    cli("init", "--n", "50", "--phi", "0.3", "-o", start)  # walls, carom init's default
+    cli("init", "--n", "50", "--phi", "0.3", "--boundary", "walls", "-o", start)
     message = cli.error("run", start, "1", "--sampler", "ecmc")
     assert "--sampler ecmc needs a periodic box (--boundary periodic)" in message
 
 
 def test_python_words_the_refusals_its_own_way(tmp_path):
     with pytest.raises(ValueError, match='sampler="ecmc" needs a periodic box'):
-        carom.init(50, 0.3, sampler="ecmc")  # walls, carom.init's default
+        carom.init(50, 0.3, boundary="walls", sampler="ecmc")
     with pytest.raises(ValueError, match='shear= needs dynamics'):
         carom.init(50, 0.3, boundary="periodic", sampler="ecmc", shear=0.1)
     masses = carom.init(50, 0.3, boundary="periodic")

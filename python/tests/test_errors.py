@@ -113,7 +113,7 @@ BAD_ARGUMENTS = {
                               r"particle 1 .*overlaps particle 0"),
     "particle-outside-box": (simulation(positions=with_position(2, 0, 11.0)),
                              r"particle 2 .*outside the box"),
-    "particle-overlapping-a-wall": (simulation(positions=with_position(0, 1, 0.2)),
+    "particle-overlapping-a-wall": (simulation(positions=with_position(0, 1, 0.2), boundary="walls"),
                                     r"particle 0 .*overlaps the bottom wall"),
     "zero-mass": (simulation(masses=0.0), r"mass of particle 0"),
     "negative-radius": (simulation(radii=-0.5), r"radius of particle 0"),

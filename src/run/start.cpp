@@ -18,13 +18,24 @@ namespace {
 
 // Says which of the run's boundary and rule were not asked for and are not the classic
 // assignment's (walls, swap), and where they came from: the file's record, or the physical rule
-// of a periodic box. Nothing when the run is the classic assignment's or was asked for whole.
+// of a periodic box; or, for a plain classic file, that it runs as the classic assignment's.
+// Nothing when the run was asked for whole.
 std::string describe_defaults(const StartSpec& spec, const StartRecord& record, Boundary boundary,
                               Rule rule) {
   const bool periodic = !spec.boundary && boundary == Boundary::periodic;
   // Event chains have no rule to note.
   const bool elastic = !spec.rule && rule == Rule::elastic && spec.restitution == 1.0 &&
                        spec.sampler == SamplerKind::md;
+  // A plain classic file, run as the classic assignment runs it: said once, since a fluid's
+  // study would want neither walls nor the swap rule.
+  if (!record.boundary && !record.rule && !spec.boundary && !spec.rule &&
+      boundary == Boundary::walls && rule == Rule::swap) {
+    return fmt::format(
+        "{} records no box or rule (a plain classic file): run between walls with the swap "
+        "rule, as the classic assignment does (--boundary periodic --rule elastic for a bulk "
+        "fluid)",
+        spec.path);
+  }
   if (!periodic && !elastic) return "";
   const std::string taken = periodic && elastic ? "periodic boundary and elastic rule"
                             : periodic          ? "periodic boundary"

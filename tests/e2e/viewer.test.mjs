@@ -157,7 +157,7 @@ describe("spheres", () => {
 
   before(async () => {
     const start = join(folder, "spheres.txt"), movie = join(folder, "spheres.xyz");
-    execFileSync(carom, ["init", "--dim", "3", "--n", "500", "--phi", "0.3", "-o", start]);
+    execFileSync(carom, ["init", "--dim", "3", "--n", "500", "--phi", "0.3", "--boundary", "walls", "-o", start]);
     execFileSync(carom, ["run", start, "3", "--rule", "elastic", "--dump", movie, "--every", "0.1",
                          "--format", "csv", "-o", join(folder, "spheres-end.csv")]);
     execFileSync(carom, ["view", movie, "-o", join(folder, "spheres.html")]);

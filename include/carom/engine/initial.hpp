@@ -45,7 +45,9 @@ struct InitialOptions {
   double polydispersity = 0.0;   // standard deviation of the radius / its mean (uniform)
   double temperature = 1.0;      // kT, masses 1
   std::uint64_t seed = 1;
-  Boundary boundary = Boundary::walls;
+  // Periodic: the bulk a study means (walls add a surface that biases the pressure, and are on
+  // request).
+  Boundary boundary = Boundary::periodic;
   Placement placement = Placement::automatic;
 };
 

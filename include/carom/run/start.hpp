@@ -118,7 +118,7 @@ struct ParticleArrays {
   const double* box = nullptr;
   const double* radii = nullptr;
   const double* masses = nullptr;
-  Boundary boundary = Boundary::walls;
+  Boundary boundary = Boundary::periodic;  // as carom init's: walls on request
 };
 // A start from arrays, checked as a start file is (check_start: InputError naming the particle).
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
