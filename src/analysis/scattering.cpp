@@ -16,21 +16,118 @@ namespace {
 
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
-// The particles whose phases are held at once: small enough that the tables of exp(-i k x) stay
-// in a core's cache, and that their size does not grow with N.
-constexpr std::size_t kParticleBlock = 256;
+// The particles of S(k)'s blocks: few enough that their tables of phases stay in a core's cache,
+// and that their size does not grow with N.
+constexpr std::size_t kParticleBlock = 128;
+
+// The k-vectors whose phases S(k) holds at once (128 kB for a block).
+constexpr std::size_t kVectorChunk = 64;
 
 // The sums below run in this many independent partial sums over rows padded with zeros to a
-// multiple of it: a single running sum waits for each addition before the next (the compiler
-// may not reorder floating-point sums), which made S(k) and F_s four times slower.
+// multiple of it: one running sum waits for each addition before the next (the compiler may not
+// reorder floating-point sums).
 constexpr std::size_t kLanes = 8;
 
 std::size_t padded(std::size_t size) { return (size + kLanes - 1) / kLanes * kLanes; }
 
-double sum_of(const std::array<double, kLanes>& lanes) {
+// sum_c term(c) over c < size (a multiple of kLanes).
+template <class Term>
+double sum_of(std::size_t size, Term&& term) {
+  std::array<double, kLanes> lanes{};
+  for (std::size_t c = 0; c < size; c += kLanes) {
+    for (std::size_t l = 0; l < kLanes; ++l) lanes[l] += term(c + l);
+  }
   double sum = 0.0;
   for (const double lane : lanes) sum += lane;
   return sum;
+}
+
+// exp(-i k . r) = prod_k exp(-2 pi i n_k x_k / L_k) for a block of particles: a table of each
+// factor, for every n_k in [-reach_k, reach_k], so that a particle and k-vector cost D - 1
+// complex products instead of a sine and a cosine.
+class PhaseTables {
+ public:
+  // `width` (at least `size`) is a row's length; entries past `size` stay 0.
+  PhaseTables(std::size_t dimension, const Vec<3>& box, const std::array<int, 3>& reach,
+              std::size_t width)
+      : d_(dimension), box_(box), reach_(reach), width_(width) {}
+
+  // The factors of particles 0 ... size - 1, x(i, k) their coordinate along side k. Row m (n_k
+  // = m - reach) holds exp(-2 pi i n_k x / L) as the product exp(-2 pi i 16 a x / L) exp(-2 pi
+  // i b x / L) (|n_k| = 16 a + b) of two values from a sine and cosine: two roundings off at
+  // most, for 16 + reach / 16 sines a particle instead of 2 reach + 1. -n_k is the conjugate.
+  template <class Coordinate>
+  void fill(std::size_t size, Coordinate&& x) {
+    constexpr int kSplit = 16;
+    for (std::size_t k = 0; k < d_; ++k) {
+      const auto reach = static_cast<std::size_t>(reach_[k]);
+      re_[k].assign((2 * reach + 1) * width_, 0.0);
+      im_[k].assign((2 * reach + 1) * width_, 0.0);
+      for (std::size_t i = 0; i < size; ++i) {
+        const double turn = -kTwoPi * x(i, k) / box_[k];
+        std::array<double, kSplit> low_re{}, low_im{};
+        for (int b = 0; b < kSplit; ++b) {
+          low_re[b] = std::cos(b * turn);
+          low_im[b] = std::sin(b * turn);
+        }
+        for (std::size_t high = 0; high <= reach; high += kSplit) {
+          const double high_re = std::cos(static_cast<double>(high) * turn);
+          const double high_im = std::sin(static_cast<double>(high) * turn);
+          for (std::size_t b = 0; b < kSplit && high + b <= reach; ++b) {
+            const double z_re = high_re * low_re[b] - high_im * low_im[b];
+            const double z_im = high_re * low_im[b] + high_im * low_re[b];
+            re_[k][(reach + high + b) * width_ + i] = z_re;
+            im_[k][(reach + high + b) * width_ + i] = z_im;
+            re_[k][(reach - high - b) * width_ + i] = z_re;
+            im_[k][(reach - high - b) * width_ + i] = -z_im;
+          }
+        }
+      }
+    }
+  }
+
+  // exp(-i k . r_i) of every particle i < width at the k-vectors index[first ... last - 1]:
+  // q's at re[(q - first) width + i] and im[...].
+  void phases(const std::vector<std::array<int, 3>>& index, std::size_t first, std::size_t last,
+              double* re, double* im) const {
+    for (std::size_t q = first; q < last; ++q) {
+      std::array<const double*, 3> a_re{}, a_im{};
+      for (std::size_t k = 0; k < d_; ++k) {
+        const auto row = static_cast<std::size_t>(index[q][k] + reach_[k]);
+        a_re[k] = &re_[k][row * width_];
+        a_im[k] = &im_[k][row * width_];
+      }
+      double* out_re = re + (q - first) * width_;
+      double* out_im = im + (q - first) * width_;
+      for (std::size_t i = 0; i < width_; ++i) {
+        out_re[i] = a_re[0][i] * a_re[1][i] - a_im[0][i] * a_im[1][i];
+        out_im[i] = a_re[0][i] * a_im[1][i] + a_im[0][i] * a_re[1][i];
+      }
+      if (d_ == 3) {
+        for (std::size_t i = 0; i < width_; ++i) {
+          const double xy_re = out_re[i];
+          out_re[i] = xy_re * a_re[2][i] - out_im[i] * a_im[2][i];
+          out_im[i] = xy_re * a_im[2][i] + out_im[i] * a_re[2][i];
+        }
+      }
+    }
+  }
+
+ private:
+  std::size_t d_;
+  Vec<3> box_;
+  std::array<int, 3> reach_;
+  std::size_t width_;
+  std::array<std::vector<double>, 3> re_, im_;
+};
+
+// The largest |n_k| along each side among the k-vectors `index`.
+std::array<int, 3> reach_of(const std::vector<std::array<int, 3>>& index) {
+  std::array<int, 3> reach{};
+  for (const std::array<int, 3>& n : index) {
+    for (std::size_t k = 0; k < 3; ++k) reach[k] = std::max(reach[k], std::abs(n[k]));
+  }
+  return reach;
 }
 
 bool upper_half(const std::array<int, 3>& n) {
@@ -109,56 +206,22 @@ std::vector<WaveShell> wave_shells(int dimension, const Vec<3>& box, std::size_t
 std::vector<double> structure_factor_at(const Frame& frame,
                                         const std::vector<std::array<int, 3>>& index) {
   const auto d = static_cast<std::size_t>(frame.dimension);
-  const std::size_t n = frame.position.size();
-  std::array<int, 3> reach{};
-  for (const std::array<int, 3>& m : index) {
-    for (std::size_t k = 0; k < d; ++k) reach[k] = std::max(reach[k], std::abs(m[k]));
-  }
-  // exp(-i k . r) = prod_k exp(-2 pi i n_k x_k / L_k): per block of particles, a table of each
-  // factor for every n_k in [-reach, reach] (real and imaginary parts apart, so that the sums
-  // below vectorise), then a product of D table entries a particle and k-vector, not a sine.
-  // A row of a table holds a block's particles padded with zeros (which add nothing).
-  std::array<std::vector<double>, 3> re, im;
+  const std::size_t n = frame.position.size(), width = padded(std::min(kParticleBlock, n));
+  PhaseTables tables(d, frame.box, reach_of(index), width);
+  std::vector<double> re(kVectorChunk * width), im(kVectorChunk * width);
   std::vector<double> sum_re(index.size(), 0.0), sum_im(index.size(), 0.0);
   for (std::size_t first = 0; first < n; first += kParticleBlock) {
-    const std::size_t size = std::min(kParticleBlock, n - first), width = padded(size);
-    for (std::size_t k = 0; k < d; ++k) {
-      const std::size_t rows = 2 * static_cast<std::size_t>(reach[k]) + 1;
-      re[k].assign(rows * width, 0.0);
-      im[k].assign(rows * width, 0.0);
-      for (std::size_t row = 0; row < rows; ++row) {
-        const double wave = kTwoPi * (static_cast<double>(row) - reach[k]) / frame.box[k];
-        for (std::size_t i = 0; i < size; ++i) {
-          const double phase = -wave * frame.position[first + i][k];
-          re[k][row * width + i] = std::cos(phase);
-          im[k][row * width + i] = std::sin(phase);
-        }
+    tables.fill(std::min(kParticleBlock, n - first),
+                [&](std::size_t i, std::size_t k) { return frame.position[first + i][k]; });
+    for (std::size_t chunk = 0; chunk < index.size(); chunk += kVectorChunk) {
+      const std::size_t last = std::min(chunk + kVectorChunk, index.size());
+      tables.phases(index, chunk, last, re.data(), im.data());
+      for (std::size_t q = chunk; q < last; ++q) {
+        const double* z_re = &re[(q - chunk) * width];
+        const double* z_im = &im[(q - chunk) * width];
+        sum_re[q] += sum_of(width, [&](std::size_t i) { return z_re[i]; });
+        sum_im[q] += sum_of(width, [&](std::size_t i) { return z_im[i]; });
       }
-    }
-    for (std::size_t q = 0; q < index.size(); ++q) {
-      std::array<const double*, 3> a_re{}, a_im{};
-      for (std::size_t k = 0; k < d; ++k) {
-        const auto row = static_cast<std::size_t>(index[q][k] + reach[k]);
-        a_re[k] = &re[k][row * width];
-        a_im[k] = &im[k][row * width];
-      }
-      std::array<double, kLanes> s_re{}, s_im{};
-      for (std::size_t i = 0; i < width; i += kLanes) {
-        for (std::size_t l = 0; l < kLanes; ++l) {
-          const std::size_t j = i + l;
-          double z_re = a_re[0][j] * a_re[1][j] - a_im[0][j] * a_im[1][j];
-          double z_im = a_re[0][j] * a_im[1][j] + a_im[0][j] * a_re[1][j];
-          if (d == 3) {
-            const double xy_re = z_re;
-            z_re = xy_re * a_re[2][j] - z_im * a_im[2][j];
-            z_im = xy_re * a_im[2][j] + z_im * a_re[2][j];
-          }
-          s_re[l] += z_re;
-          s_im[l] += z_im;
-        }
-      }
-      sum_re[q] += sum_of(s_re);
-      sum_im[q] += sum_of(s_im);
     }
   }
   std::vector<double> s(index.size());
@@ -217,42 +280,36 @@ SelfScattering self_scattering(const std::vector<Frame>& frames, double k) {
       wave_shells(first.dimension, first.box, static_cast<std::size_t>(shell)).back();
   const std::size_t count = trajectory.frames, n = trajectory.particles,
                     d = trajectory.dimension, vectors = wave.index.size();
-  std::vector<std::array<double, 3>> wave_vector(vectors);
-  for (std::size_t q = 0; q < vectors; ++q) {
-    for (std::size_t c = 0; c < d; ++c) wave_vector[q][c] = kTwoPi * wave.index[q][c] / first.box[c];
-  }
   const DisplacementMoments moments = displacement_moments(trajectory);
   // cos(k . (r2 - r1)) = cos(k . r2) cos(k . r1) + sin(k . r2) sin(k . r1): per block of
-  // particles, each frame's (cos, sin) of every particle and k-vector as one row, so that a
-  // lag and origin cost a dot product of two rows instead of a cosine each. The block is as
-  // many particles as keep the rows of every frame within 32 MB.
-  const std::size_t block = std::max<std::size_t>(1, (std::size_t{1} << 22) / (count * vectors * 2));
+  // particles, each frame's exp(-i k . r) of every particle and k-vector as one row (real parts,
+  // then imaginary), so that a lag and origin cost a dot product of two rows instead of a cosine
+  // each. A block is as many particles as keep the rows of every frame within 32 MB; the dot
+  // products run over pieces of the rows short enough that every frame's piece stays in a
+  // core's cache (1 MB) while the lags and origins go over it.
+  const std::size_t block = std::max<std::size_t>(1, (std::size_t{1} << 21) / (count * vectors));
+  const std::size_t piece = padded(std::max<std::size_t>(1, (std::size_t{1} << 17) / count));
   std::vector<double> rows, correlation(moments.lags.size(), 0.0);
   for (std::size_t begin = 0; begin < n; begin += block) {
     const std::size_t size = std::min(block, n - begin), width = padded(2 * size * vectors);
+    PhaseTables tables(d, first.box, reach_of(wave.index), size);
     rows.assign(count * width, 0.0);  // the padding: zeros, which add nothing
     for (std::size_t f = 0; f < count; ++f) {
       const double* x = trajectory.frame(f);
-      for (std::size_t i = 0; i < size; ++i) {
-        for (std::size_t q = 0; q < vectors; ++q) {
-          double phase = 0.0;
-          for (std::size_t c = 0; c < d; ++c) phase += wave_vector[q][c] * x[(begin + i) * d + c];
-          rows[f * width + 2 * (i * vectors + q)] = std::cos(phase);
-          rows[f * width + 2 * (i * vectors + q) + 1] = std::sin(phase);
-        }
-      }
+      tables.fill(size, [&](std::size_t i, std::size_t k) { return x[(begin + i) * d + k]; });
+      double* row = &rows[f * width];
+      tables.phases(wave.index, 0, vectors, row, row + size * vectors);
     }
-    for (std::size_t l = 0; l < moments.lags.size(); ++l) {
-      const std::size_t lag = moments.lags[l];
-      std::array<double, kLanes> sum{};
-      for (std::size_t f = 0; f + lag < count; ++f) {
-        const double* from = &rows[f * width];
-        const double* to = &rows[(f + lag) * width];
-        for (std::size_t c = 0; c < width; c += kLanes) {
-          for (std::size_t j = 0; j < kLanes; ++j) sum[j] += from[c + j] * to[c + j];
+    for (std::size_t from = 0; from < width; from += piece) {
+      const std::size_t length = std::min(piece, width - from);
+      for (std::size_t l = 0; l < moments.lags.size(); ++l) {
+        const std::size_t lag = moments.lags[l];
+        for (std::size_t f = 0; f + lag < count; ++f) {
+          const double* before = &rows[f * width + from];
+          const double* after = &rows[(f + lag) * width + from];
+          correlation[l] += sum_of(length, [&](std::size_t c) { return before[c] * after[c]; });
         }
       }
-      correlation[l] += sum_of(sum);
     }
   }
   SelfScattering out;

@@ -220,6 +220,7 @@ describe("the page filled with fixtures", () => {
     });
 
     test("hovering a plot reads out the nearest point", async () => {
+      await page.locator("#rdf svg").scrollIntoViewIfNeeded();  // the summary may push it below the fold
       const box = await page.locator("#rdf svg").boundingBox();
       const [x, y] = await page.$eval("#rdf path.series", (p) => p.getAttribute("d").split("L")[125].split(" ").map(Number));
       await page.mouse.move(box.x + x, box.y + y + 3);  // just below the 126th point
