@@ -82,8 +82,8 @@ TEST(Scattering, LatticeIsNAtItsBraggPeaksAndZeroAtEveryOtherK) {
     const std::vector<double> s = structure_factor_at(crystal, index);
     std::size_t peaks = 0;
     for (std::size_t q = 0; q < index.size(); ++q) {
-      const bool bragg = std::all_of(index[q].begin(), index[q].end(),
-                                     [&](int c) { return c % per_side == 0; });
+      const bool bragg =
+          std::all_of(index[q].begin(), index[q].end(), [&](int c) { return c % per_side == 0; });
       peaks += bragg ? 1 : 0;
       if (bragg) {
         EXPECT_NEAR(s[q], n, 1e-10 * n) << index[q][0] << " " << index[q][1] << " " << index[q][2];

@@ -29,8 +29,9 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     psi6_phase), "time", "packing_fraction", "warnings" (why an analysis is absent), ... Frames
     before `equilibrate` are left out; bin (default d / 50), r_max (5 d), contact_width (d / 10),
     k_max (20 / d) and fs_k (the main peak of S(k)) are the command's --bin, --r-max,
-    --contact-width, --k-max and --fs-k. `log` adds a `carom run --log` table to the result and the page; `html`
-    writes the report page there. A broken file raises carom.InputError, bad options ValueError.
+    --contact-width, --k-max and --fs-k. `log` adds a `carom run --log` table to the result and
+    the page; `html` writes the report page there. A broken file raises carom.InputError, bad
+    options ValueError.
     """
     result = _json.loads(_carom.analyze(
         _path(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),

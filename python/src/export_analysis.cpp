@@ -39,8 +39,7 @@ void export_analysis(py::module_& m) {
         return json;
       },
       py::arg("trajectory"), py::arg("equilibrate"), py::arg("bin_width"), py::arg("r_max"),
-      py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("log"),
-      py::arg("html"));
+      py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("log"), py::arg("html"));
 }
 
 }  // namespace carom::python

@@ -31,9 +31,9 @@ UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view wh
   out.spacing =
       count > 1 ? (frames.back().time - first.time) / static_cast<double>(count - 1) : 0.0;
   if (count > 1 && !(out.spacing > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "{} needs frames evenly spaced in time, and these go from t = {:g} to t = {:g}", what,
-        first.time, frames.back().time));
+    throw std::invalid_argument(
+        fmt::format("{} needs frames evenly spaced in time, and these go from t = {:g} to t = {:g}",
+                    what, first.time, frames.back().time));
   }
   for (std::size_t f = 0; f < count; ++f) {
     const double expected = first.time + static_cast<double>(f) * out.spacing;

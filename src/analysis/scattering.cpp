@@ -28,7 +28,9 @@ constexpr std::size_t kVectorChunk = 64;
 // reorder floating-point sums).
 constexpr std::size_t kLanes = 8;
 
-std::size_t padded(std::size_t size) { return (size + kLanes - 1) / kLanes * kLanes; }
+std::size_t padded(std::size_t size) {
+  return (size + kLanes - 1) / kLanes * kLanes;
+}
 
 // sum_c term(c) over c < size (a multiple of kLanes).
 template <class Term>
@@ -246,7 +248,8 @@ StructureFactor structure_factor(const std::vector<Frame>& frames, double k_max)
   const std::vector<WaveShell> grid =
       wave_shells(first.dimension, first.box, static_cast<std::size_t>(shells));
   std::vector<std::array<int, 3>> index;
-  for (const WaveShell& shell : grid) index.insert(index.end(), shell.index.begin(), shell.index.end());
+  for (const WaveShell& shell : grid)
+    index.insert(index.end(), shell.index.begin(), shell.index.end());
   std::vector<double> total(index.size(), 0.0);
   for (const Frame& frame : frames) {
     const std::vector<double> s = structure_factor_at(frame, index);
@@ -260,8 +263,8 @@ StructureFactor structure_factor(const std::vector<Frame>& frames, double k_max)
     out.k.push_back(shell.k);
     out.s.push_back(sum / static_cast<double>(shell.index.size() * frames.size()));
   }
-  out.k_peak = out.k[static_cast<std::size_t>(std::max_element(out.s.begin(), out.s.end()) -
-                                              out.s.begin())];
+  out.k_peak =
+      out.k[static_cast<std::size_t>(std::max_element(out.s.begin(), out.s.end()) - out.s.begin())];
   return out;
 }
 
@@ -278,8 +281,8 @@ SelfScattering self_scattering(const std::vector<Frame>& frames, double k) {
   }
   const WaveShell wave =
       wave_shells(first.dimension, first.box, static_cast<std::size_t>(shell)).back();
-  const std::size_t count = trajectory.frames, n = trajectory.particles,
-                    d = trajectory.dimension, vectors = wave.index.size();
+  const std::size_t count = trajectory.frames, n = trajectory.particles, d = trajectory.dimension,
+                    vectors = wave.index.size();
   const DisplacementMoments moments = displacement_moments(trajectory);
   // cos(k . (r2 - r1)) = cos(k . r2) cos(k . r1) + sin(k . r2) sin(k . r1): per block of
   // particles, each frame's exp(-i k . r) of every particle and k-vector as one row (real parts,
