@@ -13,7 +13,8 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Analyse a trajectory (.gsd or .xyz from carom run --dump): g(r) and Z from its contact "
-      "value, the mean-square displacement, the hexatic order psi6; as JSON and as a report page.");
+      "value, the mean-square displacement, the hexatic order psi6, the structure factor S(k), "
+      "the self-intermediate scattering function F_s(k,t); as JSON and as a report page.");
   analyze->footer(
       R"(What it computes (2D and 3D; psi6 for disks only):
   rdf    g(r) over every frame, minimum image in a periodic box, bins of d/50 up to 5 d (d the
@@ -24,6 +25,12 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
          particle and time origin; frames must be evenly spaced in time
   psi6   |<psi6>| per frame and the mean local |psi6_j|, psi6_j = (1/6) sum of exp(6 i theta_jk)
          over the 6 nearest neighbours k of disk j
+  S(k)   |sum_j exp(-i k.r_j)|^2 / N on the periodic box's k-grid, k = 2 pi (n_x/L_x, n_y/L_y,
+         ...), over the frames and over shells of |k| of width 2 pi / L_min, up to k = 20 / d;
+         at most 100 k-vectors a shell (an even, fixed choice), one of each k, -k
+  F_s    F_s(k,t) = <cos(k.(r_j(t0+t) - r_j(t0)))> over particles, time origins and the
+         k-vectors of S(k)'s main peak shell, at the MSD's lags; alpha2(t) = d <dr^4> /
+         ((d+2) <dr^2>^2) - 1; tau_alpha where F_s first falls below 1/e
 An analysis that does not apply is left out with the reason on standard error. A summary goes to
 standard output, the whole result to -o FILE.json, the report page to --html FILE.html.
 
@@ -57,6 +64,12 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->add_option("--contact-width", args.contact_width,
                    "The range above contact g(d+) is fitted on (default: d / 10)")
       ->type_name("WIDTH");
+  analyze->add_option("--k-max", args.k_max, "How far S(k) reaches (default: 20 / d)")
+      ->type_name("K");
+  analyze
+      ->add_option("--fs-k", args.fs_k,
+                   "The wave number of F_s(k,t) and tau_alpha (default: S(k)'s main peak)")
+      ->type_name("K");
   return analyze;
 }
 
@@ -90,6 +103,17 @@ void print_summary(std::ostream& out, const Analysis& a) {
     out << fmt::format("psi6: global {:.4f}, mean local {:.4f} (averaged over frames)\n",
                        global / frames, local / frames);
   }
+  if (a.structure_factor) {
+    const StructureFactor& sk = *a.structure_factor;
+    out << fmt::format("S(k): {} shells to k = {:.4g}, main peak at k = {:.4g}\n", sk.k.size(),
+                       sk.k.back(), sk.k_peak);
+  }
+  if (a.self_scattering) {
+    const SelfScattering& fs = *a.self_scattering;
+    out << fmt::format("F_s(k = {:.4g}, t): {:.4f} at t = {:g}", fs.k, fs.fs.back(), fs.t.back());
+    if (fs.tau_alpha) out << fmt::format("; tau_alpha = {:.4g}", *fs.tau_alpha);
+    out << '\n';
+  }
 }
 
 double option_number(const std::string& text, const char* what, double otherwise) {
@@ -122,6 +146,8 @@ void analyze_command(const AnalyzeArguments& args) {
   options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);
   options.rdf.r_max = option_number(args.r_max, "--r-max", 0.0);
   options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
+  options.k_max = option_number(args.k_max, "--k-max", 0.0);
+  options.fs_k = option_number(args.fs_k, "--fs-k", 0.0);
   Analysis analysis;
   try {
     analysis = analyze(spec);

@@ -11,6 +11,7 @@ struct AnalyzeArguments {
   std::string html;
   std::string log;
   std::string from_time, bin_width, r_max, contact_width;
+  std::string k_max, fs_k;
 };
 
 // Declares `carom analyze` on `app`, filling `args` when parsed.

@@ -1444,7 +1444,7 @@ TEST_F(Cli, AnalyzeHelpNamesWhatItsOptionsTake) {
   const Result help = carom({"analyze", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   for (const char* shown : {"--equilibrate T", "--bin WIDTH", "--r-max R", "--contact-width WIDTH",
-                            "--log FILE", "TRAJECTORY FILE"}) {
+                            "--k-max K", "--fs-k K", "--log FILE", "TRAJECTORY FILE"}) {
     EXPECT_NE(help.out.find(shown), std::string::npos) << shown << "\n" << help.out;
   }
   EXPECT_EQ(help.out.find("TEXT"), std::string::npos) << help.out;
@@ -1494,6 +1494,30 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
   EXPECT_EQ(analysis["frames"]["count"], 9);
   EXPECT_EQ(analysis["log"]["rows"].size(), 11u);
   EXPECT_EQ(analysis["warnings"].size(), 0u);
+  // S(k) up to 20 / d, and F_s(k,t) at its main peak with alpha2 at the MSD's lags.
+  EXPECT_NE(ok.out.find("S(k): "), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("tau_alpha = "), std::string::npos) << ok.out;
+  const nlohmann::json& structure = analysis["structure_factor"];
+  ASSERT_TRUE(structure.is_object()) << analysis.dump();
+  EXPECT_EQ(structure["k"].size(), structure["s"].size());
+  EXPECT_GT(structure["k"].size(), 10u);
+  EXPECT_LE(structure["k"].back().get<double>(), 20.0);
+  EXPECT_GT(structure["k_peak"].get<double>(), 5.0);  // near 2 pi / d in a dense fluid
+  EXPECT_LT(structure["k_peak"].get<double>(), 8.0);
+  const nlohmann::json& scattering = analysis["self_scattering"];
+  ASSERT_TRUE(scattering.is_object()) << analysis.dump();
+  EXPECT_EQ(scattering["k"], structure["k_peak"]);
+  EXPECT_EQ(scattering["t"], analysis["msd"]["t"]);
+  EXPECT_NEAR(scattering["fs"][0].get<double>(), 1.0, 1e-14);
+  EXPECT_EQ(scattering["fs"].size(), scattering["alpha2"].size());
+  EXPECT_TRUE(scattering["alpha2"][0].is_null());  // no displacement at t = 0
+  EXPECT_TRUE(scattering["alpha2"][1].is_number());
+  EXPECT_GT(scattering["tau_alpha"].get<double>(), 0.0);
+  const Result at_k = carom({"analyze", movie, "--k-max", "4", "--fs-k", "2", "-o", "-"});
+  ASSERT_EQ(at_k.exit_code, 0) << at_k.err;
+  const nlohmann::json narrow = nlohmann::json::parse(at_k.out);
+  EXPECT_LE(narrow["structure_factor"]["k"].back().get<double>(), 4.0);
+  EXPECT_NEAR(narrow["self_scattering"]["k"].get<double>(), 2.0, 0.3);
   const std::string html = read_file(page);
   EXPECT_EQ(html.find("/*CAROM_DATA*/"), std::string::npos);
   // Nothing fetched from the network (the SVG namespace is a name, not a request; the browser
@@ -1520,6 +1544,9 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
                                "image flags, and frame 0 (t = 0) has none"),
             std::string::npos)
       << no_images.err;
+  EXPECT_NE(no_images.err.find("carom: note: no F_s(k,t): like the MSD, it needs image flags"),
+            std::string::npos)
+      << no_images.err;
 
   // Usage and input errors: exit 2, a message naming what is wrong, nothing written.
   const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
@@ -1528,6 +1555,9 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
       {{"analyze", write("bad.gsd", "not a gsd file at all").string()}, "bad.gsd"},
       {{"analyze", movie.string(), "--bin", "-0.1"}, "--bin must be greater than 0"},
       {{"analyze", movie.string(), "--r-max", "1e3"}, "g(r) reaches r = "},
+      {{"analyze", movie.string(), "--k-max", "0"}, "--k-max must be greater than 0"},
+      {{"analyze", movie.string(), "--k-max", "0.1"}, "S(k) starts at k = 2 pi / L_min = "},
+      {{"analyze", movie.string(), "--fs-k", "0.01"}, "F_s(k,t) needs k of at least"},
       {{"analyze", movie.string(), "--equilibrate", "6"}, "no frame at or after t = 6"},
       {{"analyze", movie.string(), "--log", write("bad.csv", "time,Z\n1\n").string()},
        "bad.csv:2: expected 2 fields, found 1"},

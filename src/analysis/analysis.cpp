@@ -11,6 +11,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "carom/analysis/displacements.hpp"
+
 namespace carom {
 
 namespace {
@@ -327,76 +329,8 @@ std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int d
 }
 
 Msd mean_square_displacement(const std::vector<Frame>& frames) {
-  if (frames.empty()) throw std::invalid_argument("the MSD needs at least one frame");
-  const Frame& first = frames.front();
-  const std::size_t count = frames.size(), n = first.position.size();
-  const auto d = static_cast<std::size_t>(first.dimension);
-  if (first.periodic) {
-    for (std::size_t f = 0; f < count; ++f) {
-      if (frames[f].image.size() != n) {
-        throw std::invalid_argument(fmt::format(
-            "the MSD of a periodic trajectory needs image flags, and frame {} (t = {:g}) has none "
-            "(carom 1.2 and later write them in .gsd and .xyz dumps; HOOMD in every frame of a "
-            "GSD file written with dynamic=['property', 'momentum'])",
-            f, frames[f].time));
-      }
-    }
-  }
-  const double spacing =
-      count > 1 ? (frames.back().time - first.time) / static_cast<double>(count - 1) : 0.0;
-  if (count > 1 && !(spacing > 0.0)) {
-    throw std::invalid_argument(fmt::format(
-        "the MSD needs frames evenly spaced in time, and these go from t = {:g} to t = {:g}",
-        first.time, frames.back().time));
-  }
-  for (std::size_t f = 0; f < count; ++f) {
-    const double expected = first.time + static_cast<double>(f) * spacing;
-    if (std::abs(frames[f].time - expected) > 1e-6 * spacing + 1e-12 * std::abs(expected)) {
-      throw std::invalid_argument(fmt::format(
-          "the MSD needs frames evenly spaced in time, and frame {} is at t = {:g}, not {:g}", f,
-          frames[f].time, expected));
-    }
-  }
-  // Unwrapped positions, frame after frame.
-  std::vector<double> unwrapped(count * n * d);
-  for (std::size_t f = 0; f < count; ++f) {
-    for (std::size_t i = 0; i < n; ++i) {
-      for (std::size_t k = 0; k < d; ++k) {
-        double x = frames[f].position[i][k];
-        if (first.periodic) {
-          const std::array<std::int32_t, 3>& image = frames[f].image[i];
-          x += frames[f].box[k] * static_cast<double>(image[k]);
-          // A sheared box's images one box up lie the shift further along x.
-          if (k == 0) x += frames[f].shear_shift * static_cast<double>(image[1]);
-        }
-        unwrapped[(f * n + i) * d + k] = x;
-      }
-    }
-  }
-  // Every lag up to 200 frames; beyond, 100 steps evenly spaced in log up to the longest.
-  constexpr std::size_t kEveryLag = 200;
-  std::vector<std::size_t> lags;
-  for (std::size_t lag = 0; lag < count && lag <= kEveryLag; ++lag) lags.push_back(lag);
-  if (count > kEveryLag + 1) {
-    const double from = std::log(static_cast<double>(kEveryLag));
-    const double to = std::log(static_cast<double>(count - 1));
-    for (int m = 1; m <= 100; ++m) {
-      const double lag = std::round(std::exp(from + (to - from) * m / 100.0));
-      if (lag > static_cast<double>(lags.back())) lags.push_back(static_cast<std::size_t>(lag));
-    }
-  }
-  Msd msd;
-  for (const std::size_t lag : lags) {
-    double sum = 0.0;
-    for (std::size_t f = 0; f + lag < count; ++f) {
-      const double* from = &unwrapped[f * n * d];
-      const double* to = &unwrapped[(f + lag) * n * d];
-      for (std::size_t c = 0; c < n * d; ++c) sum += (to[c] - from[c]) * (to[c] - from[c]);
-    }
-    msd.t.push_back(static_cast<double>(lag) * spacing);
-    msd.msd.push_back(sum / (static_cast<double>(count - lag) * static_cast<double>(n)));
-  }
-  return msd;
+  const DisplacementMoments moments = displacement_moments(unwrap(frames, "the MSD"));
+  return {moments.t, moments.r2};
 }
 
 std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension) {

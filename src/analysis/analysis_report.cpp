@@ -2,6 +2,7 @@
 // the report page.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -23,6 +24,47 @@ bool overlapping(const Rdf& rdf, double diameter) {
     if (rdf.r[b] + 0.5 * rdf.bin_width <= 0.98 * diameter && rdf.g[b] > 0.0) return true;
   }
   return false;
+}
+
+// S(k) on a periodic box's k-grid, and F_s(k,t) and alpha2(t) at its main peak (or at
+// options.fs_k). A k the options ask for and the box cannot have is an error; the defaults'
+// S(k) too large to take is left out with a warning instead.
+void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
+                    const AnalysisOptions& options) {
+  const TrajectoryShape& shape = analysis.shape;
+  const bool sheared = std::any_of(frames.begin(), frames.end(),
+                                   [](const Frame& frame) { return frame.shear_shift != 0.0; });
+  if (!shape.periodic) {
+    analysis.warnings.emplace_back(
+        "no S(k): it is taken on a periodic box's k-grid, and this box has walls");
+  } else if (sheared) {
+    analysis.warnings.emplace_back("no S(k): a sheared box's k-grid turns with the shear");
+  } else {
+    try {
+      analysis.structure_factor = structure_factor(
+          frames, options.k_max > 0.0 ? options.k_max : 20.0 / shape.mean_diameter);
+    } catch (const std::invalid_argument& e) {
+      if (options.k_max > 0.0) throw;
+      analysis.warnings.push_back(std::string("no S(k): ") + e.what());
+    }
+  }
+  const double k = options.fs_k > 0.0          ? options.fs_k
+                   : analysis.structure_factor ? analysis.structure_factor->k_peak
+                                               : 0.0;
+  if (!analysis.msd) {
+    analysis.warnings.emplace_back(
+        "no F_s(k,t): like the MSD, it needs image flags and frames evenly spaced in time");
+  } else if (!(k > 0.0)) {
+    analysis.warnings.emplace_back(
+        "no F_s(k,t): no S(k) to take k from its main peak (--fs-k gives k)");
+  } else {
+    analysis.self_scattering = self_scattering(frames, k);
+    if (!analysis.self_scattering->tau_alpha) {
+      analysis.warnings.push_back(
+          fmt::format("no tau_alpha: F_s(k,t) stays above 1/e up to t = {:g}",
+                      analysis.self_scattering->t.back()));
+    }
+  }
 }
 
 }  // namespace
@@ -99,6 +141,7 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
       analysis.warnings.push_back(std::string("no psi6: ") + e.what());
     }
   }
+  add_scattering(analysis, frames, options);
   return analysis;
 }
 
@@ -149,6 +192,21 @@ nlohmann::json to_json(const Analysis& a) {
                               {"local_mean", a.psi6->local_mean},
                               {"bonds", "6 nearest neighbours"}}
                        : json(nullptr);
+  const auto& sk = a.structure_factor;
+  out["structure_factor"] =
+      sk ? json{{"k", sk->k}, {"s", sk->s}, {"k_peak", sk->k_peak}} : json(nullptr);
+  const auto& fs = a.self_scattering;
+  if (fs) {
+    json alpha2 = json::array();  // NaN at t = 0, where no particle has moved: null
+    for (const double value : fs->alpha2) alpha2.push_back(number(value));
+    out["self_scattering"] = {{"k", fs->k},
+                              {"t", fs->t},
+                              {"fs", fs->fs},
+                              {"alpha2", alpha2},
+                              {"tau_alpha", fs->tau_alpha ? json(*fs->tau_alpha) : json(nullptr)}};
+  } else {
+    out["self_scattering"] = nullptr;
+  }
   json position = json::array(), radius = json::array();
   for (std::size_t i = 0; i < a.snapshot.position.size(); ++i) {
     for (int k = 0; k < shape.dimension; ++k) {

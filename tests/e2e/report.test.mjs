@@ -128,6 +128,10 @@ function disks() {
     rdf: rdf({ r: 1, g: 3, Z: 1 + 2 * 0.58 * 3 }),
     msd: { t, msd: t.map((s) => 0.4 * (s - 0.2 * (1 - Math.exp(-s / 0.2)))) },
     psi6: { t, global: t.map((s) => 0.03 + 0.9 * Math.exp(-s / 2)), local_mean: t.map((s) => 0.4 + 0.5 * Math.exp(-s)), bonds: "6 nearest neighbours" },
+    // A fluid's S(k): low at small k, its main peak at k d = 7, then oscillating about 1.
+    structure_factor: { k: range(60, (i) => 0.25 * (i + 1)), k_peak: 7,
+      s: range(60, (i) => { const k = 0.25 * (i + 1); return 1 - 0.9 * Math.exp(-k / 1.5) + 1.6 * Math.exp(-((k - 7) ** 2) / 0.8); }) },
+    self_scattering: { k: 7, t, fs: t.map((s) => Math.exp(-s / 2)), alpha2: t.map((s, i) => (i ? 0.3 * s / (1 + s * s) : null)), tau_alpha: 2 },
     snapshot: { time: 20, position, radius: range(400, () => 0.5), psi6_modulus: modulus, psi6_phase: phase },
     // Rows before the measurement window (t < 2) have no running means; the first has no Z.
     log: { file: "run.csv", columns: logColumns, rows: t.map((s, i) => [s, 1000 * i, 1000 * i, 2 * i, 0, 1,
@@ -183,6 +187,9 @@ describe("the page filled with fixtures", () => {
       assert.deepEqual(await pointCounts(page, "rdf"), { g: 250 });
       assert.deepEqual(await pointCounts(page, "msd"), { "MSD/d²": 40 });  // lag 0 left out
       assert.deepEqual(await pointCounts(page, "psi6"), { global: 41, local: 41 });
+      assert.deepEqual(await pointCounts(page, "structure_factor"), { S: 60 });
+      assert.deepEqual(await pointCounts(page, "self_scattering"), { F_s: 40, "α₂": 40 });  // lag 0 left out
+      assert.equal(await page.$$eval("#structure_factor .mark", (e) => e.length), 1);  // the main peak
       assert.deepEqual(await pointCounts(page, "log"), { Z: 40, "Z mean": 37 });
       assert.equal(await page.$$eval("#log svg path[fill-opacity]", (e) => e.length), 1);  // the error band
       assert.deepEqual(errors, []);
@@ -195,6 +202,7 @@ describe("the page filled with fixtures", () => {
       assert.match(await fact(page, "frames"), /41, t = 0 … 20/);
       assert.match(await fact(page, "z_contact"), /^4\.48 \(g\(d⁺\) = 3\)$/);
       assert.match(await fact(page, "z_log"), /^4\.02 ± /);
+      assert.match(await fact(page, "tau_alpha"), /^2 \(F_s = 1\/e at k d = 7\)$/);
       assert.match(await page.textContent("#summary .warnings"), /a <b>lattice<\/b> \$& not/);
     });
 
@@ -205,12 +213,14 @@ describe("the page filled with fixtures", () => {
       // MSD on log-log axes; psi6 on [0, 1].
       const scale = (section, axis) => page.$eval(`#${section} svg`, (svg, axis) => JSON.parse(svg.dataset[axis]), axis);
       assert.equal((await scale("msd", "x")).log, true);
+      assert.equal((await scale("self_scattering", "x")).log, true);
       assert.equal((await scale("msd", "y")).log, true);
       const psi = await scale("psi6", "y");
       assert.deepEqual([psi.lo, psi.hi], [0, 1]);
     });
 
     test("hovering a plot reads out the nearest point", async () => {
+      await page.locator("#rdf svg").scrollIntoViewIfNeeded();  // the summary may push it below the fold
       const box = await page.locator("#rdf svg").boundingBox();
       const [x, y] = await page.$eval("#rdf path.series", (p) => p.getAttribute("d").split("L")[125].split(" ").map(Number));
       await page.mouse.move(box.x + x, box.y + y + 3);  // just below the 126th point
@@ -240,6 +250,7 @@ describe("the page filled with fixtures", () => {
     const errors = [], page = await openWith("spheres", spheres(), errors);
     assert.match(await note(page, "psi6"), /defined for disks \(2D\)/);
     assert.match(await note(page, "msd"), /image flags/);
+    assert.match(await note(page, "self_scattering"), /image flags/);
     assert.match(await note(page, "log"), /No log file given/);
     for (const section of ["psi6", "msd", "log"]) {
       assert.ok(await page.isVisible(`#${section} .unavailable`));
@@ -261,6 +272,7 @@ describe("the page filled with fixtures", () => {
     const errors = [], page = await openWith("one", oneFrame(), errors);
     assert.equal(await note(page, "msd"), "one frame: no displacements");
     assert.match(await note(page, "log"), /short\.csv has no Z values yet/);
+    assert.match(await note(page, "structure_factor"), /hard walls/);
     assert.deepEqual(await pointCounts(page, "psi6"), { global: 1, local: 1 });
     assert.equal(await page.$$eval("#psi6 svg circle[r='2.5']", (e) => e.length), 2);  // single points as dots
     assert.match(await fact(page, "box"), /^20 × 10, hard walls$/);
@@ -281,7 +293,7 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
 
   // Every section with data has a plot with many points; every one without says why.
   async function sectionsDrawn(page, analysis) {
-    for (const section of ["rdf", "msd", "psi6", "log"]) {
+    for (const section of ["rdf", "msd", "psi6", "structure_factor", "self_scattering", "log"]) {
       if (analysis[section] === null) {
         assert.ok(await page.isVisible(`#${section} .unavailable`), `${section}: no note`);
         continue;

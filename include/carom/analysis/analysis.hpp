@@ -1,6 +1,7 @@
 // Analysis of a trajectory's frames (carom analyze, carom.analyze in Python): the radial
 // distribution function and its contact value, the mean-square displacement, and the hexatic
-// order psi6. Pure functions of the frames: nothing here reads files or prints.
+// order psi6 (scattering.hpp: S(k), F_s(k,t)). Pure functions of the frames: nothing here reads
+// files or prints.
 #pragma once
 
 #include <complex>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "carom/analysis/scattering.hpp"
 #include "carom/io/log_table.hpp"
 #include "carom/io/trajectory_reader.hpp"
 
@@ -85,11 +87,13 @@ struct AnalysisOptions {
   RdfOptions rdf;
   double contact_width = 0.0;  // the range above contact g(d+) is fitted on; 0: a tenth of d
   double from_time = -1e300;   // frames before this time are left out (equilibration)
+  double k_max = 0.0;          // how far S(k) reaches; 0: 20 / the mean diameter
+  double fs_k = 0.0;           // the wave number of F_s(k,t); 0: the main peak of S(k)
 };
 
 // Everything carom analyze computes, for its JSON and its report page. An analysis that does
-// not apply (psi6 of spheres, the MSD without image flags, the contact value of a polydisperse
-// or walled system) is absent, with the reason in `warnings`.
+// not apply (psi6 of spheres, the MSD and F_s without image flags, the contact value of a
+// polydisperse or walled system, S(k) between walls) is absent, with the reason in `warnings`.
 struct Analysis {
   std::string trajectory;
   TrajectoryShape shape;
@@ -99,6 +103,8 @@ struct Analysis {
   std::optional<ContactValue> contact;
   std::optional<Msd> msd;
   std::optional<Psi6Series> psi6;
+  std::optional<StructureFactor> structure_factor;
+  std::optional<SelfScattering> self_scattering;
   Frame snapshot;                                   // the last frame analysed
   std::vector<std::complex<double>> snapshot_psi6;  // its local psi6 (disks only)
   std::optional<LogTable> log;
@@ -114,12 +120,14 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
 // The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,
 // periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
 // time, rdf {r, g, bin_width, r_max, contact {r, g, Z} or null}, msd {t, msd} or null, psi6 {t,
-// global, local_mean, bonds} or null, snapshot {time, position, radius, psi6_modulus,
+// global, local_mean, bonds} or null, structure_factor {k, s, k_peak} or null, self_scattering
+// {k, t, fs, alpha2, tau_alpha} or null, snapshot {time, position, radius, psi6_modulus,
 // psi6_phase}, log {file, columns, rows} or null, warnings.
 void write_analysis_json(std::ostream& out, const Analysis& analysis);
 
 // The report: one self-contained HTML page (no network) with the summary and plots of g(r), the
-// MSD, psi6(t), the log's Z, and a snapshot coloured by the phase of the local psi6.
+// MSD, psi6(t), S(k), F_s(k,t) and alpha2(t), the log's Z, and a snapshot coloured by the phase
+// of the local psi6.
 void write_report_html(std::ostream& out, const Analysis& analysis);
 
 }  // namespace carom
