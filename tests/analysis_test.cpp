@@ -359,7 +359,9 @@ TEST(Rdf, PairsAcrossTheShearedBoundaryAreSeenThroughTheSlidingImages) {
   double pairs_below_contact = 0.0, pairs_at_contact = 0.0;
   for (std::size_t m = 0; m < rdf.r.size(); ++m) {
     (rdf.r[m] < 0.5 ? pairs_below_contact : pairs_at_contact) += rdf.g[m];
-    if (rdf.r[m] > 0.6) EXPECT_EQ(rdf.g[m], 0.0) << "r = " << rdf.r[m];
+    if (rdf.r[m] > 0.6) {
+      EXPECT_EQ(rdf.g[m], 0.0) << "r = " << rdf.r[m];
+    }
   }
   EXPECT_EQ(pairs_below_contact, 0.0);
   EXPECT_GT(pairs_at_contact, 0.0);
