@@ -258,7 +258,7 @@ TEST(Checkpoint, TheSettingsAreCheckedAsANewRunsAre) {
   expect_refused(tampered(text, [](Json& j) { j["tc"] = -1.0; }),
                  "the TC time must be a number >= 0, got -1");
   expect_refused(tampered(text, [](Json& j) { j["rule"] = "sticky"; }), "unknown rule 'sticky'");
-  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 6; }), "format 6");
+  expect_refused(tampered(text, [](Json& j) { j["carom_checkpoint"] = 7; }), "format 7");
   // Format 3 (carom 1.2 to 1.7: no window records, no seed) is still read.
   EXPECT_NO_THROW(read(tampered(text, [](Json& j) {
     j["carom_checkpoint"] = 3;

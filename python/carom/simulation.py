@@ -216,6 +216,17 @@ class Simulation:
         return self._idle.masses
 
     @property
+    def typeid(self):
+        """Each particle's type, an index into sim.types: (N,) uint32 (HOOMD's typeid)."""
+        return self._idle.typeid
+
+    @property
+    def types(self):
+        """The names of the particles' types: ["A"] unless the start names more (a mixture of
+        carom.init(species=...), a start file's types=, a GSD file's particles/types)."""
+        return self._idle.types
+
+    @property
     def wall_collisions(self):
         """Each particle's wall collisions so far: (N,) uint64."""
         return self._idle.wall_collisions

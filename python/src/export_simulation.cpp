@@ -153,6 +153,8 @@ void export_simulation(py::module_& m) {
       .def_property_readonly("velocities", &PythonSimulation::velocities)
       .def_property_readonly("radii", &PythonSimulation::radii)
       .def_property_readonly("masses", &PythonSimulation::masses)
+      .def_property_readonly("typeid", &PythonSimulation::types)
+      .def_property_readonly("types", &PythonSimulation::type_names)
       .def_property_readonly("wall_collisions", &PythonSimulation::wall_collisions)
       .def_property_readonly("pair_collisions", &PythonSimulation::pair_collisions)
       .def(

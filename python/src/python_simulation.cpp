@@ -187,6 +187,11 @@ py::array_t<double> PythonSimulation::masses() const {
   simulation().masses(out.mutable_data());
   return out;
 }
+py::array_t<std::uint32_t> PythonSimulation::types() const {
+  auto out = scalars<std::uint32_t>(simulation());
+  simulation().types(out.mutable_data());
+  return out;
+}
 py::array_t<std::uint64_t> PythonSimulation::wall_collisions() const {
   auto out = scalars<std::uint64_t>(simulation());
   simulation().wall_collisions(out.mutable_data());

@@ -56,6 +56,8 @@ class PythonSimulation {
   py::array_t<std::int32_t> images() const;
   py::array_t<double> radii() const;
   py::array_t<double> masses() const;
+  py::array_t<std::uint32_t> types() const;
+  std::vector<std::string> type_names() const { return simulation().type_names(); }
   py::array_t<std::uint64_t> wall_collisions() const;
   py::array_t<std::uint64_t> pair_collisions() const;
 

@@ -105,7 +105,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   if (c.measurement.flux_origin)
     measurement["flux_origin"] = fluxes_json(*c.measurement.flux_origin);
   Json head = {
-      {"carom_checkpoint", kCheckpointFormat},
+      {"carom_checkpoint", has_types(c.system) ? kCheckpointFormat : 5},
       {"carom_version", kVersion},
       {"source", c.source},
       {"dimension", D},
@@ -129,6 +129,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
                               {"end_time", *c.records.end_time}};
   }
   if (c.seed) head["seed"] = *c.seed;
+  if (has_types(c.system)) head["types"] = c.system.type_names;
   if (c.records.transport) head["transport"] = transport_json(*c.records.transport);
   if (c.system.box.sheared()) {
     head["shear"] = {{"rate", c.system.box.shear_rate}, {"offset", c.system.box.shear_offset}};
@@ -166,7 +167,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
   text.resize(text.size() - 2);      // reopen the object
   out << text << ",\n \"particles\": [";
   // One line a particle: position, velocity, time, radius, mass, wall and pair collisions, last
-  // collision (null: none yet), image flags.
+  // collision (null: none yet), image flags, and (format 6) the type's index.
   for (std::size_t i = 0; i < c.system.size(); ++i) {
     const Particle<D>& p = c.system.particles[i];
     const ParticleRecord& r = c.system.records[i];
@@ -176,6 +177,7 @@ void write_checkpoint(std::ostream& out, const Checkpoint<D>& c) {
     row.insert(row.end(), {Json(p.time), Json(p.radius), Json(r.mass), Json(r.wall_collisions),
                            Json(r.pair_collisions), time_or_null(r.last_collision)});
     for (std::size_t k = 0; k < D; ++k) row.push_back(r.image[k]);
+    if (has_types(c.system)) row.push_back(r.type);
     const std::string line = row.dump();
     hash.add(line);
     hash.add("\n");

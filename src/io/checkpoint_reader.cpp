@@ -302,8 +302,25 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     fail(fmt::format("{} particles, more than carom supports ({})", particles.size(),
                      kMaxParticles));
   }
-  // Format 3 adds the image flags.
-  const std::size_t columns = format == 1 ? 2 * D + 5 : format == 2 ? 2 * D + 6 : 3 * D + 6;
+  // Format 3 adds the image flags, format 6 the types (names in the head, an index a row).
+  if (format >= 6) {
+    const auto& names = f.at(j, "types");
+    if (!names.is_array() || names.empty()) fail("\"types\" must be a list of type names");
+    c.system.type_names.clear();
+    for (const auto& name : names) {
+      const std::string text = f.text(name, "a type name");
+      if (text.empty()) fail("a type name is empty");
+      if (std::find(c.system.type_names.begin(), c.system.type_names.end(), text) !=
+          c.system.type_names.end()) {
+        fail(fmt::format("the type name \"{}\" appears twice in \"types\"", text));
+      }
+      c.system.type_names.push_back(text);
+    }
+  }
+  const std::size_t columns = format == 1   ? 2 * D + 5
+                              : format == 2 ? 2 * D + 6
+                              : format <= 5 ? 3 * D + 6
+                                            : 3 * D + 7;
   c.system.particles.reserve(particles.size());
   c.system.records.reserve(particles.size());
   for (const auto& row : particles) {
@@ -331,6 +348,14 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     }
     for (std::size_t k = 0; k < D && format >= 3; ++k) {
       r.image[k] = f.image(row[2 * D + 6 + k], of("image flag"));
+    }
+    if (format >= 6) {
+      const std::uint64_t type = f.count(row[3 * D + 6], of("type"));
+      if (type >= c.system.type_names.size()) {
+        fail(fmt::format("the type {} of particle {} is not one of the {} in \"types\"", type, i,
+                         c.system.type_names.size()));
+      }
+      r.type = static_cast<std::uint32_t>(type);
     }
     c.system.particles.push_back(p);
     c.system.records.push_back(r);

@@ -134,6 +134,12 @@ void AnySimulation::radii(double* out) const {
 void AnySimulation::masses(double* out) const {
   per_particle(*this, out, [](const auto&, const auto& r) { return r.mass; });
 }
+void AnySimulation::types(std::uint32_t* out) const {
+  per_particle(*this, out, [](const auto&, const auto& r) { return r.type; });
+}
+std::vector<std::string> AnySimulation::type_names() const {
+  return visit([](const auto& s) { return s.state().type_names; });
+}
 void AnySimulation::wall_collisions(std::uint64_t* out) const {
   per_particle(*this, out, [](const auto&, const auto& r) { return r.wall_collisions; });
 }

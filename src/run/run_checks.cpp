@@ -60,6 +60,7 @@ void check_outputs_fit(const Simulation<D>& simulation, const RunSpec& spec) {
     System<D> sample;
     sample.box = state.box;
     sample.epoch = state.epoch;
+    sample.type_names = state.type_names;
     const std::size_t taken = std::min<std::size_t>(state.size(), 1000);
     sample.particles.assign(state.particles.begin(), state.particles.begin() + taken);
     sample.records.assign(state.records.begin(), state.records.begin() + taken);

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -62,6 +63,9 @@ struct ParticleRecord {
   // one run, not kept by checkpoints (a resumed run predicts everything afresh) and not compared;
   // 32 bits, as no prediction waits for 2^32 changes of its partner.
   std::uint32_t changes = 0;
+  // The particle's species: an index into System::type_names (0, "A", unless a start names
+  // more). Set by the start and never changed by a run.
+  std::uint32_t type = 0;
 
   std::uint64_t version() const { return changes; }
   // A pair collision (or lift) at stored time t changed its velocity: counted, and the TC model's
@@ -74,7 +78,7 @@ struct ParticleRecord {
   friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
     return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
            a.pair_collisions == b.pair_collisions && a.last_collision == b.last_collision &&
-           a.image == b.image;
+           a.image == b.image && a.type == b.type;
   }
 };
 
@@ -144,6 +148,9 @@ struct System {
   Box<D> box;
   std::vector<Particle<D>> particles;
   std::vector<ParticleRecord> records;
+  // The names of the particles' species (ParticleRecord::type indexes them): one, "A", unless the
+  // start names more (carom init --species, a file's types). Never empty.
+  std::vector<std::string> type_names{"A"};
   // The absolute time that stored times (Particle::time, ParticleRecord::last_collision) count
   // from. A run moves it forward now and then (Engine::rebase) so that stored times stay small: a
   // double then resolves the moments of contact as finely at t = 1e11 as at t = 1.
@@ -198,6 +205,12 @@ struct System {
     records.push_back({mass});
   }
 };
+
+// Whether the system holds more than the single default species "A" (files then carry types).
+template <std::size_t D>
+bool has_types(const System<D>& system) {
+  return system.type_names.size() != 1 || system.type_names[0] != "A";
+}
 
 template <std::size_t D>
 double largest_radius(const System<D>& system) {

@@ -30,7 +30,10 @@ namespace carom {
 // the dimension, the TC model's last-collision times, the run's counts apart from the measurement
 // window's, whether the run is whole at its time; absolute stored times) and format 1 (carom
 // 1.0) are still read, their stored times re-based at once to the latest of them.
-inline constexpr int kCheckpointFormat = 5;
+// Format 6 adds the particles' types ("types", the names, in the head and each row's last column
+// its index): written only for a system with types (has_types), so that a one-type checkpoint
+// stays format 5, which older carom reads.
+inline constexpr int kCheckpointFormat = 6;
 
 // json, numbers in shortest round-trip form; written through AtomicFile by the caller.
 template <std::size_t D>

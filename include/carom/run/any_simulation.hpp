@@ -72,6 +72,10 @@ class AnySimulation {
   // Per particle, N values.
   void radii(double* out) const;
   void masses(double* out) const;
+  // Each particle's type (an index into type_names()), and the types' names ("A" alone unless
+  // the start names more).
+  void types(std::uint32_t* out) const;
+  std::vector<std::string> type_names() const;
   void wall_collisions(std::uint64_t* out) const;
   void pair_collisions(std::uint64_t* out) const;
 
