@@ -25,12 +25,15 @@ packing, 0.9069), face-centred cubic for spheres (up to 0.7405 when N = 4 n^3 in
 fills whole cells; other N leave vacancies spread evenly). Velocities are Maxwell-Boltzmann at kT
 with zero total momentum, scaled so that the kinetic temperature is kT exactly (D N degrees of
 freedom with walls, D (N - 1) in a periodic box). The same options and seed give the same file,
-bit for bit.
+bit for bit. --species makes a mixture (types A, B, ... in the file; see docs/command-line.md):
+the lattice is sized for the largest diameter, so a dense mixture is placed at random at a low
+PHI and brought up with carom compress --phi.
 
 Examples:
   carom init --n 4096 --phi 0.5 -o gas.txt
   carom init --n 1000 --phi 0.3 --polydispersity 0.1 --boundary periodic --seed 7 -o poly.txt
   carom init --n 100 --phi 0.2 --box 40 20 -o sparse.txt
+  carom init --n 1000 --phi 0.3 --species A:0.5:1.0,B:0.5:1.4 --seed 3 -o binary.txt
   carom init --dim 3 --n 4000 --phi 0.45 --boundary periodic -o spheres.txt)");
   InitialOptions& o = args.spec.options;
   add_whole_option(init, "--dim", args.spec.dimension, 2, "2: disks; 3: spheres", std::optional(3))
@@ -52,10 +55,18 @@ Examples:
           "Mean radius (default 0.5: diameter 1)")
       ->check(finite_number())
       ->excludes(box);
-  init->add_option("--polydispersity", o.polydispersity,
-                   "Standard deviation of the radius over its mean (uniform distribution, <= 0.5)")
-      ->check(finite_number())
-      ->default_str("0");
+  auto* polydispersity =
+      init->add_option("--polydispersity", o.polydispersity,
+                       "Standard deviation of the radius over its mean (uniform distribution, "
+                       "<= 0.5)")
+          ->check(finite_number())
+          ->default_str("0");
+  init->add_option(
+          "--species", args.species,
+          "A mixture: NAME:FRACTION:DIAMETER,... (as A:0.5:1.0,B:0.5:1.4): number fractions "
+          "summing to 1, counts by largest remainder, types shuffled by the seed")
+      ->excludes(polydispersity)
+      ->excludes(init->get_option("--radius"));
   init->add_option("--kT", o.temperature, "Temperature (masses are 1)")
       ->check(finite_number())
       ->default_str("1");
@@ -94,6 +105,13 @@ void init_command(InitArguments args) {
   InitialOptions& o = args.spec.options;
   if (args.lattice) o.placement = Placement::lattice;
   if (args.random) o.placement = Placement::random;
+  if (!args.species.empty()) {
+    try {
+      o.species = parse_species(args.species);
+    } catch (const InitialError& e) {
+      throw UsageError(e.what());
+    }
+  }
   if (!args.output.empty() && args.output != "-") check_writable(args.output);
   if (args.spec.dimension == 3) {
     write_initial<3>(args.spec, args.output);

@@ -11,6 +11,7 @@ struct InitArguments {
   InitSpec spec;
   bool lattice = false;
   bool random = false;
+  std::string species;  // --species as given, read by init_command
   std::string output;
 };
 

@@ -277,6 +277,32 @@ Keywords<StartRequest> start_keywords() {
   return k;
 }
 
+// carom init's --species: its text, or a list of (name, fraction, diameter) tuples; None: none.
+std::vector<Species> species_of(py::handle value) {
+  if (value.is_none()) return {};
+  std::string text;
+  if (py::isinstance<py::str>(value)) {
+    text = value.cast<std::string>();
+  } else {
+    for (const py::handle entry : py::iter(value)) {
+      const py::tuple t = py::tuple(py::reinterpret_borrow<py::object>(entry));
+      if (t.size() != 3 || !py::isinstance<py::str>(t[0])) {
+        throw py::value_error(fmt::format(
+            "species must be a text such as \"A:0.5:1.0,B:0.5:1.4\" or a list of (name, "
+            "fraction, diameter), got {}",
+            std::string(py::repr(value))));
+      }
+      text += fmt::format("{}{}:{}:{}", text.empty() ? "" : ",", t[0].cast<std::string>(),
+                          number("species fraction", t[1]), number("species diameter", t[2]));
+    }
+  }
+  try {
+    return parse_species(text);
+  } catch (const InitialError& e) {
+    throw py::value_error(e.what());
+  }
+}
+
 struct InitRequest {
   InitSpec spec;
   Settings settings;
@@ -300,6 +326,12 @@ Keywords<InitRequest> init_keywords() {
       .field("aspect", "aspect", &R::spec, &InitSpec::options, &O::aspect)
       .field("radius", "radius", &R::spec, &InitSpec::options, &O::radius)
       .field("polydispersity", "polydispersity", &R::spec, &InitSpec::options, &O::polydispersity)
+      .custom(
+          "species", "species", [](R& r, py::handle v) { r.spec.options.species = species_of(v); },
+          [](R& r) {
+            const auto& species = r.spec.options.species;
+            return species.empty() ? py::object(py::none()) : py::str(species_text(species));
+          })
       .field("kT", "temperature", &R::spec, &InitSpec::options, &O::temperature)
       .field("seed", "seed", &R::spec, &InitSpec::options, &O::seed)
       .field("boundary", "boundary", &R::spec, &InitSpec::options, &O::boundary)

@@ -5,9 +5,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <pcg_random.hpp>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "carom/core/observables.hpp"
@@ -253,8 +258,20 @@ void sort_along_space_filling_curve(System<D>& system) {
     }
     return morton;
   };
-  std::stable_sort(system.particles.begin(), system.particles.end(),
-                   [&](const Particle<D>& a, const Particle<D>& b) { return code(a) < code(b); });
+  // An order of indices, applied to the particles and their records (types) alike.
+  std::vector<std::uint32_t> order(system.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return code(system.particles[a]) < code(system.particles[b]);
+  });
+  std::vector<Particle<D>> particles(system.size());
+  std::vector<ParticleRecord> records(system.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    particles[i] = system.particles[order[i]];
+    records[i] = system.records[order[i]];
+  }
+  system.particles = std::move(particles);
+  system.records = std::move(records);
 }
 
 template <std::size_t D>
@@ -300,6 +317,17 @@ void check_options(const InitialOptions& o) {
         fmt::format("--phi {} is above close packing of {} ({:.4f}): no such configuration exists",
                     o.packing_fraction, kParticlesName<D>, close_packing(D)));
   }
+  if (!o.species.empty()) {
+    if (o.polydispersity != 0.0) {
+      throw InitialError(
+          "give --species or --polydispersity, not both: each species has its own diameter");
+    }
+    if (o.radius) {
+      throw InitialError("give --species or --radius, not both: the species give the diameters");
+    }
+    // Checked as parse_species does (a caller may fill them in directly).
+    (void)parse_species(species_text(o.species));
+  }
   if (!(o.polydispersity >= 0.0 && o.polydispersity <= 0.5)) {
     throw InitialError("--polydispersity must be between 0 and 0.5");
   }
@@ -334,6 +362,102 @@ void check_initial_options(std::size_t dimension, const InitialOptions& options)
   }
 }
 
+namespace {
+
+bool is_name_character(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' ||
+         c == '-';
+}
+
+// `text` as a number, the whole of it; nullopt if it is not one.
+std::optional<double> number_of(std::string_view text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+}  // namespace
+
+std::vector<Species> parse_species(std::string_view text) {
+  std::vector<Species> species;
+  const auto fail = [&](const std::string& what) {
+    throw InitialError(
+        fmt::format("--species \"{}\": {} (give NAME:FRACTION:DIAMETER entries "
+                    "separated by commas, as \"A:0.5:1.0,B:0.5:1.4\")",
+                    text, what));
+  };
+  if (text.empty()) fail("no species");
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string_view entry = text.substr(start, comma - start);
+    start = comma + 1;
+    const std::size_t first = entry.find(':');
+    const std::size_t second = first == std::string_view::npos ? first : entry.find(':', first + 1);
+    if (second == std::string_view::npos || entry.find(':', second + 1) != std::string_view::npos) {
+      fail(fmt::format("\"{}\" is not NAME:FRACTION:DIAMETER", entry));
+    }
+    Species s;
+    s.name = std::string(entry.substr(0, first));
+    if (s.name.empty() || !std::all_of(s.name.begin(), s.name.end(), is_name_character)) {
+      fail(fmt::format("the name \"{}\" must be letters, digits, _ . + or -", s.name));
+    }
+    for (const Species& other : species) {
+      if (other.name == s.name) fail(fmt::format("the name {} appears twice", s.name));
+    }
+    const auto fraction = number_of(entry.substr(first + 1, second - first - 1));
+    if (!fraction || !(*fraction > 0.0 && *fraction <= 1.0)) {
+      fail(fmt::format("the fraction of {} must be a number in (0, 1]", s.name));
+    }
+    const auto diameter = number_of(entry.substr(second + 1));
+    if (!diameter || !(*diameter > 0.0 && std::isfinite(*diameter))) {
+      fail(fmt::format("the diameter of {} must be a finite number above 0", s.name));
+    }
+    s.fraction = *fraction;
+    s.diameter = *diameter;
+    species.push_back(std::move(s));
+    if (comma == text.size()) break;
+  }
+  double sum = 0.0;
+  for (const Species& s : species) sum += s.fraction;
+  if (!(std::abs(sum - 1.0) <= 1e-12)) {
+    fail(fmt::format("the fractions sum to {}, not 1", sum));
+  }
+  return species;
+}
+
+std::string species_text(const std::vector<Species>& species) {
+  std::string text;
+  for (const Species& s : species) {
+    text += fmt::format("{}{}:{}:{}", text.empty() ? "" : ",", s.name, s.fraction, s.diameter);
+  }
+  return text;
+}
+
+std::vector<std::uint64_t> species_counts(const std::vector<Species>& species, std::uint64_t n) {
+  std::vector<std::uint64_t> counts(species.size());
+  std::vector<double> remainders(species.size());
+  std::uint64_t given = 0;
+  for (std::size_t t = 0; t < species.size(); ++t) {
+    const double share = species[t].fraction * static_cast<double>(n);
+    counts[t] = static_cast<std::uint64_t>(std::floor(share));
+    remainders[t] = share - static_cast<double>(counts[t]);
+    given += counts[t];
+  }
+  std::vector<std::size_t> order(species.size());
+  for (std::size_t t = 0; t < order.size(); ++t) order[t] = t;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return remainders[a] > remainders[b]; });
+  for (std::size_t k = 0; given < n; k = (k + 1) % order.size(), ++given) ++counts[order[k]];
+  while (given > n) {  // round-off in a sum above 1 by 1e-12 times a huge n
+    for (std::size_t t = counts.size(); t-- > 0 && given > n;) {
+      if (counts[t] > 0) --counts[t], --given;
+    }
+  }
+  return counts;
+}
+
 template <std::size_t D>
 System<D> make_initial(const InitialOptions& o) {
   check_options<D>(o);
@@ -342,11 +466,32 @@ System<D> make_initial(const InitialOptions& o) {
   system.box.boundary = o.boundary;
   system.particles.resize(o.n);
   system.records.resize(o.n);
-  // Radii relative to their mean, uniform with the requested relative standard deviation.
   double volume = 0.0;
-  for (Particle<D>& p : system.particles) {
-    p.radius = 1.0 + o.polydispersity * std::sqrt(3.0) * (2.0 * uniform_deviate(rng) - 1.0);
-    volume += volume_of<D>(p.radius);
+  if (o.species.empty()) {
+    // Radii relative to their mean, uniform with the requested relative standard deviation.
+    for (Particle<D>& p : system.particles) {
+      p.radius = 1.0 + o.polydispersity * std::sqrt(3.0) * (2.0 * uniform_deviate(rng) - 1.0);
+      volume += volume_of<D>(p.radius);
+    }
+  } else {
+    // Each species' count in order, then shuffled (Fisher-Yates on the seed's stream); radii
+    // relative to diameter 1's (the default radius 0.5 scales them to the diameters asked for).
+    const std::vector<std::uint64_t> counts = species_counts(o.species, o.n);
+    system.type_names.clear();
+    std::size_t next = 0;
+    for (std::uint32_t t = 0; t < counts.size(); ++t) {
+      system.type_names.push_back(o.species[t].name);
+      for (std::uint64_t c = 0; c < counts[t]; ++c) system.records[next++].type = t;
+    }
+    for (std::size_t i = system.size() - 1; i > 0; --i) {
+      const std::size_t j = rng(static_cast<std::uint32_t>(i + 1));
+      std::swap(system.records[i].type, system.records[j].type);
+    }
+    for (std::size_t i = 0; i < system.size(); ++i) {
+      Particle<D>& p = system.particles[i];
+      p.radius = o.species[system.records[i].type].diameter;
+      volume += volume_of<D>(p.radius);
+    }
   }
   double scale = 0.0;
   if (!o.box.empty()) {

@@ -18,6 +18,7 @@ constexpr std::array kKeys = {
     KeyInfo{"aspect", init, number},
     KeyInfo{"radius", init, number},
     KeyInfo{"polydispersity", init, number},
+    KeyInfo{"species", init, text},
     KeyInfo{"kT", init, number},
     KeyInfo{"seed", init, integer},
     KeyInfo{"boundary", init, choice},

@@ -141,6 +141,13 @@ void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
     if (s.key == "aspect") o.aspect = as_number(v);
     if (s.key == "radius") o.radius = as_number(v);
     if (s.key == "polydispersity") o.polydispersity = as_number(v);
+    if (s.key == "species") {
+      try {
+        o.species = parse_species(as_text(v));
+      } catch (const InitialError& e) {
+        throw RequestError(e.what());
+      }
+    }
     if (s.key == "kT") o.temperature = as_number(v);
     if (s.key == "seed") o.seed = as_integer(v);
     if (s.key == "boundary") o.boundary = as_choice<Boundary>(v);
@@ -151,6 +158,8 @@ void init_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) {
   refuse_together(settings, "random", "lattice");
   refuse_together(settings, "aspect", "box");
   refuse_together(settings, "radius", "box");
+  refuse_together(settings, "species", "polydispersity");
+  refuse_together(settings, "species", "radius");
 }
 
 void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
@@ -258,7 +267,9 @@ std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTas
       o.placement == Placement::random ||
       (o.placement == Placement::automatic &&
        o.packing_fraction <= random_placement_limit(static_cast<std::size_t>(spec.dimension)));
-  if (own_run_seed == nullptr || random_placement || o.polydispersity > 0.0) return std::nullopt;
+  if (own_run_seed == nullptr || random_placement || o.polydispersity > 0.0 || !o.species.empty()) {
+    return std::nullopt;
+  }
   return fmt::format(
       "carom init places every particle on a lattice ({}) with one radius, and [run] {} with "
       "[run] seed = {}: the tasks of a state point would be the same run. Remove [run] seed (the "

@@ -8,6 +8,7 @@
 #include <optional>
 #include <pcg_random.hpp>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -35,6 +36,16 @@ struct EnumNames<Placement> {
 // The radius of a start whose box is not given: diameter 1, the unit of length.
 inline constexpr double kDefaultRadius = 0.5;
 
+// One species of a mixture start: its name, its number fraction and its particles' diameter (in
+// the unit the box is derived in: diameter 1 is the default start's).
+struct Species {
+  std::string name;
+  double fraction = 0.0;
+  double diameter = 0.0;
+
+  friend bool operator==(const Species&, const Species&) = default;
+};
+
 struct InitialOptions {
   std::uint64_t n = 0;
   double packing_fraction = 0.0;
@@ -49,7 +60,21 @@ struct InitialOptions {
   // request).
   Boundary boundary = Boundary::periodic;
   Placement placement = Placement::automatic;
+  // A mixture: each species' share of the n particles (largest remainder) at its diameter, types
+  // placed in an order shuffled by the seed. Empty: one species "A" (radius, polydispersity).
+  std::vector<Species> species;
 };
+
+// The species of `carom init --species` and carom.init(species=...): "NAME:FRACTION:DIAMETER"
+// entries separated by commas, as "A:0.5:1.0,B:0.5:1.4". Names are distinct, of letters, digits
+// and _ . + - (a file's one token); fractions above 0 summing to 1 within 1e-12; diameters finite
+// and above 0. Throws InitialError saying what is wrong.
+std::vector<Species> parse_species(std::string_view text);
+// The species as parse_species reads them (round trip), for messages and sweep plans.
+std::string species_text(const std::vector<Species>& species);
+// The counts of n particles in the species' fractions, by largest remainder (ties to the first):
+// they sum to n.
+std::vector<std::uint64_t> species_counts(const std::vector<Species>& species, std::uint64_t n);
 
 // A request that cannot be met (packing fraction above close packing, a random placement that
 // jams, conflicting sizes), with a message saying why.
