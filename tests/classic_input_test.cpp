@@ -293,7 +293,8 @@ TEST(StartRecord, ABadRecordIsRefusedWithItsLine) {
   EXPECT_EQ(error("\n# carom: rule=sticky\n" + data),
             "f.txt:2: 'sticky' is not a rule: swap or elastic are");
   EXPECT_EQ(error("# carom: colour=red\n" + data),
-            "f.txt:1: 'colour=red' is not a setting carom records (boundary=..., rule=...)");
+            "f.txt:1: 'colour=red' is not a setting carom records (boundary=..., rule=..., "
+            "types=...)");
   EXPECT_EQ(error("# carom: rule=swap rule=elastic\n" + data), "f.txt:1: rule is given twice");
   EXPECT_EQ(error("# carom: rule=swap\n# carom: boundary=walls\n" + data),
             "f.txt:2: a second '# carom:' line (the first is line 1)");

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <charconv>
@@ -64,9 +65,27 @@ StartRecord parse_record(const std::vector<std::string_view>& settings) {
       set_once(record.boundary, key, value);
     } else if (key == "rule") {
       set_once(record.rule, key, value);
+    } else if (key == "types") {
+      if (!record.types.empty()) throw std::invalid_argument("types is given twice");
+      std::size_t at = 0;
+      while (true) {
+        const std::size_t comma = std::min(value.find(',', at), value.size());
+        const std::string name(value.substr(at, comma - at));
+        if (name.empty()) {
+          throw std::invalid_argument(
+              fmt::format("{} has an empty type name", quoted_token(setting)));
+        }
+        if (std::find(record.types.begin(), record.types.end(), name) != record.types.end()) {
+          throw std::invalid_argument(fmt::format("the type {} is named twice", name));
+        }
+        record.types.push_back(name);
+        if (comma == value.size()) break;
+        at = comma + 1;
+      }
     } else {
-      throw std::invalid_argument(fmt::format(
-          "{} is not a setting carom records (boundary=..., rule=...)", quoted_token(setting)));
+      throw std::invalid_argument(
+          fmt::format("{} is not a setting carom records (boundary=..., rule=..., types=...)",
+                      quoted_token(setting)));
     }
   }
   return record;
@@ -243,12 +262,29 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
   input.record = reader.record();
   input.radius = radius;
   input.system.box = b;
-  const char* columns = D == 3 ? "x y z vx vy vz [r [m]]" : "x y vx vy [r [m]]";
+  const bool typed = !input.record.types.empty();
+  if (typed) input.system.type_names = input.record.types;
+  const char* columns = typed    ? (D == 3 ? "x y z vx vy vz r m type" : "x y vx vy r m type")
+                        : D == 3 ? "x y z vx vy vz [r [m]]"
+                                 : "x y vx vy [r [m]]";
   // Particles are added as their lines arrive, never reserved from the header's N, so a header
   // that promises more than the file holds costs no memory.
   for (long long i = 0; i < count; ++i) {
     const std::vector<double> v =
-        reader.numbers(2 * D, 2 * D + 2, fmt::format("{} of particle {}", columns, i));
+        reader.numbers(typed ? 2 * D + 3 : 2 * D, typed ? 2 * D + 3 : 2 * D + 2,
+                       fmt::format("{} of particle {}", columns, i));
+    std::uint32_t type = 0;
+    if (typed) {
+      const double t = v[2 * D + 2];
+      if (!(t >= 0.0 && t < static_cast<double>(input.record.types.size()) && t == std::floor(t))) {
+        throw InputError(
+            name, reader.line(),
+            fmt::format("the type {} of particle {} is not the index of one of the "
+                        "{} types the record line names (0 to {})",
+                        t, i, input.record.types.size(), input.record.types.size() - 1));
+      }
+      type = static_cast<std::uint32_t>(t);
+    }
     Particle<D> p;
     for (std::size_t k = 0; k < D; ++k) {
       p.position[k] = v[k];
@@ -260,6 +296,7 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
       throw InputError(name, reader.line(), *problem + periodic_hint(p, mass, b));
     }
     input.system.add(p, mass);
+    input.system.records.back().type = type;
     input.line_of.push_back(reader.line());
   }
   reader.expect_end(count);
@@ -277,8 +314,10 @@ ClassicInput<D> read_particles(Reader& reader, long long count, double radius, c
 
 }  // namespace
 
-std::string start_record_line(Boundary boundary, Rule rule) {
-  return fmt::format("# carom: boundary={} rule={}", name_of(boundary), name_of(rule));
+std::string start_record_line(Boundary boundary, Rule rule, const std::vector<std::string>& types) {
+  std::string line = fmt::format("# carom: boundary={} rule={}", name_of(boundary), name_of(rule));
+  if (!types.empty()) line += fmt::format(" types={}", fmt::join(types, ","));
+  return line;
 }
 
 Rule default_rule(const StartRecord& record, Boundary boundary, double restitution) {

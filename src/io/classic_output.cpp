@@ -109,15 +109,20 @@ void write_classic(std::ostream& out, const System<D>& system, double radius) {
     const Particle<D>& p = system.particles[i];
     const double mass = system.records[i].mass;
     out << fmt::format("{} {}", fmt::join(p.position.c, " "), fmt::join(p.velocity.c, " "));
-    if (p.radius != radius || mass != 1.0) out << fmt::format(" {}", p.radius);
-    if (mass != 1.0) out << fmt::format(" {}", mass);
+    // A mixture's lines end with r, m and the type's index (see StartRecord::types).
+    const bool typed = has_types(system);
+    if (p.radius != radius || mass != 1.0 || typed) out << fmt::format(" {}", p.radius);
+    if (mass != 1.0 || typed) out << fmt::format(" {}", mass);
+    if (typed) out << fmt::format(" {}", system.records[i].type);
     out << '\n';
   }
 }
 
 template <std::size_t D>
 void write_start(std::ostream& out, const System<D>& system, Rule rule) {
-  out << start_record_line(system.box.boundary, rule) << '\n';
+  out << start_record_line(system.box.boundary, rule,
+                           has_types(system) ? system.type_names : std::vector<std::string>{})
+      << '\n';
   const double first = system.particles.front().radius;
   double sum = 0.0;
   bool equal = true;

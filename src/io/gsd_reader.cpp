@@ -184,6 +184,8 @@ class GsdReader {
 // frame 0 alone unless asked, and frame 0's flags are not a later frame's (`has_image` false then).
 struct FrameChunks {
   std::uint64_t n = 0;
+  std::vector<std::string> type_names{"A"};  // particles/types
+  std::vector<std::uint32_t> type;           // particles/typeid, each below type_names.size()
   std::vector<double> position, velocity, diameter, mass;
   std::vector<std::array<std::int32_t, 3>> image;
   bool has_image = true;
@@ -229,6 +231,32 @@ FrameChunks read_frame_chunks(GsdReader& gsd, std::uint64_t frame, bool images_f
   chunks.mass = column("particles/mass", 1, 1.0);
   chunks.has_image = images_from_frame_zero || frame == 0 || gsd.has("particles/image", frame);
   const std::vector<double> image = column("particles/image", 3, 0.0);
+  // The species: particles/types (rows of null-padded names) and particles/typeid.
+  if (const auto names = gsd.values("particles/types", frame)) {
+    chunks.type_names.clear();
+    for (std::uint64_t r = 0; r < names->rows; ++r) {
+      std::string name;
+      for (std::uint64_t c = 0; c < names->columns; ++c) {
+        const double code = names->data[r * names->columns + c];
+        if (code == 0.0) break;
+        name.push_back(static_cast<char>(static_cast<int>(code)));
+      }
+      chunks.type_names.push_back(name);
+    }
+    if (chunks.type_names.empty()) chunks.type_names = {"A"};
+  }
+  const std::vector<double> typeid_ = column("particles/typeid", 1, 0.0);
+  chunks.type.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = typeid_[i];
+    if (!(t >= 0.0 && t < static_cast<double>(chunks.type_names.size())) || t != std::floor(t)) {
+      gsd.fail(
+          fmt::format("frame {}: particle {} has typeid {}, not one of the {} types of "
+                      "particles/types",
+                      frame, i, t, chunks.type_names.size()));
+    }
+    chunks.type[i] = static_cast<std::uint32_t>(t);
+  }
   chunks.image.resize(n);
   for (std::size_t i = 0; i < image.size(); ++i) {
     const double f = image[i];
@@ -358,14 +386,18 @@ ClassicInput<D> start_from(GsdReader& gsd, std::uint64_t frame, FrameBox frame_b
     p.radius = 0.5 * chunks.diameter[i];
     ParticleRecord record{chunks.mass[i]};
     record.image = chunks.image[i];
+    record.type = chunks.type[i];
     for (std::size_t k = D; k < 3; ++k) record.image[k] = 0;
     wrap(p.position, system.box, record.image);
     system.particles.push_back(p);
     system.records.push_back(record);
   }
+  system.type_names = chunks.type_names;
+  if (has_types(system)) input.record.types = system.type_names;
   input.radius = system.particles.front().radius;
   // A GSD frame is a physical system, HOOMD's or carom's: never the classic assignment's.
-  input.record = {system.box.boundary, Rule::elastic};
+  input.record.boundary = system.box.boundary;
+  input.record.rule = Rule::elastic;
   try {
     check_start(system);
   } catch (const std::invalid_argument& e) {
@@ -459,6 +491,8 @@ std::vector<Frame> read_gsd_frames(const std::string& path, const FrameSelection
       }
     }
     f.collisions.assign(chunks.n, 0);
+    f.type = chunks.type;
+    f.type_names = chunks.type_names;
     frames.push_back(std::move(f));
   }
   return frames;

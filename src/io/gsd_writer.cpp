@@ -260,7 +260,15 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
   const Values v = values(t, system);  // refused before anything is written
   if (frames_ == 0) start(out);
   const auto n = static_cast<std::uint32_t>(system.size());
-  const std::vector<std::uint32_t> typeid_(n, 0);
+  std::vector<std::uint32_t> typeid_(n);
+  for (std::size_t i = 0; i < n; ++i) typeid_[i] = system.records[i].type;
+  // The names as GSD stores them: one row each, null-padded to the longest plus its null.
+  std::size_t width = 0;
+  for (const std::string& name : system.type_names) width = std::max(width, name.size() + 1);
+  std::string types(width * system.type_names.size(), '\0');
+  for (std::size_t t = 0; t < system.type_names.size(); ++t) {
+    types.replace(t * width, system.type_names[t].size(), system.type_names[t]);
+  }
 
   out.seekp(0, std::ios::end);
   std::vector<Entry> added;
@@ -293,7 +301,8 @@ void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
   chunk(kMass, kFloat, n, 1, [&] { put(out, v.mass); });
   chunk(kPosition, kFloat, n, 3, [&] { put(out, v.position); });
   chunk(kTypeid, kUint32, n, 1, [&] { put(out, typeid_); });
-  chunk(kTypes, kInt8, 1, 2, [&] { out.write("A", 2); });  // one type, "A", null-terminated
+  chunk(kTypes, kInt8, system.type_names.size(), static_cast<std::uint32_t>(width),
+        [&] { out.write(types.data(), static_cast<std::streamsize>(types.size())); });
   chunk(kVelocity, kFloat, n, 3, [&] { put(out, v.velocity); });
   // Chunks with no rows (N = 0) are not indexed: GSD has no empty chunks.
   std::erase_if(added, [](const Entry& e) { return e.n == 0; });

@@ -1,10 +1,12 @@
 // The trajectory formats carom writes (extended XYZ, LAMMPS dumps; GSD in gsd_writer.cpp) and
 // trajectory_format_for, the one place that picks among them by a file's name.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -26,6 +28,16 @@ std::string xyz(const Vec<D>& v) {
                 : fmt::format("{} {} 0", v[0], v[1]);
 }
 
+// The species column of a type in an extended XYZ file: a chemical symbol (ASE and OVITO read
+// the column as elements), H for type 0 (as every one-type file has), He for 1, ..., X past the
+// list; the type's own name is the `type` column's.
+std::string_view element_of(std::uint32_t type) {
+  static constexpr std::string_view kElements[] = {
+      "H",  "He", "Li", "Be", "B",  "C", "N",  "O",  "F",  "Ne", "Na", "Mg", "Al",
+      "Si", "P",  "S",  "Cl", "Ar", "K", "Ca", "Sc", "Ti", "V",  "Cr", "Mn", "Fe"};
+  return type < std::size(kElements) ? kElements[type] : std::string_view("X");
+}
+
 // A text format: a frame header, then one line a particle.
 template <std::size_t D>
 class TextFormat : public TrajectoryFormat<D> {
@@ -33,10 +45,13 @@ class TextFormat : public TrajectoryFormat<D> {
   void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) override {
     header(out, index, t, system);
     const double at = system.stored(t);
+    const bool typed = has_types(system);
     for (std::size_t i = 0; i < system.size(); ++i) {
       std::array<std::int32_t, 3> image = system.records[i].image;
       const Particle<D> now = synchronised(system.particles[i], system.box, at, image);
-      line(out, i, now, system.records[i], image);
+      line(
+          out, i, now, system.records[i], image,
+          typed ? std::string_view(system.type_names[system.records[i].type]) : std::string_view());
     }
   }
 
@@ -45,8 +60,10 @@ class TextFormat : public TrajectoryFormat<D> {
                       const System<D>& system) = 0;
   // `p` is the particle at the frame's time, wrapped into a periodic box (see synchronised), and
   // `image` its image flags then (see ParticleRecord::image).
+  // `type` is the particle's type name in a system with types (has_types), else empty.
   virtual void line(std::ostream& out, std::size_t index, const Particle<D>& p,
-                    const ParticleRecord& record, const std::array<std::int32_t, 3>& image) = 0;
+                    const ParticleRecord& record, const std::array<std::int32_t, 3>& image,
+                    std::string_view type) = 0;
 };
 
 // Extended XYZ: the box as a lattice (z of thickness 1 for disks), per-particle species,
@@ -83,16 +100,22 @@ class ExtendedXyz final : public TextFormat<D> {
     out << fmt::format(
         "{}\nLattice=\"{} 0 0 {} {} 0 0 0 {}\" "
         "Properties=species:S:1:pos:R:3:velo:R:3:radius:R:1:collisions:I:1:masses:R:1:"
-        "momenta:R:3:image:I:3 pbc=\"{}\" Time={}\n",
-        system.size(), L[0], shown_shift(system.box, system.stored(t)), L[1], lz, pbc, t);
+        "momenta:R:3:image:I:3{} pbc=\"{}\" Time={}{}\n",
+        system.size(), L[0], shown_shift(system.box, system.stored(t)), L[1], lz,
+        has_types(system) ? ":type:S:1" : "", pbc, t,
+        has_types(system) ? fmt::format(" types={}", fmt::join(system.type_names, ","))
+                          : std::string());
   }
   // masses and momenta are the columns ASE reads get_masses() and get_velocities() from (velo is
   // OVITO's); image unwraps pos as pos + image . the lattice.
+  // A mixture's lines end with the type's name (the species column is its element_of).
   void line(std::ostream& out, std::size_t, const Particle<D>& p, const ParticleRecord& record,
-            const std::array<std::int32_t, 3>& image) override {
-    out << fmt::format("H {} {} {} {} {} {} {} {} {}\n", xyz(p.position), xyz(p.velocity), p.radius,
-                       record.wall_collisions + record.pair_collisions, record.mass,
-                       xyz(record.mass * p.velocity), image[0], image[1], image[2]);
+            const std::array<std::int32_t, 3>& image, std::string_view type) override {
+    out << fmt::format("{} {} {} {} {} {} {} {} {} {}", element_of(record.type), xyz(p.position),
+                       xyz(p.velocity), p.radius, record.wall_collisions + record.pair_collisions,
+                       record.mass, xyz(record.mass * p.velocity), image[0], image[1], image[2]);
+    if (!type.empty()) out << ' ' << type;
+    out << '\n';
   }
 };
 
@@ -139,10 +162,12 @@ class LammpsDump final : public TextFormat<D> {
     }
     out << "ITEM: ATOMS id type x y z vx vy vz radius mass ix iy iz\n";
   }
+  // LAMMPS types count from 1: type index + 1 (the names are not LAMMPS').
   void line(std::ostream& out, std::size_t index, const Particle<D>& p,
-            const ParticleRecord& record, const std::array<std::int32_t, 3>& image) override {
-    out << fmt::format("{} 1 {} {} {} {} {} {} {}\n", index + 1, xyz(p.position), xyz(p.velocity),
-                       p.radius, record.mass, image[0], image[1], image[2]);
+            const ParticleRecord& record, const std::array<std::int32_t, 3>& image,
+            std::string_view) override {
+    out << fmt::format("{} {} {} {} {} {} {} {} {}\n", index + 1, record.type + 1, xyz(p.position),
+                       xyz(p.velocity), p.radius, record.mass, image[0], image[1], image[2]);
   }
 };
 

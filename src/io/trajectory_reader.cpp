@@ -229,6 +229,26 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
     expect("collisions", false, 1, 1);
     expect("image", false, 2, 3);
     const bool has_image = column.count("image") != 0;
+    // The types: carom's type column (names) for a mixture, else the species column's symbols
+    // (one symbol throughout, as a one-type file's H: no types).
+    const auto type_column = column.find("type");
+    const auto species_column = column.find("species");
+    const auto types_from =
+        type_column != column.end() && type_column->second.type == 'S'         ? type_column
+        : species_column != column.end() && species_column->second.type == 'S' ? species_column
+                                                                               : column.end();
+    std::vector<std::string> names;
+    std::vector<std::uint32_t> types;
+    // carom names a mixture's types in their order on the comment line: types=A,B.
+    if (const auto listed = fields.find("types");
+        listed != fields.end() && types_from == type_column) {
+      std::stringstream split(listed->second);
+      for (std::string name; std::getline(split, name, ',');) {
+        if (!name.empty() && std::find(names.begin(), names.end(), name) == names.end()) {
+          names.push_back(name);
+        }
+      }
+    }
     for (long long i = 0; i < *n; ++i) {
       next("a particle line");
       const std::vector<std::string> w = words(line);
@@ -266,6 +286,16 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
         }
         f.image.push_back(flags);
       }
+      if (types_from != column.end()) {
+        const std::string& name_of_type = w[types_from->second.first];
+        const auto found = std::find(names.begin(), names.end(), name_of_type);
+        types.push_back(static_cast<std::uint32_t>(found - names.begin()));
+        if (found == names.end()) names.push_back(name_of_type);
+      }
+    }
+    if (names.size() > 1 || (types_from == type_column && !names.empty())) {
+      f.type_names = std::move(names);
+      f.type = std::move(types);
     }
     z_periodic_of_frame.push_back(z_periodic);
     frames.push_back(std::move(f));

@@ -27,10 +27,15 @@ namespace carom {
 struct StartRecord {
   std::optional<Boundary> boundary;
   std::optional<Rule> rule;
+  // types=A,B: the names of a mixture's species; each particle line then ends with r, m and its
+  // type's index (x y vx vy r m t). Empty: one species, "A".
+  std::vector<std::string> types;
 };
 
-// The record's line, as carom writes it before a start's data (no newline).
-std::string start_record_line(Boundary boundary, Rule rule);
+// The record's line, as carom writes it before a start's data (no newline); `types` only for a
+// mixture (has_types).
+std::string start_record_line(Boundary boundary, Rule rule,
+                              const std::vector<std::string>& types = {});
 
 // The rule a run of a start takes when none is asked for: elastic when collisions lose energy
 // (a restitution below 1, which only it has), else the one its file records, else the classic

@@ -31,6 +31,11 @@ struct Frame {
   // The box sides each particle crossed (unwrapped position = position + image x box, plus
   // image_y x shear_shift along x); empty when the file has none.
   std::vector<std::array<std::int32_t, 3>> image;
+  // The species: each particle's index into type_names (empty: every particle type 0), and the
+  // names (empty: one, "A"), as GSD's particles/typeid and types, an XYZ file's species column,
+  // a LAMMPS dump's type.
+  std::vector<std::uint32_t> type;
+  std::vector<std::string> type_names;
 };
 
 // Reads every frame of an extended XYZ file (as `carom run --dump` writes: pos, and optionally
