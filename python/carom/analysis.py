@@ -22,7 +22,9 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
             html=None, k_max=None, fs_k=None):
     """`carom analyze` on a .gsd or .xyz trajectory: a dict of its JSON, arrays as numpy arrays.
 
-    Keys: "rdf" (r, g, bin_width, r_max, contact: {r, g, Z} or None), "msd" (t, msd) or None,
+    Keys: "rdf" (r, g, bin_width, r_max, contact: {r, g, Z} or None, and for a trajectory of two
+    types or more partial: {"A-B": g_AB(r), ...} and partial_weights: {"A-B": share of pairs},
+    sum share x g_AB = g), "msd" (t, msd) or None,
     "psi6" (t, global, local_mean) or None, "structure_factor" (k, s, k_peak) or None,
     "self_scattering" (k, t, fs, alpha2 (NaN at t = 0), tau_alpha or None) or None, "snapshot"
     (the last frame's positions, an (N, D) array, radii, and local psi6 as psi6_modulus and
@@ -46,6 +48,9 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         for key in keys:
             if result[section] is not None and result[section][key] is not None:
                 result[section][key] = _np.array(result[section][key], dtype=_np.float64)
+    # A mixture's partial g_ab(r), by pair name ("A-B").
+    for name, values in result["rdf"].get("partial", {}).items():
+        result["rdf"]["partial"][name] = _np.array(values, dtype=_np.float64)
     snapshot = result["snapshot"]
     snapshot["position"] = _np.array(snapshot["position"], dtype=_np.float64).reshape(
         -1, result["dimension"])

@@ -159,10 +159,14 @@ double set_covariance(const std::vector<double>& a, double r) {
          2.0 * r * r * (a[0] + a[1] + a[2]) / (3.0 * kPi) - r * r * r / (4.0 * kPi);
 }
 
+// `pair_of[a * types + b]` is the partial histogram a pair of types a and b adds to, when the
+// frame has types (`partials` not empty).
 template <std::size_t D>
 void count_pairs(const Frame& frame, double bin_width, double r_max,
-                 std::vector<double>& histogram) {
+                 std::vector<double>& histogram, std::vector<std::vector<double>>& partials,
+                 const std::vector<std::size_t>& pair_of, std::size_t types) {
   Neighbours<D> neighbours(frame);
+  const bool typed = !partials.empty();
   const double reach2 = r_max * r_max;
   for (std::size_t i = 0; i < neighbours.size(); ++i) {
     // Each pair is counted from its lower index.
@@ -171,7 +175,10 @@ void count_pairs(const Frame& frame, double bin_width, double r_max,
       const double r2 = norm2(neighbours.separation(i, j));
       if (r2 >= reach2) return;
       const auto bin = static_cast<std::size_t>(std::sqrt(r2) / bin_width);
-      if (bin < histogram.size()) histogram[bin] += 1.0;
+      if (bin < histogram.size()) {
+        histogram[bin] += 1.0;
+        if (typed) partials[pair_of[frame.type[i] * types + frame.type[j]]][bin] += 1.0;
+      }
     });
   }
 }
@@ -261,11 +268,34 @@ Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& opti
   const auto bins = static_cast<std::size_t>(bin_count);
   rdf.r_max = static_cast<double>(bins) * rdf.bin_width;
   std::vector<double> histogram(bins, 0.0);
+  // The types of the first frame, which every frame must share.
+  const Frame& first = frames.front();
+  const std::size_t types = first.type.empty() ? 1 : first.type_names.size();
+  std::vector<std::vector<double>> partials;
+  std::vector<std::size_t> pair_of(types * types);
+  std::vector<double> type_count(types, 0.0);
+  if (types > 1) {
+    for (const std::uint32_t t : first.type) type_count[t] += 1.0;
+    for (std::size_t a = 0; a < types; ++a) {
+      for (std::size_t b = a; b < types; ++b) {
+        pair_of[a * types + b] = pair_of[b * types + a] = rdf.partial_names.size();
+        rdf.partial_names.push_back(first.type_names[a] + "-" + first.type_names[b]);
+      }
+    }
+    partials.assign(rdf.partial_names.size(), std::vector<double>(bins, 0.0));
+    for (const Frame& frame : frames) {
+      if (frame.type != first.type || frame.type_names != first.type_names) {
+        throw std::invalid_argument(
+            "the particles' types change between frames: partial g(r) needs the same types in "
+            "every frame");
+      }
+    }
+  }
   for (const Frame& frame : frames) {
     if (shape.dimension == 2) {
-      count_pairs<2>(frame, rdf.bin_width, rdf.r_max, histogram);
+      count_pairs<2>(frame, rdf.bin_width, rdf.r_max, histogram, partials, pair_of, types);
     } else {
-      count_pairs<3>(frame, rdf.bin_width, rdf.r_max, histogram);
+      count_pairs<3>(frame, rdf.bin_width, rdf.r_max, histogram, partials, pair_of, types);
     }
   }
   const auto n = static_cast<double>(shape.particles);
@@ -282,6 +312,26 @@ Rdf radial_distribution(const std::vector<Frame>& frames, const RdfOptions& opti
                              : shell * set_covariance(window, r) / (window_volume * window_volume);
     rdf.r.push_back(r);
     rdf.g.push_back(histogram[b] / (pairs * share));
+  }
+  // Each partial over its own pairs: N_a (N_a - 1) / 2 of a type with itself, N_a N_b of two.
+  rdf.partial.resize(partials.size());
+  for (std::size_t a = 0; a < types && types > 1; ++a) {
+    for (std::size_t b = a; b < types; ++b) {
+      const std::size_t k = pair_of[a * types + b];
+      const double own = a == b ? type_count[a] * (type_count[a] - 1.0) / 2.0
+                                : type_count[a] * type_count[b];
+      rdf.partial_weights.push_back(own / (n * (n - 1.0) / 2.0));
+      const double own_pairs = static_cast<double>(frames.size()) * own;
+      for (std::size_t bin = 0; bin < bins; ++bin) {
+        const double lo = static_cast<double>(bin) * rdf.bin_width, hi = lo + rdf.bin_width;
+        const double shell = ball_volume(shape.dimension, hi) - ball_volume(shape.dimension, lo);
+        const double ideal =
+            shape.periodic
+                ? shell / window_volume
+                : shell * set_covariance(window, rdf.r[bin]) / (window_volume * window_volume);
+        rdf.partial[k].push_back(own_pairs > 0.0 ? partials[k][bin] / (own_pairs * ideal) : 0.0);
+      }
+    }
   }
   return rdf;
 }

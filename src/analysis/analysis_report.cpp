@@ -179,6 +179,16 @@ nlohmann::json to_json(const Analysis& a) {
       {"r_max", a.rdf.r_max},
       {"contact", a.contact ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
                             : json(nullptr)}};
+  // A mixture's partial g_ab(r), and each pair's share of all pairs (sum share g_ab = g).
+  if (!a.rdf.partial.empty()) {
+    json partial = json::object(), weights = json::object();
+    for (std::size_t k = 0; k < a.rdf.partial.size(); ++k) {
+      partial[a.rdf.partial_names[k]] = a.rdf.partial[k];
+      weights[a.rdf.partial_names[k]] = a.rdf.partial_weights[k];
+    }
+    out["rdf"]["partial"] = partial;
+    out["rdf"]["partial_weights"] = weights;
+  }
   if (a.msd) {
     const std::optional<double> d =
         self_diffusion(*a.msd, static_cast<std::size_t>(a.snapshot.dimension));

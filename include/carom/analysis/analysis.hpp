@@ -37,6 +37,14 @@ struct RdfOptions {
 struct Rdf {
   std::vector<double> r, g;
   double bin_width = 0.0, r_max = 0.0;
+  // Frames of two types or more (Frame::type): the partial g_ab(r) of each pair of types a <= b
+  // (in type order), named "A-B", each 1 at every r for an ideal mixture, and each pair's share
+  // of all pairs, N_a (N_a - 1) / (N (N - 1)) for a = b and 2 N_a N_b / (N (N - 1)) for a != b
+  // (x_a x_b counted both ways, for N particles), so that g = sum of share x g_ab exactly. Empty
+  // for one type.
+  std::vector<std::string> partial_names;
+  std::vector<std::vector<double>> partial;
+  std::vector<double> partial_weights;
 };
 
 // The radial distribution function of every pair of particles within r_max, found through a cell
