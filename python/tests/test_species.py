@@ -205,3 +205,20 @@ def test_one_type_files_have_no_types(cli, tmp_path):
     cli("run", path, 1, "--dump", tmp_path / "one.gsd", "--every", 0.5)
     result = carom.analyze(str(tmp_path / "one.gsd"))
     assert "partial" not in result["rdf"]
+
+
+def test_sweep_plans_take_species(cli, tmp_path):
+    plan = tmp_path / "plan.toml"
+    plan.write_text('[start]\nn = 60\nboundary = "periodic"\nspecies = "A:0.5:1.0,B:0.5:1.4"\n'
+                    '[run]\nend_time = 1\n[sweep]\nphi = [0.2, 0.3]\n')
+    listing = cli("sweep", plan, "-o", tmp_path / "out", "--dry-run")
+    assert listing.count("--species A:0.5:1.0,B:0.5:1.4") == 2
+    cli("sweep", plan, "-o", tmp_path / "out", "-q")
+    starts = sorted((tmp_path / "out").glob("*/start.txt"))
+    assert len(starts) == 2
+    for start in starts:
+        names, types = types_of(start)
+        assert names == ["A", "B"] and np.bincount(types).tolist() == [30, 30]
+    plan.write_text(plan.read_text().replace('[run]', 'polydispersity = 0.1\n[run]'))
+    message = cli.error("sweep", plan, "-o", tmp_path / "bad", "--dry-run")
+    assert "species" in message and "polydispersity" in message
