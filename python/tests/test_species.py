@@ -130,6 +130,10 @@ def test_xyz_species_are_read_by_ase_and_lammps_has_the_types(dense_binary):
     atoms = lines.index("ITEM: ATOMS id type x y z vx vy vz radius mass ix iy iz")
     rows = [line.split() for line in lines[atoms + 1: atoms + 401]]
     assert [int(r[1]) for r in rows] == (types + 1).tolist()
+    # ASE's LAMMPS reader takes the type as the atomic number (ids sorted: carom's order).
+    dumped = ase_io.read(str(dense_binary / "run.lammpstrj"), index=":", format="lammps-dump-text")
+    assert len(dumped) == 5
+    assert all(np.array_equal(atoms.numbers, types + 1) for atoms in dumped)
 
 
 def direct_partials(frames, edges, periodic_box, types):
@@ -222,3 +226,22 @@ def test_sweep_plans_take_species(cli, tmp_path):
     plan.write_text(plan.read_text().replace('[run]', 'polydispersity = 0.1\n[run]'))
     message = cli.error("sweep", plan, "-o", tmp_path / "bad", "--dry-run")
     assert "species" in message and "polydispersity" in message
+
+
+def test_final_states_and_checkpoints_keep_the_types(cli, tmp_path):
+    start = tmp_path / "m.txt"
+    cli("init", "--n", 60, "--phi", 0.3, "--species", BINARY, "--seed", 4, "-o", start)
+    _, types = types_of(start)
+    cli("run", start, 2, "--final", tmp_path / "end.gsd", "-o", "/dev/null", "-q")
+    cli("run", tmp_path / "end.gsd", 1, "--final", tmp_path / "end.txt", "-o", "/dev/null", "-q")
+    names, end_types = types_of(tmp_path / "end.txt")
+    assert names == ["A", "B"] and np.array_equal(end_types, types)
+    # A run resumed from its checkpoint ends as the whole run does, bit for bit, with the types.
+    cli("run", start, 3, "--format", "csv", "-o", tmp_path / "whole.csv", "-q")
+    cli("run", start, 1.5, "--checkpoint", tmp_path / "part.ckpt", "-o", "/dev/null", "-q")
+    assert json.loads((tmp_path / "part.ckpt").read_text())["types"] == ["A", "B"]
+    cli("run", "--resume", tmp_path / "part.ckpt", 3, "--format", "csv",
+        "-o", tmp_path / "resumed.csv", "-q")
+    assert (tmp_path / "whole.csv").read_bytes() == (tmp_path / "resumed.csv").read_bytes()
+    sim = carom.resume(tmp_path / "part.ckpt")
+    assert sim.types == ["A", "B"] and np.array_equal(sim.typeid, types)
