@@ -13,9 +13,10 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Analyse a trajectory (.gsd or .xyz from carom run --dump): g(r) and Z from its contact "
-      "value, the mean-square displacement, the hexatic order psi6; as JSON and as a report page.");
+      "value, the mean-square displacement, the hexatic order psi6 (disks), the Steinhardt bond "
+      "order and solid-like clusters (spheres); as JSON and as a report page.");
   analyze->footer(
-      R"(What it computes (2D and 3D; psi6 for disks only):
+      R"(What it computes (2D and 3D; psi6 for disks only, the bond order for spheres only):
   rdf    g(r) over every frame, minimum image in a periodic box, bins of d/50 up to 5 d (d the
          mean diameter), so contact is a bin edge; for a monodisperse periodic fluid, g(d+) from a
          least-squares quadratic over the bins within d/10 of contact and Z = 1 + 2 eta g(d+)
@@ -24,6 +25,12 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
          particle and time origin; frames must be evenly spaced in time
   psi6   |<psi6>| per frame and the mean local |psi6_j|, psi6_j = (1/6) sum of exp(6 i theta_jk)
          over the 6 nearest neighbours k of disk j
+  steinhardt
+         per frame, the means over the spheres of q4, q6, w4, w6 (Steinhardt) and of their
+         Lechner-Dellago averages over each sphere and its neighbours, the neighbours of a sphere
+         being every other one closer than 1.5 d (--order-cutoff), minimum image; the solid-like
+         spheres (7 or more bonds whose normalised q6 product exceeds 0.7, ten Wolde et al.) and
+         their clusters over neighbour bonds: their count and the largest cluster's size
 An analysis that does not apply is left out with the reason on standard error. A summary goes to
 standard output, the whole result to -o FILE.json, the report page to --html FILE.html.
 
@@ -57,6 +64,10 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->add_option("--contact-width", args.contact_width,
                    "The range above contact g(d+) is fitted on (default: d / 10)")
       ->type_name("WIDTH");
+  analyze
+      ->add_option("--order-cutoff", args.order_cutoff,
+                   "The neighbour distance of the Steinhardt bond order (default: 1.5 d)")
+      ->type_name("R");
   return analyze;
 }
 
@@ -90,6 +101,14 @@ void print_summary(std::ostream& out, const Analysis& a) {
     out << fmt::format("psi6: global {:.4f}, mean local {:.4f} (averaged over frames)\n",
                        global / frames, local / frames);
   }
+  if (a.steinhardt && !a.steinhardt->t.empty()) {
+    const BondOrderSeries& order = *a.steinhardt;
+    out << fmt::format(
+        "bond order (last frame, neighbours within {:g}): q4 {:.4f}, q6 {:.4f}, w6 {:.5f}; "
+        "{} solid-like, largest cluster {}\n",
+        order.cutoff, order.degree(4).q.back(), order.degree(6).q.back(), order.degree(6).w.back(),
+        order.solid_like.back(), order.largest_cluster.back());
+  }
 }
 
 double option_number(const std::string& text, const char* what, double otherwise) {
@@ -122,6 +141,7 @@ void analyze_command(const AnalyzeArguments& args) {
   options.rdf.bin_width = option_number(args.bin_width, "--bin", 0.0);
   options.rdf.r_max = option_number(args.r_max, "--r-max", 0.0);
   options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
+  options.bond_order.cutoff = option_number(args.order_cutoff, "--order-cutoff", 0.0);
   Analysis analysis;
   try {
     analysis = analyze(spec);

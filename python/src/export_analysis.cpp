@@ -17,7 +17,7 @@ void export_analysis(py::module_& m) {
   m.def(
       "analyze",
       [](const std::string& trajectory, double equilibrate, double bin_width, double r_max,
-         double contact_width, const std::optional<std::string>& log,
+         double contact_width, double order_cutoff, const std::optional<std::string>& log,
          const std::optional<std::string>& html) {
         std::string json;
         {
@@ -30,6 +30,7 @@ void export_analysis(py::module_& m) {
           spec.options.from_time = equilibrate;
           spec.options.rdf = {bin_width, r_max};
           spec.options.contact_width = contact_width;
+          spec.options.bond_order.cutoff = order_cutoff;
           std::ostringstream out;
           write_analysis_json(out, analyze(spec));
           json = out.str();
@@ -37,7 +38,7 @@ void export_analysis(py::module_& m) {
         return json;
       },
       py::arg("trajectory"), py::arg("equilibrate"), py::arg("bin_width"), py::arg("r_max"),
-      py::arg("contact_width"), py::arg("log"), py::arg("html"));
+      py::arg("contact_width"), py::arg("order_cutoff"), py::arg("log"), py::arg("html"));
 }
 
 }  // namespace carom::python
