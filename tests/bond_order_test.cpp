@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -173,6 +174,21 @@ TEST(BondOrder, WignerSymbolsHaveTheirClosedForms) {
   EXPECT_NEAR(wigner_3j(2, 2, 2, 0, 0, 0), -std::sqrt(2.0 / 35.0), 1e-15);
   EXPECT_NEAR(wigner_3j(4, 4, 4, 0, 0, 0), std::sqrt(18.0 / 1001.0), 1e-15);
   EXPECT_NEAR(wigner_3j(6, 6, 6, 0, 0, 0), -20.0 / std::sqrt(46189.0), 1e-15);
+  // (1 1 2; 1 0 -1) = (-1)^(1 - 1 + 1) / sqrt(5) <1 1; 1 0 | 2 1> = -1 / sqrt(10): a symbol whose
+  // phase (-1)^(l1 - l2 - m3) is odd.
+  EXPECT_NEAR(wigner_3j(1, 1, 2, 1, 0, -1), -1.0 / std::sqrt(10.0), 1e-15);
+  // Swapping two columns, or negating every m, multiplies by (-1)^(l1 + l2 + l3).
+  for (const auto& [l1, l2, l3] : {std::array{4, 6, 5}, std::array{6, 6, 6}, std::array{4, 4, 7}}) {
+    const double sign = (l1 + l2 + l3) % 2 == 0 ? 1.0 : -1.0;
+    for (int m1 = -l1; m1 <= l1; ++m1) {
+      for (int m2 = -l2; m2 <= l2; ++m2) {
+        const int m3 = -m1 - m2;
+        const double symbol = wigner_3j(l1, l2, l3, m1, m2, m3);
+        ASSERT_NEAR(wigner_3j(l2, l1, l3, m2, m1, m3), sign * symbol, 1e-15);
+        ASSERT_NEAR(wigner_3j(l1, l2, l3, -m1, -m2, -m3), sign * symbol, 1e-15);
+      }
+    }
+  }
   EXPECT_EQ(wigner_3j(6, 6, 6, 1, 1, 1), 0.0);  // m's do not add to 0
   EXPECT_EQ(wigner_3j(1, 1, 3, 0, 0, 0), 0.0);  // no triangle
   // Orthogonality: (2 l3 + 1) sum over m1, m2 of the squares is 1 for every m3 the l's allow.
