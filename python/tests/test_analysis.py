@@ -63,6 +63,8 @@ def test_analyze_refuses_what_it_cannot_do(tmp_path, trajectory):
         carom.analyze(tmp_path / "missing.gsd")
     with pytest.raises(ValueError, match="bin must be greater than 0"):
         carom.analyze(path, bin=-1)
+    with pytest.raises(ValueError, match="order_cutoff must be greater than 0"):
+        carom.analyze(path, order_cutoff=0)
     with pytest.raises(ValueError, match="no frame at or after t = 100"):
         carom.analyze(path, equilibrate=100)
     with pytest.raises(ValueError, match="g\\(r\\) reaches"):

@@ -20,15 +20,17 @@ namespace {
 
 using Complex = std::complex<double>;
 
+// Exact in a double up to 22!, more than the Wigner symbols of l <= 7 and Y_lm of l <= 11 take.
 double factorial(int n) {
   double product = 1.0;
   for (int k = 2; k <= n; ++k) product *= k;
   return product;
 }
 
+// (-1)^n
 double sign_of_power(int n) {
   return n % 2 == 0 ? 1.0 : -1.0;
-}  // (-1)^n
+}
 
 // Every particle's neighbours, each list in the order the search found them.
 struct NeighbourLists {
@@ -80,9 +82,10 @@ void add_harmonics(int l, const Vec<3>& bond, Complex* sum) {
   }
 }
 
-// The terms of w_l's sum: (l l l; m1 m2 m3) with m3 = -m1 - m2, indices shifted by l.
+// The terms of w_l's sum: (l l l; m1 m2 m3) with m3 = -m1 - m2, and where q_lm1, q_lm2 and
+// q_lm3 are in a particle's 2l + 1 values (at m + l).
 struct ThirdOrderTerm {
-  int m1, m2, m3;
+  int at1, at2, at3;
   double symbol;
 };
 std::vector<ThirdOrderTerm> third_order_terms(int l) {
@@ -113,7 +116,7 @@ void add_invariants(const Complex* qlm, int l, const std::vector<ThirdOrderTerm>
     return;
   }
   Complex sum = 0.0;
-  for (const ThirdOrderTerm& t : terms) sum += t.symbol * qlm[t.m1] * qlm[t.m2] * qlm[t.m3];
+  for (const ThirdOrderTerm& t : terms) sum += t.symbol * qlm[t.at1] * qlm[t.at2] * qlm[t.at3];
   w.push_back(sum.real() / (norm2 * std::sqrt(norm2)));
 }
 
@@ -157,7 +160,7 @@ SteinhardtInvariants invariants_of(int l, const std::vector<Complex>& qlm,
 // The solid bonds and solid-like particles of ten Wolde et al. from q6m, then the clusters.
 void find_solid_clusters(const std::vector<Complex>& q6m, const NeighbourLists& lists,
                          BondOrder& order) {
-  constexpr std::size_t kWidth = 13;
+  constexpr std::size_t kWidth = 13;  // 2l + 1 values of q6m a particle
   const std::size_t n = lists.start.size() - 1;
   std::vector<double> length(n);
   for (std::size_t i = 0; i < n; ++i) length[i] = std::sqrt(squared_norm(&q6m[i * kWidth], 6));
@@ -166,7 +169,7 @@ void find_solid_clusters(const std::vector<Complex>& q6m, const NeighbourLists& 
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t b = lists.start[i]; b < lists.start[i + 1]; ++b) {
       const std::size_t j = lists.at[b];
-      // A particle without neighbours has no q6 direction, so no solid bond.
+      // A q6 of zero (a shell of special symmetry) has no direction, so no solid bond.
       if (length[i] == 0.0 || length[j] == 0.0) continue;
       Complex product = 0.0;
       for (std::size_t m = 0; m < kWidth; ++m) {
@@ -289,8 +292,9 @@ BondOrder bond_order(const Frame& frame, const BondOrderOptions& options) {
 BondOrderSeries bond_order_series(const std::vector<Frame>& frames,
                                   const BondOrderOptions& options) {
   BondOrderSeries series;
-  for (std::size_t d = 0; d < kBondOrderDegrees.size(); ++d)
+  for (std::size_t d = 0; d < kBondOrderDegrees.size(); ++d) {
     series.means[d].l = kBondOrderDegrees[d];
+  }
   for (const Frame& frame : frames) {
     BondOrder order = bond_order(frame, options);
     series.cutoff = order.cutoff;

@@ -179,7 +179,9 @@ describe("the page filled with fixtures", () => {
     after(() => page?.close());
 
     test("every section is drawn, without errors", async () => {
-      assert.equal(await page.$$eval(".unavailable", (e) => e.length), 0);
+      // All but the bond order, which is for spheres, as psi6 is for disks.
+      assert.deepEqual(await page.$$eval(".unavailable", (e) => e.map((u) => u.closest("section").id)), ["steinhardt"]);
+      assert.match(await note(page, "steinhardt"), /defined for spheres \(3D\)/);
       assert.deepEqual(await pointCounts(page, "rdf"), { g: 250 });
       assert.deepEqual(await pointCounts(page, "msd"), { "MSD/d²": 40 });  // lag 0 left out
       assert.deepEqual(await pointCounts(page, "psi6"), { global: 41, local: 41 });
