@@ -13,10 +13,11 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Analyse a trajectory (.gsd or .xyz from carom run --dump): g(r) and Z from its contact "
-      "value, the mean-square displacement, the hexatic order psi6, the structure factor S(k), "
-      "the self-intermediate scattering function F_s(k,t); as JSON and as a report page.");
+      "value, the mean-square displacement, the hexatic order psi6 (disks), the Steinhardt bond "
+      "order and solid-like clusters (spheres), the structure factor S(k), the self-intermediate "
+      "scattering function F_s(k,t); as JSON and as a report page.");
   analyze->footer(
-      R"(What it computes (2D and 3D; psi6 for disks only):
+      R"(What it computes (2D and 3D; psi6 for disks only, the bond order for spheres only):
   rdf    g(r) over every frame, minimum image in a periodic box, bins of d/50 up to 5 d (d the
          mean diameter), so contact is a bin edge; for a monodisperse periodic fluid, g(d+) from a
          least-squares quadratic over the bins within d/10 of contact and Z = 1 + 2 eta g(d+)
@@ -25,6 +26,12 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
          particle and time origin; frames must be evenly spaced in time
   psi6   |<psi6>| per frame and the mean local |psi6_j|, psi6_j = (1/6) sum of exp(6 i theta_jk)
          over the 6 nearest neighbours k of disk j
+  steinhardt
+         per frame, the means over the spheres of q4, q6, w4, w6 (Steinhardt) and of their
+         Lechner-Dellago averages over each sphere and its neighbours, the neighbours of a sphere
+         being every other one closer than 1.5 d (--order-cutoff), minimum image; the solid-like
+         spheres (7 or more bonds whose normalised q6 product exceeds 0.7, ten Wolde et al.) and
+         their clusters over neighbour bonds: their count and the largest cluster's size
   S(k)   |sum_j exp(-i k.r_j)|^2 / N on the periodic box's k-grid, k = 2 pi (n_x/L_x, n_y/L_y,
          ...), over the frames and over shells of |k| of width 2 pi / L_min, up to k = 20 / d;
          at most 100 k-vectors a shell (an even, fixed choice), one of each k, -k
@@ -70,6 +77,10 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->add_option("--fs-k", args.fs_k,
                    "The wave number of F_s(k,t) and tau_alpha (default: S(k)'s main peak)")
       ->type_name("K");
+  analyze
+      ->add_option("--order-cutoff", args.order_cutoff,
+                   "The neighbour distance of the Steinhardt bond order (default: 1.5 d)")
+      ->type_name("R");
   return analyze;
 }
 
@@ -114,6 +125,14 @@ void print_summary(std::ostream& out, const Analysis& a) {
     if (fs.tau_alpha) out << fmt::format("; tau_alpha = {:.4g}", *fs.tau_alpha);
     out << '\n';
   }
+  if (a.steinhardt && !a.steinhardt->t.empty()) {
+    const BondOrderSeries& order = *a.steinhardt;
+    out << fmt::format(
+        "bond order (last frame, neighbours within {:g}): q4 {:.4f}, q6 {:.4f}, w6 {:.5f}; "
+        "{} solid-like, largest cluster {}\n",
+        order.cutoff, order.degree(4).q.back(), order.degree(6).q.back(), order.degree(6).w.back(),
+        order.solid_like.back(), order.largest_cluster.back());
+  }
 }
 
 double option_number(const std::string& text, const char* what, double otherwise) {
@@ -148,6 +167,7 @@ void analyze_command(const AnalyzeArguments& args) {
   options.contact_width = option_number(args.contact_width, "--contact-width", 0.0);
   options.k_max = option_number(args.k_max, "--k-max", 0.0);
   options.fs_k = option_number(args.fs_k, "--fs-k", 0.0);
+  options.bond_order.cutoff = option_number(args.order_cutoff, "--order-cutoff", 0.0);
   Analysis analysis;
   try {
     analysis = analyze(spec);

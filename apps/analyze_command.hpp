@@ -10,7 +10,7 @@ struct AnalyzeArguments {
   std::string output;  // JSON ("-": standard output)
   std::string html;
   std::string log;
-  std::string from_time, bin_width, r_max, contact_width;
+  std::string from_time, bin_width, r_max, contact_width, order_cutoff;
   std::string k_max, fs_k;
 };
 

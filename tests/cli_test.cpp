@@ -1444,7 +1444,8 @@ TEST_F(Cli, AnalyzeHelpNamesWhatItsOptionsTake) {
   const Result help = carom({"analyze", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   for (const char* shown : {"--equilibrate T", "--bin WIDTH", "--r-max R", "--contact-width WIDTH",
-                            "--k-max K", "--fs-k K", "--log FILE", "TRAJECTORY FILE"}) {
+                            "--k-max K", "--fs-k K", "--order-cutoff R", "--log FILE",
+                            "TRAJECTORY FILE"}) {
     EXPECT_NE(help.out.find(shown), std::string::npos) << shown << "\n" << help.out;
   }
   EXPECT_EQ(help.out.find("TEXT"), std::string::npos) << help.out;
@@ -1518,6 +1519,7 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
   const nlohmann::json narrow = nlohmann::json::parse(at_k.out);
   EXPECT_LE(narrow["structure_factor"]["k"].back().get<double>(), 4.0);
   EXPECT_NEAR(narrow["self_scattering"]["k"].get<double>(), 2.0, 0.3);
+  EXPECT_TRUE(analysis["steinhardt"].is_null());  // spheres only
   const std::string html = read_file(page);
   EXPECT_EQ(html.find("/*CAROM_DATA*/"), std::string::npos);
   // Nothing fetched from the network (the SVG namespace is a name, not a request; the browser
@@ -1575,6 +1577,50 @@ TEST_F(Cli, AnalyzeSummarisesWritesJsonAndAPageAndRefusesWhatItCannotDo) {
     EXPECT_EQ(r.exit_code, 2) << args.back() << ": " << r.err;
     EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(dir_ / "bad.html"));
+  }
+}
+
+// Spheres get the Steinhardt bond order and its solid-like clusters: per frame, and the last
+// frame's particle by particle; --order-cutoff sets the neighbours' reach.
+TEST_F(Cli, AnalyzeGivesTheBondOrderOfSpheres) {
+  const fs::path start = dir_ / "balls.txt", movie = dir_ / "balls.gsd";
+  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "200", "--phi", "0.4", "--boundary", "periodic",
+                   "-o", start})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "2", "--rule", "elastic", "--boundary", "periodic", "--dump",
+                   movie, "--every", "0.5", "-q", "-o", dir_ / "end.txt"})
+                .exit_code,
+            0);
+  const fs::path json = dir_ / "analysis.json";
+  const Result ok = carom({"analyze", movie, "-o", json});
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("bond order (last frame, neighbours within 1.5): q4 "), std::string::npos)
+      << ok.out;
+  const nlohmann::json order = nlohmann::json::parse(read_file(json))["steinhardt"];
+  EXPECT_EQ(order["cutoff"], 1.5);
+  EXPECT_EQ(order["t"].size(), 5u);
+  for (const char* key : {"q4", "q6", "w4", "w6", "q4_bar", "q6_bar", "w4_bar", "w6_bar",
+                          "solid_like", "largest_cluster", "cluster_sizes"}) {
+    EXPECT_EQ(order[key].size(), 5u) << key;
+  }
+  // A fluid at packing 0.4: some order in each sphere's shell, little in the averages, no crystal.
+  EXPECT_GT(order["q6"][4].get<double>(), order["q6_bar"][4].get<double>());
+  EXPECT_LT(order["largest_cluster"][4].get<int>(), 20);
+  const nlohmann::json& last = order["last_frame"];
+  EXPECT_EQ(last["time"], 2.0);
+  for (const char* key : {"neighbours", "q4", "q6", "w4", "w6", "q4_bar", "q6_bar", "w4_bar",
+                          "w6_bar", "solid_bonds", "solid_like", "cluster"}) {
+    EXPECT_EQ(last[key].size(), 200u) << key;
+  }
+  const Result nearer = carom({"analyze", movie, "--order-cutoff", "1.3", "-o", json});
+  ASSERT_EQ(nearer.exit_code, 0) << nearer.err;
+  EXPECT_EQ(nlohmann::json::parse(read_file(json))["steinhardt"]["cutoff"], 1.3);
+  for (const auto& [cutoff, message] : {std::pair{"0", "--order-cutoff must be greater than 0"},
+                                        std::pair{"4", "the bond order's neighbours reach r = "}}) {
+    const Result r = carom({"analyze", movie, "--order-cutoff", cutoff});
+    EXPECT_EQ(r.exit_code, 2) << cutoff;
+    EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
   }
 }
 

@@ -113,6 +113,22 @@ TEST(Scattering, LatticeIsNAtItsBraggPeaksAndZeroAtEveryOtherK) {
   }
 }
 
+// A long trajectory's S(k) is its evenly spread kStructureFactorFrames frames' (j F / 20 of F):
+// here the crystal frames at even places, never the gas between them.
+TEST(Scattering, ALongTrajectorysStructureIsTakenOnEvenlySpreadFrames) {
+  std::mt19937_64 random(5);
+  const Frame crystal = lattice(2, 8, 7.3);
+  std::vector<Frame> frames;
+  for (std::size_t f = 0; f < 2 * kStructureFactorFrames; ++f) {
+    frames.push_back(f % 2 == 0 ? crystal
+                                : ideal_gas(2, crystal.position.size(), crystal.box, random));
+  }
+  const StructureFactor all = structure_factor(frames, 20.0);
+  const StructureFactor one = structure_factor({crystal}, 20.0);
+  ASSERT_EQ(all.s.size(), one.s.size());
+  for (std::size_t m = 0; m < one.s.size(); ++m) EXPECT_NEAR(all.s[m], one.s[m], 1e-9) << m;
+}
+
 TEST(Scattering, IdealGasIsNearOneInEveryShell) {
   std::mt19937_64 random(12);
   for (const int dimension : {2, 3}) {

@@ -17,7 +17,8 @@ command line's results bit for bit::
     sim.save("run.ckpt")                                   # `carom run --resume run.ckpt` reads it
 
     dense, summary = carom.compress(sim, phi=0.7)          # `carom compress`: growing disks
-    result = carom.analyze("movie.xyz", equilibrate=50)    # `carom analyze`: g(r), MSD, psi6, S(k)
+    result = carom.analyze("movie.xyz", equilibrate=50)    # `carom analyze`: g(r), MSD, psi6, q6,
+    #   S(k), F_s(k,t)
     table = carom.sweep("eos.toml", "eos")                 # `carom sweep`, its tasks on Dask
 
 Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the module is built for.

@@ -17,7 +17,8 @@ void export_analysis(py::module_& m) {
   m.def(
       "analyze",
       [](const std::string& trajectory, double equilibrate, double bin_width, double r_max,
-         double contact_width, double k_max, double fs_k, const std::optional<std::string>& log,
+         double contact_width, double k_max, double fs_k, double order_cutoff,
+         const std::optional<std::string>& log,
          const std::optional<std::string>& html) {
         std::string json;
         {
@@ -32,6 +33,7 @@ void export_analysis(py::module_& m) {
           spec.options.contact_width = contact_width;
           spec.options.k_max = k_max;
           spec.options.fs_k = fs_k;
+          spec.options.bond_order.cutoff = order_cutoff;
           std::ostringstream out;
           write_analysis_json(out, analyze(spec));
           json = out.str();
@@ -39,7 +41,8 @@ void export_analysis(py::module_& m) {
         return json;
       },
       py::arg("trajectory"), py::arg("equilibrate"), py::arg("bin_width"), py::arg("r_max"),
-      py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("log"), py::arg("html"));
+      py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("order_cutoff"),
+      py::arg("log"), py::arg("html"));
 }
 
 }  // namespace carom::python

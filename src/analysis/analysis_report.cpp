@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "carom/analysis/analysis.hpp"
@@ -140,6 +142,14 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
     } catch (const std::invalid_argument& e) {
       analysis.warnings.push_back(std::string("no psi6: ") + e.what());
     }
+  } else {
+    try {
+      analysis.steinhardt = bond_order_series(frames, options.bond_order);
+    } catch (const std::invalid_argument& e) {
+      // A cutoff asked for is refused as --r-max is; the default one gives way to a small box.
+      if (options.bond_order.cutoff > 0.0) throw;
+      analysis.warnings.push_back(std::string("no Steinhardt bond order: ") + e.what());
+    }
   }
   add_scattering(analysis, frames, options);
   return analysis;
@@ -150,6 +160,37 @@ namespace {
 // A number, or null for what is not one (JSON has no NaN).
 nlohmann::json number(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+// The invariants of each degree under their names: q4, w4, q4_bar, w4_bar, q6, ...
+void add_invariants(nlohmann::json& out, const std::array<SteinhardtInvariants, 2>& invariants) {
+  for (const SteinhardtInvariants& of : invariants) {
+    const std::string l = std::to_string(of.l);
+    out["q" + l] = of.q;
+    out["w" + l] = of.w;
+    out["q" + l + "_bar"] = of.q_bar;
+    out["w" + l + "_bar"] = of.w_bar;
+  }
+}
+
+nlohmann::json to_json(const BondOrderSeries& s, double last_time) {
+  using nlohmann::json;
+  json out = {{"cutoff", s.cutoff},
+              {"bonds", "every particle within the cutoff (minimum image)"},
+              {"t", s.t},
+              {"solid_like", s.solid_like},
+              {"largest_cluster", s.largest_cluster},
+              {"cluster_sizes", s.cluster_sizes}};
+  add_invariants(out, s.means);
+  const BondOrder& last = s.last_frame;
+  json particles = {{"time", last_time},
+                    {"neighbours", last.neighbours},
+                    {"solid_bonds", last.solid_bonds},
+                    {"solid_like", last.solid_like},
+                    {"cluster", last.cluster}};
+  add_invariants(particles, last.invariants);
+  out["last_frame"] = particles;
+  return out;
 }
 
 nlohmann::json to_json(const Analysis& a) {
@@ -217,6 +258,7 @@ nlohmann::json to_json(const Analysis& a) {
   } else {
     out["self_scattering"] = nullptr;
   }
+  out["steinhardt"] = a.steinhardt ? to_json(*a.steinhardt, a.time.back()) : json(nullptr);
   json position = json::array(), radius = json::array();
   for (std::size_t i = 0; i < a.snapshot.position.size(); ++i) {
     for (int k = 0; k < shape.dimension; ++k) {

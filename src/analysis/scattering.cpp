@@ -251,8 +251,9 @@ StructureFactor structure_factor(const std::vector<Frame>& frames, double k_max)
   for (const WaveShell& shell : grid)
     index.insert(index.end(), shell.index.begin(), shell.index.end());
   std::vector<double> total(index.size(), 0.0);
-  for (const Frame& frame : frames) {
-    const std::vector<double> s = structure_factor_at(frame, index);
+  const std::size_t used = std::min(frames.size(), kStructureFactorFrames);
+  for (std::size_t j = 0; j < used; ++j) {
+    const std::vector<double> s = structure_factor_at(frames[j * frames.size() / used], index);
     for (std::size_t q = 0; q < index.size(); ++q) total[q] += s[q];
   }
   StructureFactor out;
@@ -261,7 +262,7 @@ StructureFactor structure_factor(const std::vector<Frame>& frames, double k_max)
     double sum = 0.0;
     for (std::size_t v = 0; v < shell.index.size(); ++v) sum += total[q++];
     out.k.push_back(shell.k);
-    out.s.push_back(sum / static_cast<double>(shell.index.size() * frames.size()));
+    out.s.push_back(sum / static_cast<double>(shell.index.size() * used));
   }
   out.k_peak =
       out.k[static_cast<std::size_t>(std::max_element(out.s.begin(), out.s.end()) - out.s.begin())];

@@ -183,7 +183,9 @@ describe("the page filled with fixtures", () => {
     after(() => page?.close());
 
     test("every section is drawn, without errors", async () => {
-      assert.equal(await page.$$eval(".unavailable", (e) => e.length), 0);
+      // All but the bond order, which is for spheres, as psi6 is for disks.
+      assert.deepEqual(await page.$$eval(".unavailable", (e) => e.map((u) => u.closest("section").id)), ["steinhardt"]);
+      assert.match(await note(page, "steinhardt"), /defined for spheres \(3D\)/);
       assert.deepEqual(await pointCounts(page, "rdf"), { g: 250 });
       assert.deepEqual(await pointCounts(page, "msd"), { "MSD/d²": 40 });  // lag 0 left out
       assert.deepEqual(await pointCounts(page, "psi6"), { global: 41, local: 41 });
@@ -293,7 +295,8 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
 
   // Every section with data has a plot with many points; every one without says why.
   async function sectionsDrawn(page, analysis) {
-    for (const section of ["rdf", "msd", "psi6", "structure_factor", "self_scattering", "log"]) {
+    for (const section of ["rdf", "msd", "psi6", "structure_factor", "self_scattering", "steinhardt",
+                           "log"]) {
       if (analysis[section] === null) {
         assert.ok(await page.isVisible(`#${section} .unavailable`), `${section}: no note`);
         continue;
@@ -334,6 +337,7 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
       assert.ok(Math.abs(peak - 1) < 0.1, `g(r) first peaks at r = ${peak} d`);
       assert.ok((await pointCounts(page, "log")).Z >= 30);
       assert.ok(await page.isVisible("#summary dd[data-key=psi6]"));
+      assert.match(await note(page, "steinhardt"), /defined for spheres \(3D\)/);
       assert.deepEqual(errors, []);
     });
 
@@ -362,6 +366,9 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
 
     test("psi6 and the log are not available, the rest is drawn", async () => {
       assert.equal(analysis.psi6, null);
+      assert.notEqual(analysis.steinhardt, null);
+      assert.deepEqual(await pointCounts(page, "steinhardt"), { "q₆": 21, "q̄₆": 21, "cluster/N": 21 });
+      assert.match(await fact(page, "steinhardt"), /solid-like, largest cluster \d+$/);
       assert.equal(analysis.log, null);
       assert.match(await note(page, "psi6"), /disks \(2D\)/);
       assert.match(await note(page, "log"), /log/);

@@ -1,7 +1,8 @@
 // Analysis of a trajectory's frames (carom analyze, carom.analyze in Python): the radial
-// distribution function and its contact value, the mean-square displacement, and the hexatic
-// order psi6 (scattering.hpp: S(k), F_s(k,t)). Pure functions of the frames: nothing here reads
-// files or prints.
+// distribution function and its contact value, the mean-square displacement, the hexatic order
+// psi6 of disks and the Steinhardt bond order of spheres (bond_order.hpp), and scattering
+// (scattering.hpp: S(k), F_s(k,t)). Pure functions of the frames: nothing here reads files or
+// prints.
 #pragma once
 
 #include <complex>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "carom/analysis/bond_order.hpp"
 #include "carom/analysis/scattering.hpp"
 #include "carom/io/log_table.hpp"
 #include "carom/io/trajectory_reader.hpp"
@@ -97,11 +99,14 @@ struct AnalysisOptions {
   double from_time = -1e300;   // frames before this time are left out (equilibration)
   double k_max = 0.0;          // how far S(k) reaches; 0: 20 / the mean diameter
   double fs_k = 0.0;           // the wave number of F_s(k,t); 0: the main peak of S(k)
+  BondOrderOptions bond_order;
 };
 
 // Everything carom analyze computes, for its JSON and its report page. An analysis that does
-// not apply (psi6 of spheres, the MSD and F_s without image flags, the contact value of a
-// polydisperse or walled system, S(k) between walls) is absent, with the reason in `warnings`.
+// not apply is absent: psi6 of spheres and the bond order of disks silently (each is defined for
+// the other dimension only), the MSD and F_s without image flags, the contact value of a
+// polydisperse or walled system, S(k) between walls, and the bond order in a box too small for
+// its cutoff with the reason in `warnings`.
 struct Analysis {
   std::string trajectory;
   TrajectoryShape shape;
@@ -113,6 +118,7 @@ struct Analysis {
   std::optional<Psi6Series> psi6;
   std::optional<StructureFactor> structure_factor;
   std::optional<SelfScattering> self_scattering;
+  std::optional<BondOrderSeries> steinhardt;        // spheres only
   Frame snapshot;                                   // the last frame analysed
   std::vector<std::complex<double>> snapshot_psi6;  // its local psi6 (disks only)
   std::optional<LogTable> log;
@@ -121,7 +127,8 @@ struct Analysis {
 
 // Analyses the frames of the trajectory named `name` from options.from_time on (a frame within a
 // billionth of that time counts as at it). Throws std::invalid_argument when no frame is left,
-// when the frames do not share one box, or for options the trajectory cannot have.
+// when the frames do not share one box, or for options the trajectory cannot have (a bond-order
+// cutoff given that the box cannot have; the default one is only warned about).
 Analysis analyze(std::vector<Frame> frames, const std::string& name,
                  const AnalysisOptions& options = {});
 
@@ -129,13 +136,16 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
 // periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
 // time, rdf {r, g, bin_width, r_max, contact {r, g, Z} or null}, msd {t, msd} or null, psi6 {t,
 // global, local_mean, bonds} or null, structure_factor {k, s, k_peak} or null, self_scattering
-// {k, t, fs, alpha2, tau_alpha} or null, snapshot {time, position, radius, psi6_modulus,
-// psi6_phase}, log {file, columns, rows} or null, warnings.
+// {k, t, fs, alpha2, tau_alpha} or null, steinhardt {cutoff, bonds, t, q4, q6, w4, w6, q4_bar,
+// q6_bar, w4_bar, w6_bar (frame means), solid_like, largest_cluster, cluster_sizes, last_frame
+// {time, neighbours, q4, ..., w6_bar, solid_bonds, solid_like, cluster} (per particle)} or null,
+// snapshot {time, position, radius, psi6_modulus, psi6_phase}, log {file, columns, rows} or null,
+// warnings.
 void write_analysis_json(std::ostream& out, const Analysis& analysis);
 
 // The report: one self-contained HTML page (no network) with the summary and plots of g(r), the
-// MSD, psi6(t), S(k), F_s(k,t) and alpha2(t), the log's Z, and a snapshot coloured by the phase
-// of the local psi6.
+// MSD, psi6(t), q6 and the largest solid-like cluster (t), S(k), F_s(k,t) and alpha2(t), the
+// log's Z, and a snapshot coloured by the phase of the local psi6.
 void write_report_html(std::ostream& out, const Analysis& analysis);
 
 }  // namespace carom

@@ -40,7 +40,12 @@ double wave_number_step(const Frame& frame);
 std::vector<double> structure_factor_at(const Frame& frame,
                                         const std::vector<std::array<int, 3>>& index);
 
-// S(k) averaged over the frames and over the k-vectors of each shell, shells 1 up to k_max
+// S(k) is a static average, and a frame's shells already average many k-vectors: a long
+// trajectory's S(k) is taken on at most this many of its frames, evenly spread (frame
+// floor(j F / kStructureFactorFrames) of F, j = 0, 1, ...), at a small fraction of the cost of all.
+constexpr std::size_t kStructureFactorFrames = 20;
+// S(k) averaged over the frames (see kStructureFactorFrames) and the k-vectors of each shell,
+// shells 1 up to k_max
 // (every shell whose centre m dk is at most k_max), at each shell's mean |k|; k_peak is the k of
 // its highest shell (the main peak of a fluid or a glass). For a periodic box; throws
 // std::invalid_argument for a box that is not, or a k_max below dk.
