@@ -10,7 +10,7 @@ PYTHON ?= /usr/bin/python3
 # /usr/local/lib/python3.X/dist-packages), else the user's own.
 PYTHON_SITE ?= $(shell $(PYTHON) -c 'import os, site, sysconfig; p = sysconfig.get_path("platlib"); print(p if os.access(os.path.dirname(p), os.W_OK) else site.getusersitepackages())')
 
-.PHONY: all deps deps-run build build-run demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd fuzz-plan bench clean format python-install python-uninstall
+.PHONY: all deps deps-run build build-run demo test test-sanitize fuzz fuzz-build fuzz-checkpoint fuzz-xyz fuzz-gsd fuzz-plan bench clean format python-install python-uninstall docs-outputs
 
 all: build
 
@@ -52,6 +52,11 @@ python-uninstall:
 
 test: build
 	ctest --test-dir $(BUILD) --output-on-failure -j $(JOBS)
+
+# Rewrites the outputs README.md and docs/*.md show after `$ ` commands to what $(BUILD)/carom
+# and the Python module print now (ctest documented_commands_run compares them). Needs a build.
+docs-outputs:
+	$(PYTHON) tests/docs_commands.py --update . $(BUILD)/carom $(BUILD)/python
 
 # The whole suite under AddressSanitizer and UndefinedBehaviorSanitizer (any report fails it).
 SANITIZE = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
