@@ -306,8 +306,8 @@ TEST(StartRecord, TheDefaultRuleIsTheClassicAssignmentsOnlyInItsOwnBox) {
   EXPECT_EQ(default_rule({}, Boundary::walls), Rule::swap);
   EXPECT_EQ(default_rule({}, Boundary::periodic), Rule::elastic);
   EXPECT_EQ(default_rule({}, Boundary::walls, 0.9), Rule::elastic);
-  EXPECT_EQ(default_rule({Boundary::walls, Rule::elastic}, Boundary::walls), Rule::elastic);
-  EXPECT_EQ(default_rule({std::nullopt, Rule::swap}, Boundary::periodic), Rule::swap);
+  EXPECT_EQ(default_rule({Boundary::walls, Rule::elastic, {}}, Boundary::walls), Rule::elastic);
+  EXPECT_EQ(default_rule({std::nullopt, Rule::swap, {}}, Boundary::periodic), Rule::swap);
 }
 
 }  // namespace

@@ -379,7 +379,7 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     try {
       std::visit(
           [&](const auto& input) {
-            plan.start_file_record_ = {input.system.box.boundary, input.record.rule};
+            plan.start_file_record_ = {input.system.box.boundary, input.record.rule, {}};
           },
           read_any_start_file(path));
     } catch (const std::exception& e) {  // InputError, or a file that cannot be opened

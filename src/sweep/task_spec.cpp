@@ -376,7 +376,7 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
       // rule are the run's, else what the start records (carom init's: its boundary, elastic).
       const StartRecord record = spec.start_file
                                      ? plan.start_file_record()
-                                     : StartRecord{spec.initial.boundary, Rule::elastic};
+                                     : StartRecord{spec.initial.boundary, Rule::elastic, {}};
       const Boundary boundary = s.boundary.value_or(record.boundary.value_or(Boundary::walls));
       const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));
       const bool periodic = boundary == Boundary::periodic;
