@@ -198,6 +198,10 @@ def test_analyze_gives_partials_that_add_up_to_the_total(dense_binary, cli):
     out = json.loads((dense_binary / "analysis.json").read_text())
     assert out["rdf"]["g"] == rdf["g"].tolist()
     assert out["rdf"]["partial"]["A-B"] == rdf["partial"]["A-B"].tolist()
+    # The mixture's relaxation too: F_s(k,t) at its main peak, from 1 at t = 0.
+    fs = result["self_scattering"]
+    assert fs is not None and fs["fs"][0] == pytest.approx(1.0, abs=1e-14)
+    assert len(fs["fs"]) == len(result["msd"]["t"]) > 2
 
 
 def test_one_type_files_have_no_types(cli, tmp_path):
