@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <iostream>
+#include <optional>
 
+#include "carom/io/trajectory_kind.hpp"
 #include "carom/run/run.hpp"
 #include "carom/run/start.hpp"
 #include "cli_support.hpp"
@@ -68,14 +70,12 @@ void check(const RunArguments& args) {
   if (!args.checkpoint_every.empty()) checkpoint_cadence(args.checkpoint_every);
   check_progress(args.progress);
   // -o is the result table: written under a trajectory's name it would read as one to no one.
-  for (const std::string_view format : {".gsd", ".xyz", ".lammpstrj"}) {
-    if (args.output.ends_with(format)) {
-      throw UsageError(fmt::format(
-          "-o writes the run's result (the classic table, --format csv or json), not a {} file: "
-          "for the end state as a start file to go on from, use --final {}{}",
-          format.substr(1), args.output,
-          format == ".gsd" ? "" : " (or a .gsd or .txt name: runs start from those)"));
-    }
+  if (const std::optional<TrajectoryKind> kind = trajectory_kind_of(args.output)) {
+    throw UsageError(fmt::format(
+        "-o writes the run's result (the classic table, --format csv or json), not a {} file: "
+        "for the end state as a start file to go on from, use --final {}{}",
+        extension_of(*kind), args.output,
+        kind == TrajectoryKind::gsd ? "" : " (or a .gsd or .txt name: runs start from those)"));
   }
 }
 

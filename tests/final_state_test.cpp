@@ -140,10 +140,12 @@ TEST(FinalState, AGsdFrameChangedBehindItsDoubleCopiesIsRefused) {
 
 TEST(FinalState, TheFormatIsTheNames) {
   EXPECT_EQ(final_format("end.gsd"), FinalFormat::gsd);
+  EXPECT_EQ(final_format("END.GSD"), FinalFormat::gsd);  // as a dump's name is read
   EXPECT_EQ(final_format("end.txt"), FinalFormat::classic);
   EXPECT_EQ(final_format("end"), FinalFormat::classic);
   EXPECT_THROW(final_format("end.xyz"), std::invalid_argument);
   EXPECT_THROW(final_format("end.lammpstrj"), std::invalid_argument);
+  EXPECT_THROW(final_format("END.XYZ"), std::invalid_argument);
 }
 
 }  // namespace

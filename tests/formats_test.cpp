@@ -13,6 +13,7 @@
 #include "carom/io/classic_output.hpp"
 #include "carom/io/event_log.hpp"
 #include "carom/io/trajectory.hpp"
+#include "carom/io/trajectory_kind.hpp"
 #include "carom/run/run_report.hpp"
 #include "test_systems.hpp"
 
@@ -176,6 +177,22 @@ TEST(Formats, JsonIsValidAndKeepsEveryBit) {
 
 namespace carom {
 namespace {
+
+// One reading of a trajectory's name for a dump, an end state and a result table: the ending
+// after a dot, in any case.
+TEST(Formats, ATrajectoryIsToldByItsEndingInAnyCase) {
+  EXPECT_EQ(trajectory_kind_of("movie.xyz"), TrajectoryKind::xyz);
+  EXPECT_EQ(trajectory_kind_of("dir.gsd/MOVIE.XYZ"), TrajectoryKind::xyz);
+  EXPECT_EQ(trajectory_kind_of("run.LammpsTrj"), TrajectoryKind::lammpstrj);
+  EXPECT_EQ(trajectory_kind_of("a/b.Gsd"), TrajectoryKind::gsd);
+  for (const std::string_view other : {"movie.txt", "movie.gsd.txt", "movie_xyz", "xyz", ""}) {
+    EXPECT_EQ(trajectory_kind_of(other), std::nullopt) << other;
+  }
+  for (const TrajectoryKind kind :
+       {TrajectoryKind::xyz, TrajectoryKind::lammpstrj, TrajectoryKind::gsd}) {
+    EXPECT_EQ(trajectory_kind_of("m." + std::string(extension_of(kind))), kind);
+  }
+}
 
 // What a resumed run keeps of the files an earlier piece wrote: the whole lines and frames from
 // before its checkpoint, nothing from after it or cut short.

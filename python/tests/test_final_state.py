@@ -64,7 +64,7 @@ def test_event_chains_end_at_rest(cli, tmp_path):
     assert "--kT" in cli.run("run", tmp_path / "end.txt", "1", "-o", "/dev/null") + cli.last_stderr
 
 
-@pytest.mark.parametrize("name", ["end.gsd", "end.xyz", "end.lammpstrj"])
+@pytest.mark.parametrize("name", ["end.gsd", "end.xyz", "end.lammpstrj", "END.XYZ"])
 def test_o_refuses_a_trajectory_s_name(cli, tmp_path, name):
     start = tmp_path / "start.txt"
     cli("init", "--n", "16", "--phi", "0.3", "--boundary", "periodic", "-o", start)

@@ -2,27 +2,25 @@
 
 #include <fmt/format.h>
 
+#include <optional>
 #include <stdexcept>
 
 #include "carom/engine/engine.hpp"
 #include "carom/io/classic_output.hpp"
+#include "carom/io/trajectory_kind.hpp"
 #include "gsd_format.hpp"
 
 namespace carom {
 
 FinalFormat final_format(std::string_view path) {
-  const auto ends_with = [&](std::string_view suffix) {
-    return path.size() >= suffix.size() && path.substr(path.size() - suffix.size()) == suffix;
-  };
-  if (ends_with(".gsd")) return FinalFormat::gsd;
-  if (ends_with(".xyz") || ends_with(".lammpstrj")) {
-    throw std::invalid_argument(fmt::format(
-        "{} names a trajectory format, which runs do not start from: name the end state "
-        "FILE.gsd (GSD, with carom's double-precision copy) or anything else for carom's start "
-        "format (FILE.txt)",
-        path));
-  }
-  return FinalFormat::classic;
+  const std::optional<TrajectoryKind> kind = trajectory_kind_of(path);
+  if (!kind) return FinalFormat::classic;
+  if (*kind == TrajectoryKind::gsd) return FinalFormat::gsd;
+  throw std::invalid_argument(fmt::format(
+      "{} names a trajectory format, which runs do not start from: name the end state "
+      "FILE.gsd (GSD, with carom's double-precision copy) or anything else for carom's start "
+      "format (FILE.txt)",
+      path));
 }
 
 template <std::size_t D>

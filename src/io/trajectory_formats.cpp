@@ -4,9 +4,9 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -14,6 +14,7 @@
 #include "carom/core/physics.hpp"
 #include "carom/engine/engine.hpp"
 #include "carom/io/trajectory.hpp"
+#include "carom/io/trajectory_kind.hpp"
 #include "gsd_format.hpp"
 #include "whole_lines.hpp"
 
@@ -175,17 +176,16 @@ class LammpsDump final : public TextFormat<D> {
 
 template <std::size_t D>
 std::unique_ptr<TrajectoryFormat<D>> trajectory_format_for(const std::string& path) {
-  // Endings in any case: MOVIE.XYZ is as much extended XYZ as movie.xyz.
-  const auto ends_with = [&](std::string_view suffix) {
-    if (path.size() < suffix.size()) return false;
-    const std::string_view end = std::string_view(path).substr(path.size() - suffix.size());
-    return std::equal(end.begin(), end.end(), suffix.begin(), [](char a, char b) {
-      return std::tolower(static_cast<unsigned char>(a)) == b;
-    });
-  };
-  if (ends_with(".xyz")) return std::make_unique<ExtendedXyz<D>>();
-  if (ends_with(".lammpstrj")) return std::make_unique<LammpsDump<D>>();
-  if (ends_with(".gsd")) return std::make_unique<GsdFormat<D>>();
+  if (const std::optional<TrajectoryKind> kind = trajectory_kind_of(path)) {
+    switch (*kind) {
+      case TrajectoryKind::xyz:
+        return std::make_unique<ExtendedXyz<D>>();
+      case TrajectoryKind::lammpstrj:
+        return std::make_unique<LammpsDump<D>>();
+      case TrajectoryKind::gsd:
+        return std::make_unique<GsdFormat<D>>();
+    }
+  }
   throw std::invalid_argument(fmt::format(
       "cannot tell the trajectory format of '{}': name it .xyz (extended XYZ), .lammpstrj "
       "(LAMMPS dump) or .gsd (HOOMD-blue's GSD)",

@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "carom/io/input_error.hpp"
+#include "carom/io/trajectory_kind.hpp"
 
 namespace carom {
 
@@ -319,10 +320,9 @@ std::vector<Frame> read_xyz_frames(std::istream& in, const std::string& name) {
 
 std::vector<Frame> read_trajectory_frames(const std::string& path,
                                           const FrameSelection& selection) {
-  std::string lowered = path;
-  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (lowered.ends_with(".gsd")) return read_gsd_frames(path, selection);
-  if (lowered.ends_with(".lammpstrj")) {
+  const std::optional<TrajectoryKind> kind = trajectory_kind_of(path);
+  if (kind == TrajectoryKind::gsd) return read_gsd_frames(path, selection);
+  if (kind == TrajectoryKind::lammpstrj) {
     throw InputError(path, 0,
                      "carom reads .gsd and .xyz trajectories back, not LAMMPS dumps: dump the run "
                      "to FILE.gsd or FILE.xyz");

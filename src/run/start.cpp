@@ -10,6 +10,7 @@
 #include "carom/engine/validation.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/gsd.hpp"
+#include "carom/io/trajectory_kind.hpp"
 #include "carom/run/request.hpp"
 
 namespace carom {
@@ -96,7 +97,7 @@ std::optional<std::pair<std::string, std::string>> gsd_frame_of(const std::strin
 }
 
 bool is_gsd_file(const std::string& path) {
-  return path.size() > 4 && lowered(path.substr(path.size() - 4)) == ".gsd";
+  return trajectory_kind_of(path) == TrajectoryKind::gsd;
 }
 
 }  // namespace

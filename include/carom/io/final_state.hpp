@@ -16,9 +16,9 @@ enum class FinalFormat {
   gsd,      // one GSD frame (HOOMD, OVITO, freud) with carom's double-precision copies
 };
 
-// The format a file name asks for: `.gsd` GSD, any other name the classic start format. Throws
-// std::invalid_argument for the trajectory formats `.xyz` and `.lammpstrj`, whose frames carom
-// does not start from.
+// The format a file name asks for (its ending in any case, as trajectory_kind_of reads it): `.gsd`
+// GSD, any other name the classic start format. Throws std::invalid_argument for the trajectory
+// formats `.xyz` and `.lammpstrj`, whose frames carom does not start from.
 FinalFormat final_format(std::string_view path);
 
 // `system` brought to the absolute time t (its particles wrapped into the box, image flags kept)
