@@ -168,6 +168,15 @@ function oneFrame() {  // a single frame in a 2:1 box with walls: little to plot
   };
 }
 
+function mixture() {  // the disks as a 50:50 mixture of A and B: its partial g_ab(r)
+  const analysis = disks(), r = analysis.rdf.r;
+  const peaked = (at, height) => r.map((x) => (x < at ? 0 : 1 + height * Math.exp(-3 * (x - at))));
+  analysis.monodisperse = false;
+  analysis.rdf.partial = { "A-A": peaked(1, 2), "A-B": peaked(1.2, 1.5), "B-B": peaked(1.4, 1) };
+  analysis.rdf.partial_weights = { "A-A": 0.2494, "A-B": 0.5013, "B-B": 0.2494 };
+  return analysis;
+}
+
 describe("the page filled with fixtures", () => {
   test("the template has one data slot, in the data block, and fits carom's raw string", () => {
     assert.ok(!template.includes(')carom_html"'), "the page would end carom's raw string literal");
@@ -185,6 +194,7 @@ describe("the page filled with fixtures", () => {
     test("every section is drawn, without errors", async () => {
       // All but the bond order, which is for spheres, as psi6 is for disks.
       assert.deepEqual(await page.$$eval(".unavailable", (e) => e.map((u) => u.closest("section").id)), ["steinhardt"]);
+      assert.equal(await page.$$eval("#partial_rdf", (e) => e.length), 0);  // one type: no partials
       assert.match(await note(page, "steinhardt"), /defined for spheres \(3D\)/);
       assert.deepEqual(await pointCounts(page, "rdf"), { g: 250 });
       assert.deepEqual(await pointCounts(page, "msd"), { "MSD/d²": 40 });  // lag 0 left out
@@ -246,6 +256,19 @@ describe("the page filled with fixtures", () => {
       assert.ok(Math.abs(await firstPeak(page) - 1) < 0.05);
       assert.deepEqual(errors, []);
     });
+  });
+
+  test("a mixture's partial g_ab(r) are drawn over g(r), with each pair's share", async () => {
+    const errors = [], page = await openWith("mixture", mixture(), errors);
+    assert.deepEqual(await pointCounts(page, "partial_rdf"), { g: 250, "g A-A": 250, "g A-B": 250, "g B-B": 250 });
+    assert.match(await page.textContent("#partial_rdf .legend"), /g A-A.*g A-B.*g B-B.*all pairs/);
+    assert.match(await page.textContent("#partial_rdf .caption"), /A-A 0\.249, A-B 0\.501, B-B 0\.249\.$/);
+    // Where each partial is drawn: A-B rises from 0 to 2.5 at r = 1.2 d.
+    const ab = await seriesPoints(page, "partial_rdf", "g A-B");
+    const first = ab.findIndex(([, g]) => g > 0.1);
+    assert.ok(Math.abs(ab[first][0] - 1.21) < 0.02 && Math.abs(ab[first][1] - 2.5) < 0.05, `A-B starts at ${ab[first]}`);
+    assert.deepEqual(errors, []);
+    await page.close();
   });
 
   test("spheres: no psi6, MSD or log; a depth-coloured projection", async () => {
@@ -349,6 +372,27 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
       await page.screenshot({ path: join(folder, "disks.png"), fullPage: true });
       assert.deepEqual(errors, []);
     });
+  });
+
+  test("a binary mixture's partial g_ab(r) are plotted, one type's run has none", async () => {
+    run("init", "--n", "400", "--phi", "0.4", "--species", "A:0.5:1.0,B:0.5:1.4", "--boundary", "periodic", "-o", "mix.txt");
+    run("run", "mix.txt", "2", "--rule", "elastic", "--dump", "mix.gsd", "--every", "0.5", "-o", "mix_end.txt");
+    run("analyze", "mix.gsd", "--html", "mix.html");
+    const errors = [], page = await open(join(folder, "mix.html"), errors);
+    const analysis = await embedded(page);
+    assert.deepEqual(Object.keys(analysis.rdf.partial), ["A-A", "A-B", "B-B"]);
+    const counts = await pointCounts(page, "partial_rdf");
+    assert.deepEqual(Object.keys(counts), ["g", "g A-A", "g A-B", "g B-B"]);
+    assert.ok(Math.min(...Object.values(counts)) >= 100, `points drawn: ${JSON.stringify(counts)}`);
+    // An A and a B touch at (1.0 + 1.4) / 2: the plot's r / d times d.
+    const ab = await seriesPoints(page, "partial_rdf", "g A-B");
+    const contact = ab.find(([, g]) => g > 0.5)[0] * analysis.diameter;
+    assert.ok(Math.abs(contact - 1.2) < 0.05, `A-B pairs start at r = ${contact}`);
+    await page.close();
+    const disks = await open(join(folder, "report.html"), errors);
+    assert.equal(await disks.$$eval("#partial_rdf", (e) => e.length), 0);
+    await disks.close();
+    assert.deepEqual(errors, []);
   });
 
   describe("spheres", () => {
