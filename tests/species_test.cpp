@@ -7,13 +7,16 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "carom/analysis/analysis.hpp"
 #include "carom/core/observables.hpp"
 #include "carom/engine/initial.hpp"
 #include "carom/engine/simulation.hpp"
+#include "carom/engine/validation.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/classic_input.hpp"
 #include "carom/io/classic_output.hpp"
@@ -130,6 +133,33 @@ TEST(Species, TypesAreShuffledByTheSeedNotPlacedInBlocks) {
   }
   EXPECT_GT(lower_a, lower / 4);
   EXPECT_LT(lower_a, 3 * lower / 4);
+}
+
+// A system a program builds (arrays from Python) is checked as a file's types are: names that
+// every file can hold, each once, and every particle's type one of them.
+TEST(Species, AStartsTypesAreChecked) {
+  System<2> system = make_initial<2>(binary(20, 0.3));
+  EXPECT_NO_THROW(check_start(system));
+  const auto refused = [&](const System<2>& bad, const std::string& what) {
+    try {
+      check_start(bad);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  for (const auto& [names, what] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"A", "A"}, "A appears twice"},
+           {{"A", ""}, "\"\" must be letters"},
+           {{"A", "B,C"}, "\"B,C\" must be letters"},
+           {{}, "at least one type name"}}) {
+    System<2> bad = system;
+    bad.type_names = names;
+    refused(bad, what);
+  }
+  System<2> beyond = system;
+  beyond.records[7].type = 2;
+  refused(beyond, "the type 2 of particle 7 is not the index of one of the 2 types (0 to 1)");
 }
 
 TEST(Species, ExcludesPolydispersityAndRadius) {

@@ -44,6 +44,34 @@ def _per_particle(name, value, n, default):
     return _float_array(name, value, (n,))
 
 
+def _species(types, typeid, n):
+    """types= and typeid= as the library takes them: a list of names and an (N,) uint32 array.
+    The names and the indices' range are the library's to check; here, what it cannot see: a
+    list of str (not a str, whose letters would read as names), indices that are not integers or that no
+    uint32 holds."""
+    if types is None:
+        types = ["A"]
+    elif not isinstance(types, (list, tuple)) or not all(isinstance(t, str) for t in types):
+        raise ValueError(f"types must be a list of names (str), got {types!r}")
+    types = list(types)
+    if typeid is None:
+        if len(types) != 1:
+            raise ValueError(f"types names {len(types)} types: typeid= must say which each "
+                             f"of the {n} particles is")
+        return types, _np.zeros(n, dtype=_np.uint32)
+    array = _np.asarray(typeid)
+    if array.dtype.kind not in "iu":
+        raise ValueError(f"typeid must be an array of integers, got dtype {array.dtype}")
+    if array.shape != (n,):
+        raise ValueError(f"typeid must have shape ({n},), one type a particle, got {array.shape}")
+    beyond = (array < 0) | (array > _np.iinfo(_np.uint32).max)
+    if beyond.any():
+        i = int(_np.argmax(beyond))
+        raise ValueError(f"the type {array[i]} of particle {i} is not the index of one of the "
+                         f"{len(types)} types (0 to {len(types) - 1})")
+    return types, _np.ascontiguousarray(array, dtype=_np.uint32)
+
+
 def _number(name, value):
     """A finite float, as the command line reads numbers."""
     if isinstance(value, bool) or not isinstance(value, _numbers.Real):

@@ -6,7 +6,7 @@ import numpy as _np
 
 from . import _carom
 from ._arguments import (_D, _flag, _float_array, _given, _keywords, _number, _path,
-                         _per_particle)
+                         _per_particle, _species)
 
 
 class Simulation:
@@ -27,6 +27,11 @@ class Simulation:
     masses, particles inside the box, clear of the walls and of each other (touching is fine);
     anything else is a ValueError saying what and which particle.
 
+    types, typeid: the particles' species, as sim.types and sim.typeid give them back: the names
+    (letters, digits, _ . + or -; each once) and each particle's index into them, an (N,) array
+    of integers. Without them every particle is of one type, "A"; typeid may be left out for one
+    name.
+
     carom.read, carom.init and carom.resume make Simulations from a file, from `carom init`'s
     options, and from a checkpoint.
     """
@@ -34,7 +39,7 @@ class Simulation:
     def __init__(self, positions, velocities, box, radii=_D["radius"], masses=_D["mass"],
                  boundary=_D["boundary"], rule=_D["rule"], restitution=_D["restitution"],
                  tc=_D["tc"], engine=_D["engine"], sampler=_D["sampler"],
-                 chain_length=_D["chain_length"], seed=_D["seed"]):
+                 chain_length=_D["chain_length"], seed=_D["seed"], types=None, typeid=None):
         positions = _float_array("positions", positions)
         if positions.ndim != 2 or positions.shape[1] not in (2, 3) or positions.shape[0] < 1:
             raise ValueError(f"positions must have shape (N, 2) or (N, 3) with N >= 1, "
@@ -44,9 +49,10 @@ class Simulation:
         box = _float_array("box", box, (d,))
         radii = _per_particle("radii", radii, n, _D["radius"])
         masses = _per_particle("masses", masses, n, _D["mass"])
+        types, typeid = _species(types, typeid, n)
         self._running = False
         self._core = _carom.Simulation.from_arrays(
-            positions, velocities, box, radii, masses, boundary, rule,
+            positions, velocities, box, radii, masses, types, typeid, boundary, rule,
             _number("restitution", restitution), _number("tc", tc), engine, sampler,
             _number("chain_length", chain_length), seed)
 

@@ -82,15 +82,18 @@ void export_simulation(py::module_& m) {
           "from_arrays",
           [](const py::array_t<double>& positions, const py::array_t<double>& velocities,
              const py::array_t<double>& box, const py::array_t<double>& radii,
-             const py::array_t<double>& masses, py::handle boundary, py::handle rule,
+             const py::array_t<double>& masses, std::vector<std::string> types,
+             const py::array_t<std::uint32_t>& type_index, py::handle boundary, py::handle rule,
              double restitution, double tc, py::handle engine, py::handle sampler,
              double chain_length, std::uint64_t seed) {
             return PythonSimulation::from_arrays(
-                positions, velocities, box, radii, masses, choice<Boundary>("boundary", boundary),
+                positions, velocities, box, radii, masses, std::move(types), type_index,
+                choice<Boundary>("boundary", boundary),
                 settings_from(rule, restitution, tc, engine, sampler, chain_length, seed));
           },
-          "positions"_a, "velocities"_a, "box"_a, "radii"_a, "masses"_a, "boundary"_a, "rule"_a,
-          "restitution"_a, "tc"_a, "engine"_a, "sampler"_a, "chain_length"_a, "seed"_a)
+          "positions"_a, "velocities"_a, "box"_a, "radii"_a, "masses"_a, "types"_a, "typeid"_a,
+          "boundary"_a, "rule"_a, "restitution"_a, "tc"_a, "engine"_a, "sampler"_a,
+          "chain_length"_a, "seed"_a)
       .def_static("read", [](const StartSpec& spec) { return PythonSimulation(load_start(spec)); })
       .def_static("init",
                   [](const InitStart& init) {

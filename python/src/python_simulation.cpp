@@ -73,12 +73,11 @@ py::array_t<T> scalars(const AnySimulation& s) {
 
 PythonSimulation::PythonSimulation(Start start) : runner_(std::move(start)) {}
 
-PythonSimulation PythonSimulation::from_arrays(const py::array_t<double>& positions,
-                                               const py::array_t<double>& velocities,
-                                               const py::array_t<double>& box,
-                                               const py::array_t<double>& radii,
-                                               const py::array_t<double>& masses, Boundary boundary,
-                                               const Settings& settings) {
+PythonSimulation PythonSimulation::from_arrays(
+    const py::array_t<double>& positions, const py::array_t<double>& velocities,
+    const py::array_t<double>& box, const py::array_t<double>& radii,
+    const py::array_t<double>& masses, std::vector<std::string> type_names,
+    const py::array_t<std::uint32_t>& types, Boundary boundary, const Settings& settings) {
   ParticleArrays arrays;
   arrays.dimension = static_cast<int>(positions.shape(1));
   arrays.n = static_cast<std::size_t>(positions.shape(0));
@@ -87,6 +86,8 @@ PythonSimulation PythonSimulation::from_arrays(const py::array_t<double>& positi
   arrays.box = box.data();
   arrays.radii = radii.data();
   arrays.masses = masses.data();
+  arrays.type_names = std::move(type_names);
+  arrays.types = types.data();
   arrays.boundary = boundary;
   return PythonSimulation(arrays_start(arrays, settings));
 }

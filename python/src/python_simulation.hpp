@@ -27,13 +27,13 @@ class PythonSimulation {
   explicit PythonSimulation(Start start);
 
   // From arrays: positions and velocities (N, D), box (D), radii and masses (N), all float64,
-  // shapes checked by the Python layer.
-  static PythonSimulation from_arrays(const py::array_t<double>& positions,
-                                      const py::array_t<double>& velocities,
-                                      const py::array_t<double>& box,
-                                      const py::array_t<double>& radii,
-                                      const py::array_t<double>& masses, Boundary boundary,
-                                      const Settings& settings);
+  // and the types' names with each particle's index into them (N, uint32), shapes checked by the
+  // Python layer; names and indices by the library's check_start.
+  static PythonSimulation from_arrays(
+      const py::array_t<double>& positions, const py::array_t<double>& velocities,
+      const py::array_t<double>& box, const py::array_t<double>& radii,
+      const py::array_t<double>& masses, std::vector<std::string> type_names,
+      const py::array_t<std::uint32_t>& types, Boundary boundary, const Settings& settings);
 
   // Runs `spec` (Runner::run) with the GIL released; Ctrl-C stops it within milliseconds at a
   // whole instant and raises KeyboardInterrupt (or runs the user's SIGINT handler and goes on).

@@ -249,3 +249,46 @@ def test_final_states_and_checkpoints_keep_the_types(cli, tmp_path):
     assert (tmp_path / "whole.csv").read_bytes() == (tmp_path / "resumed.csv").read_bytes()
     sim = carom.resume(tmp_path / "part.ckpt")
     assert sim.types == ["A", "B"] and np.array_equal(sim.typeid, types)
+
+
+def four_disks(**species):
+    """Four disks of two sizes in a periodic box, built from arrays with `species`."""
+    positions = np.array([[1.0, 1.0], [3.0, 1.0], [1.0, 3.0], [3.0, 3.0]])
+    velocities = np.array([[1.0, 0.5], [-0.5, 1.0], [0.3, -1.0], [-1.0, -0.2]])
+    return carom.Simulation(positions, velocities, [5.0, 5.0], radii=[0.4, 0.6, 0.4, 0.6],
+                            boundary="periodic", **species)
+
+
+def test_a_simulation_from_arrays_takes_types(tmp_path):
+    gsd_hoomd = pytest.importorskip("gsd.hoomd")
+    sim = four_disks(types=["small", "big"], typeid=np.array([0, 1, 0, 1]))
+    assert sim.types == ["small", "big"]
+    assert_bitwise_equal(sim.typeid, np.array([0, 1, 0, 1], dtype=np.uint32), "typeid")
+    sim.run(2.0, dump=tmp_path / "m.gsd", every=1.0)
+    assert sim.events > 0 and sim.types == ["small", "big"]
+    with gsd_hoomd.open(str(tmp_path / "m.gsd"), "rb") as trajectory:
+        assert len(trajectory) == 3
+        for frame in trajectory:
+            assert list(frame.particles.types) == ["small", "big"]
+            assert frame.particles.typeid.tolist() == [0, 1, 0, 1]
+    # Without them, one type "A"; one name alone needs no typeid.
+    assert four_disks().types == ["A"] and four_disks().typeid.tolist() == [0] * 4
+    assert four_disks(types=("B",)).types == ["B"]
+
+
+@pytest.mark.parametrize("species, message", [
+    ({"types": ["A", "B"], "typeid": [0, 1, 0]}, r"typeid must have shape \(4,\)"),
+    ({"types": ["A", "B"], "typeid": [0, 1, 2, 1]}, r"type 2 of particle 2 .* 2 types \(0 to 1\)"),
+    ({"types": ["A", "B"], "typeid": [0, -1, 0, 1]}, r"type -1 of particle 1"),
+    ({"types": ["A", "B"], "typeid": [0.0, 1.0, 0.0, 1.0]}, r"typeid must be an array of integers"),
+    ({"types": ["A", "B"]}, r"typeid= must say which"),
+    ({"types": ["A", "A"], "typeid": [0, 1, 0, 1]}, r"type name A appears twice"),
+    ({"types": ["A", ""], "typeid": [0, 1, 0, 1]}, r"type name \"\" must be letters"),
+    ({"types": ["A", "B C"], "typeid": [0, 1, 0, 1]}, r"type name \"B C\" must be letters"),
+    ({"types": [], "typeid": [0, 0, 0, 0]}, r"at least one type name"),
+    ({"types": "AB", "typeid": [0, 1, 0, 1]}, r"types must be a list of names"),
+], ids=["short", "beyond", "negative", "floats", "no-typeid", "twice", "empty", "space", "none",
+        "str"])
+def test_types_from_arrays_are_checked(species, message):
+    with pytest.raises(ValueError, match=message):
+        four_disks(**species)

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <numbers>
@@ -364,11 +363,6 @@ void check_initial_options(std::size_t dimension, const InitialOptions& options)
 
 namespace {
 
-bool is_name_character(char c) {
-  return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' ||
-         c == '-';
-}
-
 // `text` as a number, the whole of it; nullopt if it is not one.
 std::optional<double> number_of(std::string_view text) {
   double value = 0.0;
@@ -400,7 +394,7 @@ std::vector<Species> parse_species(std::string_view text) {
     }
     Species s;
     s.name = std::string(entry.substr(0, first));
-    if (s.name.empty() || !std::all_of(s.name.begin(), s.name.end(), is_name_character)) {
+    if (!is_type_name(s.name)) {
       fail(fmt::format("the name \"{}\" must be letters, digits, _ . + or -", s.name));
     }
     for (const Species& other : species) {

@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -22,6 +23,13 @@ std::string point(const Vec<D>& v) {
 }
 
 }  // namespace
+
+bool is_type_name(std::string_view name) {
+  return !name.empty() && std::ranges::all_of(name, [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '+' ||
+           c == '-';
+  });
+}
 
 void check_number(double value, const std::string& what) {
   if (!std::isfinite(value)) {
@@ -112,6 +120,17 @@ void check_start(const System<D>& system) {
           fmt::format("the box sides must be greater than 0, found {}", system.box.size[k]));
     }
   }
+  const std::vector<std::string>& names = system.type_names;
+  if (names.empty()) throw std::invalid_argument("a system needs at least one type name");
+  for (auto name = names.begin(); name != names.end(); ++name) {
+    if (!is_type_name(*name)) {
+      throw std::invalid_argument(fmt::format(
+          "the type name \"{}\" must be letters, digits, _ . + or -, at least one", *name));
+    }
+    if (std::find(names.begin(), name, *name) != name) {
+      throw std::invalid_argument(fmt::format("the type name {} appears twice", *name));
+    }
+  }
   for (std::size_t i = 0; i < system.size(); ++i) {
     const Particle<D>& p = system.particles[i];
     for (std::size_t k = 0; k < D; ++k) {
@@ -120,6 +139,11 @@ void check_start(const System<D>& system) {
     }
     check_number(p.radius, fmt::format("the radius of particle {}", i));
     check_number(system.records[i].mass, fmt::format("the mass of particle {}", i));
+    if (system.records[i].type >= names.size()) {
+      throw std::invalid_argument(fmt::format(
+          "the type {} of particle {} is not the index of one of the {} types (0 to {})",
+          system.records[i].type, i, names.size(), names.size() - 1));
+    }
     if (const auto problem = particle_problem(i, p, system.records[i].mass, system.box)) {
       throw std::invalid_argument(*problem);
     }

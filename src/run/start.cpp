@@ -56,6 +56,7 @@ template <std::size_t D>
 System<D> system_from(const ParticleArrays& a) {
   System<D> system;
   system.box.boundary = a.boundary;
+  system.type_names = a.type_names;
   for (std::size_t k = 0; k < D; ++k) system.box.size[k] = a.box[k];
   system.particles.reserve(a.n);
   system.records.reserve(a.n);
@@ -67,6 +68,7 @@ System<D> system_from(const ParticleArrays& a) {
     }
     particle.radius = a.radii[i];
     system.add(particle, a.masses[i]);
+    if (a.types) system.records.back().type = a.types[i];
   }
   check_start(system);
   return system;

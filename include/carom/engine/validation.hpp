@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "carom/core/system.hpp"
 
@@ -36,8 +37,14 @@ template <std::size_t D>
 std::string describe_overlap(const System<D>& system, std::size_t i, std::size_t j, double radius,
                              const std::string& where_i = "");
 
+// Whether `name` can name a type: letters, digits, _ . + or -, at least one. Every file carom
+// writes holds the names as they are (a classic start's types=A,B, an XYZ species column), so
+// none may hold a space or a comma.
+bool is_type_name(std::string_view name);
+
 // Checks a system a program built (not read from a file) as the reader checks a file: every
-// number, the box, each particle (particle_problem), then overlaps. Throws std::invalid_argument.
+// number, the box, each particle (particle_problem), its types (named by is_type_name, each name
+// once, every particle's an index into them), then overlaps. Throws std::invalid_argument.
 template <std::size_t D>
 void check_start(const System<D>& system);
 

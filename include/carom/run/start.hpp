@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "carom/engine/initial.hpp"
 #include "carom/io/classic_input.hpp"
@@ -109,7 +110,8 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
                  const ShearRequest& shear = {});
 
 // Particles held as arrays by a caller (numpy's, say): row-major (N, D) positions and
-// velocities, the D box sides, N radii and N masses.
+// velocities, the D box sides, N radii and N masses, and their types: the names, and N indices
+// into them (null: every particle of the first).
 struct ParticleArrays {
   int dimension = 2;
   std::size_t n = 0;
@@ -118,6 +120,8 @@ struct ParticleArrays {
   const double* box = nullptr;
   const double* radii = nullptr;
   const double* masses = nullptr;
+  std::vector<std::string> type_names{"A"};
+  const std::uint32_t* types = nullptr;
   Boundary boundary = Boundary::periodic;  // as carom init's: walls on request
 };
 // A start from arrays, checked as a start file is (check_start: InputError naming the particle).
