@@ -1,6 +1,6 @@
 """A sheared run's image flags count real crossings only, and its frames carry the sliding images
-(HOOMD's tilted box, extended XYZ's tilted Lattice): unwrapped positions, read back by carom,
-gsd.hoomd and ASE, never jump, and carom analyze's MSD is the fluid's."""
+(HOOMD's tilted box, extended XYZ's tilted Lattice, LAMMPS' triclinic box): unwrapped positions,
+read back by carom, gsd.hoomd and ASE, never jump, and carom analyze's MSD is the fluid's."""
 
 import ase.io
 import gsd.hoomd
@@ -61,6 +61,43 @@ def test_unwrapped_frames_of_a_sheared_run_never_jump(tmp_path, dim, rate):
         assert abs(sim.shear_shift) <= 0.5 * sim.box[0]
     # Particles did cross the sheared boundary, and their flags say so.
     assert np.any(sim.images[:, 1] != 0)
+
+
+def lammps_images(path):
+    """The image flags (ix iy iz) of each frame of a LAMMPS dump carom wrote: (frames, N, 3)."""
+    lines = open(path).read().splitlines()
+    frames = []
+    for k, line in enumerate(lines):
+        if line.startswith("ITEM: ATOMS"):
+            n = int(lines[k - 5])
+            frames.append(np.array([row.split()[-3:] for row in lines[k + 1: k + 1 + n]], float))
+    return frames
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_sheared_lammps_dump_is_the_tilted_cell(tmp_path, dim):
+    """A sheared run's LAMMPS dump has LAMMPS' triclinic box (ITEM: BOX BOUNDS xy xz yz: the x
+    bounds of the box around the tilted cell, then the tilt), which ASE reads as OVITO does: the
+    extended XYZ file's tilted Lattice, frame by frame, with image flags that unwrap alike."""
+    lammps_path, xyz_path = tmp_path / "sheared.lammpstrj", tmp_path / "sheared.xyz"
+    sim = sheared(dim, 0.5)
+    sim.run(2, dump=lammps_path, every=0.05)
+    sheared(dim, 0.5).run(2, dump=xyz_path, every=0.05)
+    lammps = ase.io.read(lammps_path, index=":", format="lammps-dump-text")
+    xyz = ase.io.read(xyz_path, index=":")
+    images = lammps_images(lammps_path)
+    assert len(lammps) == len(xyz) == len(images) == 41
+    tilts = set()
+    for atoms, reference, image in zip(lammps, xyz, images):
+        cell = np.asarray(atoms.get_cell())
+        assert np.allclose(cell, np.asarray(reference.get_cell()), atol=1e-12, rtol=0)
+        assert np.allclose(atoms.get_positions(), reference.get_positions(), atol=1e-12, rtol=0)
+        assert np.allclose(atoms.get_positions() + image @ cell, unwrapped_xyz(reference),
+                           atol=1e-9, rtol=0)
+        tilts.add(cell[1, 0])
+    assert len(tilts) > 30  # the images slide: every frame its own tilt
+    assert np.allclose((atoms.get_positions() + image @ cell)[:, :dim], sim.unwrapped_positions,
+                       atol=1e-9, rtol=0)
 
 
 def test_the_msd_of_a_sheared_run_is_the_fluids(tmp_path):
