@@ -487,6 +487,20 @@ def refusal(cli, *args, cwd):
     return first[len("carom: error: "):]
 
 
+def test_a_start_frame_named_in_capitals_is_an_input_all_the_same(cli, tmp_path):
+    """A start `FILE.GSD:K` is the file FILE.GSD however its ending is spelled, as carom run reads
+    it: --html naming it is refused before any task runs, and the file is left as it was."""
+    cli("init", "--n", "64", "--phi", "0.3", "--seed", "1", "-o", "gas.txt", cwd=tmp_path)
+    cli("run", "gas.txt", "1", "--final", "START.GSD", "-q", cwd=tmp_path)
+    start = (tmp_path / "START.GSD").read_bytes()
+    write_plan(tmp_path, '[start]\nfile = "START.GSD:0"\n[run]\nend_time = 1\n[sweep]\n'
+                         'kT = [1.0, 2.0]\n')
+    why = refusal(cli, "sweep", "plan.toml", "-o", "out", "--html", "START.GSD", cwd=tmp_path)
+    assert "name the same file" in why and "the start file" in why, why
+    assert (tmp_path / "START.GSD").read_bytes() == start
+    assert not (tmp_path / "out").exists()
+
+
 def test_an_output_that_is_an_input_or_the_sweeps_own_file_is_refused(cli, tmp_path):
     """--html naming the plan, a table or a task's file, however spelled, and an -o whose tables
     would be the plan: refused (exit 2) before any task runs, nothing overwritten."""

@@ -117,7 +117,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   resting_.resize(grid_.cell_count() * capacity_);
   prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
   gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
-  alongs_.resize(gathered_.size());
+  touching_.resize(gathered_.size());
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
   plain_grid_ = true;
   for (std::size_t k = 0; k < D; ++k) plain_grid_ = plain_grid_ && cells_along_[k] >= 5;
@@ -129,8 +129,14 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     if (grid_.cells_ahead(inner, axis, cells) != kAhead) {
       throw std::logic_error("event chains: the cells ahead are not the two columns of three");
     }
+    std::size_t lead = 0;
     for (std::size_t c = 0; c < kAhead; ++c) {
       inner_offsets_[axis][c] = static_cast<std::int64_t>(cells[c]) - inner;
+      // The next column's cells, moved on to the one kLead ahead.
+      if (grid_.coordinates_of(cells[c])[axis] == 2) {
+        lead_offsets_[axis][lead++] =
+            inner_offsets_[axis][c] + static_cast<std::int64_t>((kLead - 1) * strides_[axis]);
+      }
     }
   }
   set_moving(chain_.active);
@@ -227,7 +233,7 @@ void EcmcEngine<D>::widen_cells() {
   capacity_ = wider;
   prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
   gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
-  alongs_.resize(gathered_.size());
+  touching_.resize(gathered_.size());
 }
 
 template <std::size_t D>
@@ -265,8 +271,6 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
   const std::uint32_t* const fill = fill_.data();
   const std::uint32_t capacity = capacity_;
   Lift best{kNever, chain_.active, 0, 0};
-  const Particle<D>* const particles = this->system_.particles.data();
-  const ParticleRecord* const records = this->system_.records.data();
   // First the cells' slots in use, gathered into one list without a branch on how many each
   // has (eight at a time, the count added after), then the particles in them: one loop.
   std::uint32_t* const gathered = gathered_.data();
@@ -351,51 +355,49 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
         along -= side[Axis] * std::nearbyint((along - centre) / side[Axis]);
       return along;
     };
-    // Spheres: the axis first for every one, keeping those ahead without a branch on which (with
-    // eighteen cells to search, the branches' misses cost more than the extra pass).
-    std::size_t candidates = count;
-    double* const alongs = alongs_.data();
-    if constexpr (D == 3) {
-      candidates = 0;
-      for (std::size_t c = 0; c < count; ++c) {
-        const std::uint32_t slot = gathered[c];
-        const double along = separation_along(resting[slot]);
-        gathered[candidates] = slot;
-        alongs[candidates] = along;
-        candidates += along < 0.0;
-      }
-    }
-    for (std::size_t c = 0; c < candidates; ++c) {
-      const std::uint32_t slot = gathered[c];
-      const Resting* const b = resting + slot;
-      double along = 0.0;
-      if constexpr (D == 3) {
-        along = alongs[c];
-      } else {
-        along = separation_along(*b);
-        if (!(along < 0.0)) continue;
-      }
+    // A particle's separation from the active one and the quadratic's coefficients.
+    const auto coefficients = [&](std::uint32_t slot) {
+      const Resting& b = resting[slot];
       Vec<D> r;
       for (std::size_t k = 0; k < D; ++k) {
         if (k == Axis) {
-          r[k] = along;
+          r[k] = separation_along(b);
           continue;
         }
-        r[k] = p[k] - b->position[k];
+        r[k] = p[k] - b.position[k];
         if (!Plain && !(std::abs(r[k]) <= half[k])) [[unlikely]]
           r[k] = nearest_image(r[k], side[k]);
       }
-      const double sigma = radius + b->radius;
+      const double sigma = radius + b.radius;
       const double c2 = norm2(r) - sigma * sigma;
-      const double discriminant = along * along - c2;
-      if (discriminant < 0.0) continue;  // never with c2 <= 0
-      const double s = c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+      const double along = r[Axis];
+      return Touching{along, c2, along * along - c2, slot};  // discriminant >= 0 if c2 <= 0
+    };
+    const auto touches = [](const Touching& t) { return t.along < 0.0 && t.discriminant >= 0.0; };
+    // Where the active particle touches one (ahead of it, in its lane).
+    const auto consider = [&](const Touching& t) {
+      const double s = t.c2 <= 0.0 ? 0.0 : t.c2 / (-t.along + std::sqrt(t.discriminant));
+      const Resting* const b = resting + t.slot;
       if (s < best.distance || (s == best.distance && b->id < best.target)) {
-        best = {s, b->id, slot, b->cell};
-        // The lift's partner, if it stays the nearest, is written to soon.
-        __builtin_prefetch(particles + b->id, 1);
-        __builtin_prefetch(records + b->id, 1);
+        best = {s, b->id, t.slot, b->cell};
       }
+    };
+    if constexpr (D == 2) {
+      for (std::size_t c = 0; c < count; ++c) {
+        const Touching t = coefficients(gathered[c]);
+        if (touches(t)) consider(t);
+      }
+    } else {
+      // Spheres: the ones touched first, kept without a branch on which (about half are behind
+      // and some beside the lane; with eighteen cells' worth the branches' misses cost more than
+      // the extra pass), then their roots.
+      Touching* const touching = touching_.data();
+      std::size_t kept = 0;
+      for (std::size_t c = 0; c < count; ++c) {
+        touching[kept] = coefficients(gathered[c]);
+        kept += touches(touching[kept]);
+      }
+      for (std::size_t c = 0; c < kept; ++c) consider(touching[c]);
     }
   };
   if (inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis]) [[likely]] {
@@ -429,11 +431,18 @@ double EcmcEngine<D>::distance_to_next_column() const {
 
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
+  std::optional<Event> lift(std::in_place);
+  if (!next_lift(end_time, *lift)) lift.reset();
+  return lift;
+}
+
+template <std::size_t D>
+bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
   while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
     if (columns_crossed_ > cells_along_[chain_.axis]) [[unlikely]] {
-      if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+      if (!this->due_by(chain_.chain_end, end_time)) return false;
       start_next_chain();
       continue;
     }
@@ -444,20 +453,21 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
     if (lift.distance <= ahead && lift.distance != kNever) [[likely]] {
       const double lift_time = flight_.time + lift.distance / speed_;
       if (chain_.chain_end <= lift_time) {
-        if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+        if (!this->due_by(chain_.chain_end, end_time)) return false;
         start_next_chain();
         continue;
       }
-      if (!this->due_by(lift_time, end_time)) return std::nullopt;
-      return this->lift(lift, lift_time);
+      if (!this->due_by(lift_time, end_time)) return false;
+      this->lift(lift, lift_time, event);
+      return true;
     }
     const double crossing_time = flight_.time + std::max(ahead / speed_, 0.0);
     if (chain_.chain_end <= crossing_time) {
-      if (!this->due_by(chain_.chain_end, end_time)) return std::nullopt;
+      if (!this->due_by(chain_.chain_end, end_time)) return false;
       start_next_chain();
       continue;
     }
-    if (!this->due_by(crossing_time, end_time)) return std::nullopt;
+    if (!this->due_by(crossing_time, end_time)) return false;
     const std::size_t axis = chain_.axis;
     cell_ = grid_.adjacent(cell_, axis, true);
     at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
@@ -469,11 +479,8 @@ template <std::size_t D>
 std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, Counts& run,
                                           Counts& window, Event& last) {
   std::uint64_t done = 0;
-  while (done < most) {
-    const std::optional<Event> event = EcmcEngine::step(end_time);
-    if (!event) break;
-    count_lift<D>(run, window, *event);
-    last = *event;
+  while (done < most && next_lift(end_time, last)) {
+    count_lift<D>(run, window, last);
     ++done;
   }
   return done;
@@ -485,12 +492,10 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
 // through the nearest image, the velocities exchanged, r . dp, the mover wrapped into the box.
 // The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
-std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
+void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   const std::uint32_t moving = chain_.active, target = lift.target;
   const std::size_t axis = chain_.axis;
   System<D>& system = this->system_;
-  std::optional<Event> result(std::in_place);
-  Event& event = *result;
   event.first = std::min(moving, target);
   event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
@@ -499,12 +504,14 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
     this->throw_stuck(event);
   }
   this->now_ = t;
-  // The next search reads the cells around the target's: asked for now, while this lift's
-  // writes go on (at an edge of the grid some of these are other cells: no harm). Lists that fit
-  // in a core's cache are there already.
+  // The particle struck is the next one ahead, about a diameter on: a chain's front moves on by
+  // a cell or so a lift, and each search reads cells the ones before did not. The column of
+  // cells kLead ahead of the target's is asked for now, a lift or two before a search reads it,
+  // where the lists do not fit in a core's cache (at an edge of the grid some of these are other
+  // cells: no harm).
   if (prefetch_cells_) {
-    for (std::size_t c = 0; c < kAhead; ++c) {
-      const auto cell = static_cast<std::uint64_t>(lift.cell + inner_offsets_[axis][c]);
+    for (const std::int64_t offset : lead_offsets_[axis]) {
+      const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < fill_.size()) {
         __builtin_prefetch(resting_.data() + cell * capacity_);
         __builtin_prefetch(fill_.data() + cell);
@@ -523,6 +530,8 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   // The first one's velocity after less before: -speed_ or speed_ along the axis.
   const double change = moving_first ? -speed_ : speed_;
   event.impulse = 0.0 + r[axis] * change;
+  event.elastic_by_tc = false;
+  event.momentum = {};
   event.momentum[axis] = change;
   for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
   ParticleRecord& rm = system.records[moving];
@@ -545,7 +554,6 @@ std::optional<Event> EcmcEngine<D>::lift(const Lift& lift, double t) {
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
   start_flight();
-  return result;
 }
 
 template <std::size_t D>

@@ -112,8 +112,11 @@ class EcmcEngine final : public Engine<D> {
   template <std::size_t Axis>
   Lift nearest_lift(double ahead) const;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
-  // bit; then the target moves on.
-  std::optional<Event> lift(const Lift& lift, double t);
+  // bit; then the target moves on. Every field of `event` is written (a run that counts lifts
+  // quietly reuses one).
+  void lift(const Lift& lift, double t, Event& event);
+  // step() into `event`: false, and `event` as it was, if no lift is due by `end_time`.
+  bool next_lift(double end_time, Event& event);
   // Where the column after cell_'s begins along the axis, as the flight has unwrapped it, less
   // the active particle's stored position: how far it is from leaving cell_, and the middle of
   // the two columns of cells a search reads.
@@ -158,7 +161,15 @@ class EcmcEngine final : public Engine<D> {
   std::vector<Resting, LargePages<Resting>> resting_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
-  mutable std::vector<double> alongs_;           // and their separations along the axis
+  // A particle the active one would touch: the separation along the axis, the quadratic's c and
+  // discriminant (see nearest_lift), its slot.
+  struct Touching {
+    double along;
+    double c2;
+    double discriminant;
+    std::uint32_t slot;
+  };
+  mutable std::vector<Touching> touching_;
   std::uint32_t capacity_ = 1;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
@@ -169,6 +180,9 @@ class EcmcEngine final : public Engine<D> {
   // the cells ahead itself).
   static constexpr std::size_t kAhead = D == 2 ? 6 : 18;  // cells a search reads
   std::array<std::array<std::int64_t, kAhead>, D> inner_offsets_{};
+  // The column of cells kLead ahead of a cell, relative to it, per axis: fetched ahead (lift()).
+  static constexpr std::uint32_t kLead = 2;
+  std::array<std::array<std::int64_t, kAhead / 2>, D> lead_offsets_{};
   // Lists larger than this are fetched ahead of a search (see lift()).
   static constexpr std::size_t kCacheBytes = std::size_t{1} << 20;
   bool prefetch_cells_ = false;

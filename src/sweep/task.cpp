@@ -22,6 +22,7 @@
 #include "carom/io/atomic_file.hpp"
 #include "carom/run/compress_run.hpp"
 #include "carom/run/run.hpp"
+#include "carom/run/start.hpp"
 #include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
 #include "carom/sweep/sweep.hpp"
@@ -330,12 +331,7 @@ struct SweepFile {
 std::optional<std::string> start_file(const SweepPlan& plan, const SweepTask& task) {
   for (const PlanSetting& s : task.start) {
     if (s.key != "file" || !std::holds_alternative<std::string>(s.value)) continue;
-    std::string path = (fs::path(plan.folder()) / std::get<std::string>(s.value)).string();
-    if (const auto colon = path.rfind(':'); colon != std::string::npos && !fs::exists(path) &&
-                                            path.substr(0, colon).ends_with(".gsd")) {
-      path.resize(colon);
-    }
-    return path;
+    return start_file_path((fs::path(plan.folder()) / std::get<std::string>(s.value)).string());
   }
   return std::nullopt;
 }
