@@ -37,12 +37,7 @@ class Neighbours {
     Vec<D> r;
     for (std::size_t k = 0; k < D; ++k) r[k] = frame_.position[j][k] - frame_.position[i][k];
     if (frame_.periodic) {
-      const double layers = std::nearbyint(r[1] / frame_.box[1]);
-      r[1] -= layers * frame_.box[1];
-      r[0] -= layers * frame_.shear_shift;
-      for (std::size_t k = 0; k < D; ++k) {
-        if (k != 1) r[k] -= frame_.box[k] * std::nearbyint(r[k] / frame_.box[k]);
-      }
+      take_whole_sides(frame_, r, [](double sides) { return std::nearbyint(sides); });
     }
     return r;
   }
@@ -120,16 +115,24 @@ class Neighbours {
     for (std::size_t i = 0; i < frame.position.size(); ++i) {
       std::array<double, D>& x = points.at[i];
       for (std::size_t k = 0; k < D; ++k) x[k] = frame.position[i][k];
-      if (!frame.periodic) continue;
-      // y first: a move by whole layers of a sheared box moves x by the shift as well.
-      const double layers = std::floor(x[1] / frame.box[1]);
-      x[1] -= layers * frame.box[1];
-      x[0] -= layers * frame.shear_shift;
-      for (std::size_t k = 0; k < D; ++k) {
-        if (k != 1) x[k] -= frame.box[k] * std::floor(x[k] / frame.box[k]);
+      if (frame.periodic) {
+        take_whole_sides(frame, x, [](double sides) { return std::floor(sides); });
       }
     }
     return points;
+  }
+
+  // x less whole sides of the periodic box, as many along each axis as `whole` makes of x's
+  // sides there: y first, as a move by whole layers of a sheared box moves x by the shift as well.
+  // Rounded to the nearest, a separation's minimum image; rounded down, a position in the box.
+  template <class Point, class Whole>
+  static void take_whole_sides(const Frame& frame, Point& x, Whole whole) {
+    const double layers = whole(x[1] / frame.box[1]);
+    x[1] -= layers * frame.box[1];
+    x[0] -= layers * frame.shear_shift;
+    for (std::size_t k = 0; k < D; ++k) {
+      if (k != 1) x[k] -= frame.box[k] * whole(x[k] / frame.box[k]);
+    }
   }
 
   const Frame& frame_;
