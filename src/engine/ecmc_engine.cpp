@@ -42,6 +42,30 @@ System<D> at_rest(System<D> system) {
   return system;
 }
 
+// Asks the system to back the whole 2 MiB pages of [data, data + bytes) with large pages, at once
+// where it can (MADV_COLLAPSE, Linux 6.1: the memory is in use already) or later. Advice only:
+// nothing changes where it is not taken. A lift reads and writes the System's entries of particles
+// anywhere in it: in small pages a million particles' span more pages than the TLB holds.
+void prefer_large_pages([[maybe_unused]] const void* data, [[maybe_unused]] std::size_t bytes) {
+#ifdef MADV_HUGEPAGE
+  constexpr std::uintptr_t kPage = std::uintptr_t{1} << 21;
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
+  if (end <= begin) return;
+  void* const start = reinterpret_cast<void*>(begin);
+  madvise(start, end - begin, MADV_HUGEPAGE);
+#ifndef MADV_COLLAPSE
+  constexpr int MADV_COLLAPSE = 25;  // Linux's value; glibc 2.36's headers predate it
+#endif
+  madvise(start, end - begin, MADV_COLLAPSE);
+#endif
+}
+
+template <class T>
+void prefer_large_pages(const std::vector<T>& entries) {
+  prefer_large_pages(entries.data(), entries.size() * sizeof(T));
+}
+
 template <std::size_t D>
 Vec<D> along(std::size_t axis, double speed) {
   Vec<D> v{};
@@ -139,6 +163,8 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
       }
     }
   }
+  prefer_large_pages(this->system_.particles);
+  prefer_large_pages(this->system_.records);
   set_moving(chain_.active);
 }
 
@@ -192,10 +218,17 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
-  if (fill_[cell] == capacity_) widen_cells();
+[[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell,
+                                                       const Vec<D>& position, double radius) {
+  if (fill_[cell] == capacity_) [[unlikely]]
+    widen_cells();
+  resting_[cell * capacity_ + fill_[cell]++] = {position, radius, i, cell};
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   const Particle<D>& p = this->system_.particles[i];
-  resting_[cell * capacity_ + fill_[cell]++] = {p.position, p.radius, i, cell};
+  rest(i, cell, p.position, p.radius);
 }
 
 template <std::size_t D>
@@ -208,7 +241,7 @@ template <class T>
 T* EcmcEngine<D>::LargePages<T>::allocate(std::size_t n) {
   constexpr std::size_t kPage = std::size_t{1} << 21;
   const std::size_t bytes = n * sizeof(T);
-  if (bytes < 8 * kPage) {
+  if (bytes < kPage) {
     if (void* p = std::malloc(bytes)) return static_cast<T*>(p);
     throw std::bad_alloc();
   }
@@ -422,22 +455,85 @@ double EcmcEngine<D>::distance_to_next_column() const {
   const std::size_t k = chain_.axis;
   // The box sides the flight has wrapped round since it started (in the box, at column
   // start_column_).
-  const std::uint32_t laps = (start_column_ + columns_crossed_) / cells_along_[k];
+  const std::uint32_t column = start_column_ + columns_crossed_;
   const double next_column = static_cast<double>(at_[k] + 1) * widths_[k];
-  if (laps == 0) [[likely]]
+  if (column < cells_along_[k]) [[likely]]
     return next_column - flight_.from[k];
+  const std::uint32_t laps = column / cells_along_[k];
   return (next_column + laps * this->system_.box.size[k]) - flight_.from[k];
+}
+
+template <std::size_t D>
+struct EcmcEngine<D>::LiftSums {
+  Counts& run;
+  Counts& window;
+  std::uint64_t lifts = 0;
+  double run_virial = run.virial;
+  double window_virial = window.virial;
+  Fluxes* const fluxes = run.fluxes ? &*run.fluxes : nullptr;
+  Contact last{};
+
+  // Counts::add twice and Fluxes::add_lift, for a pair collision.
+  void operator()(const Contact& contact) {
+    ++lifts;
+    const double impulse = 0.0 + contact.r[contact.axis] * contact.change;
+    run_virial += impulse;
+    window_virial += impulse;
+    if (fluxes) {
+      Vec<D> momentum{};
+      momentum[contact.axis] = contact.change;
+      add_symmetric_outer<D>(fluxes->collisional_stress, contact.r, momentum);
+    }
+    last = contact;
+  }
+  // Into the Counts, as count_lift would have left them.
+  void close(Event& last_event) const {
+    for (Counts* counts : {&run, &window}) {
+      counts->events += lifts;
+      counts->pair_collisions += lifts;
+    }
+    run.virial = run_virial;
+    window.virial = window_virial;
+    if (lifts > 0) write_event(last, last_event);
+  }
+};
+
+template <std::size_t D>
+void EcmcEngine<D>::write_event(const Contact& contact, Event& event) {
+  event.first = contact.first;
+  event.partner = static_cast<std::int32_t>(contact.partner);
+  event.time = contact.time;
+  event.impulse = 0.0 + contact.r[contact.axis] * contact.change;
+  event.elastic_by_tc = false;
+  event.momentum = {};
+  event.momentum[contact.axis] = contact.change;
+  event.contact = {};
+  for (std::size_t k = 0; k < D; ++k) event.contact[k] = contact.r[k];
 }
 
 template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   std::optional<Event> lift(std::in_place);
-  if (!next_lift(end_time, *lift)) lift.reset();
+  EventSink sink{*lift};
+  if (!next_lift(end_time, sink)) lift.reset();
+  write_struck();
   return lift;
 }
 
 template <std::size_t D>
-bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
+void EcmcEngine<D>::write_struck() {
+  if (!struck_unwritten_) return;
+  struck_unwritten_ = false;
+  const std::uint32_t i = chain_.active;
+  Particle<D>& p = this->system_.particles[i];
+  p.velocity[chain_.axis] = speed_;
+  p.time = flight_.time;
+  this->system_.records[i].count_pair_collision(flight_.time);
+}
+
+template <std::size_t D>
+template <class Sink>
+bool EcmcEngine<D>::next_lift(double end_time, Sink& sink) {
   while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
@@ -458,7 +554,7 @@ bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
         continue;
       }
       if (!this->due_by(lift_time, end_time)) return false;
-      this->lift(lift, lift_time, event);
+      this->lift(lift, lift_time, sink);
       return true;
     }
     const double crossing_time = flight_.time + std::max(ahead / speed_, 0.0);
@@ -478,12 +574,12 @@ bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
 template <std::size_t D>
 std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, Counts& run,
                                           Counts& window, Event& last) {
-  std::uint64_t done = 0;
-  while (done < most && next_lift(end_time, last)) {
-    count_lift<D>(run, window, last);
-    ++done;
+  LiftSums sums{run, window};
+  while (sums.lifts < most && next_lift(end_time, sums)) {
   }
-  return done;
+  write_struck();
+  sums.close(last);
+  return sums.lifts;
 }
 
 // Engine::apply's swap-rule collision of the pair, bit for bit, with what it does written out for
@@ -492,14 +588,17 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
 // through the nearest image, the velocities exchanged, r . dp, the mover wrapped into the box.
 // The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
-void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
+template <class Sink>
+[[gnu::always_inline]] inline void EcmcEngine<D>::lift(const Lift& lift, double t, Sink& sink) {
   const std::uint32_t moving = chain_.active, target = lift.target;
   const std::size_t axis = chain_.axis;
   System<D>& system = this->system_;
-  event.first = std::min(moving, target);
-  event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
   if (this->events_at_now_ > 64 * system.particles.size() + 1000) [[unlikely]] {
+    write_struck();
+    Event event;
+    event.first = std::min(moving, target);
+    event.partner = static_cast<std::int32_t>(std::max(moving, target));
     event.time = t;
     this->throw_stuck(event);
   }
@@ -508,7 +607,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   // a cell or so a lift, and each search reads cells the ones before did not. The column of
   // cells kLead ahead of the target's is asked for now, a lift or two before a search reads it,
   // where the lists do not fit in a core's cache (at an edge of the grid some of these are other
-  // cells: no harm).
+  // cells: no harm). So are the target's System entries, written at its own lift.
   if (prefetch_cells_) {
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
@@ -517,6 +616,8 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
         __builtin_prefetch(fill_.data() + cell);
       }
     }
+    __builtin_prefetch(system.particles.data() + target, 1);
+    __builtin_prefetch(system.records.data() + target, 1);
   }
   const Resting& struck = resting_[lift.slot];
   Vec<D> xm = flight_.from;
@@ -529,27 +630,25 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   }
   // The first one's velocity after less before: -speed_ or speed_ along the axis.
   const double change = moving_first ? -speed_ : speed_;
-  event.impulse = 0.0 + r[axis] * change;
-  event.elastic_by_tc = false;
-  event.momentum = {};
-  event.momentum[axis] = change;
-  for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
+  sink(Contact{std::min(moving, target), std::max(moving, target), system.absolute(t), r, change,
+               axis});
+  // The mover's entries as Engine::apply leaves them; its being struck (moving since then) is
+  // counted now if it was not written then (write_struck()).
   ParticleRecord& rm = system.records[moving];
   wrap_into_box(xm, rm.image);
   Particle<D>& pm = system.particles[moving];
-  Particle<D>& pt = system.particles[target];
   pm.position = xm;
   pm.velocity[axis] = 0.0;
   pm.time = t;
-  pt.velocity[axis] = speed_;
-  pt.time = t;
+  const std::uint32_t counted = struck_unwritten_ ? 2 : 1;
+  rm.pair_collisions += counted;
+  rm.changes += counted;
+  rm.last_collision = t;
+  struck_unwritten_ = true;
   flight_ = {struck.position, t, struck.radius};
-  rm.count_pair_collision(t);
-  system.records[target].count_pair_collision(t);
-  event.time = system.absolute(t);
   // The one that stopped rests where it is; the one struck moves on from its cell.
   take_out(lift.slot, lift.cell);
-  rest(moving, locate_moved(xm));
+  rest(moving, locate_moved(xm), xm, pm.radius);
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
@@ -558,6 +657,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
 
 template <std::size_t D>
 void EcmcEngine<D>::start_next_chain() {
+  write_struck();
   Particle<D>& a = this->system_.particles[chain_.active];
   ParticleRecord& record = this->system_.records[chain_.active];
   const double t = chain_.chain_end;
