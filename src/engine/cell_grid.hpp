@@ -14,6 +14,7 @@
 
 #include "carom/core/physics.hpp"
 #include "carom/core/system.hpp"
+#include "large_pages.hpp"
 
 namespace carom {
 
@@ -501,6 +502,12 @@ class CellGrid {
   std::array<std::array<std::int32_t, kBlock / 3>, 2 * D> inner_layer_{};
   std::vector<std::uint32_t> head_;
   std::vector<std::uint32_t> next_, prev_, cell_of_;
+
+ public:
+  // Its lists in large pages (large_pages.hpp).
+  void prefer_large_pages() const {
+    for (const auto* entries : {&head_, &next_, &prev_, &cell_of_}) carom::prefer_large_pages(*entries);
+  }
 };
 
 }  // namespace carom

@@ -7,11 +7,8 @@
 #include <new>
 #include <stdexcept>
 
-#if __has_include(<sys/mman.h>)
-#include <sys/mman.h>
-#endif
-
 #include "carom/engine/initial.hpp"
+#include "large_pages.hpp"
 
 namespace carom {
 
@@ -40,30 +37,6 @@ System<D> at_rest(System<D> system) {
     wrap(p, system.box, system.records[i].image);
   }
   return system;
-}
-
-// Asks the system to back the whole 2 MiB pages of [data, data + bytes) with large pages, at once
-// where it can (MADV_COLLAPSE, Linux 6.1: the memory is in use already) or later. Advice only:
-// nothing changes where it is not taken. A lift reads and writes the System's entries of particles
-// anywhere in it: in small pages a million particles' span more pages than the TLB holds.
-void prefer_large_pages([[maybe_unused]] const void* data, [[maybe_unused]] std::size_t bytes) {
-#ifdef MADV_HUGEPAGE
-  constexpr std::uintptr_t kPage = std::uintptr_t{1} << 21;
-  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + kPage - 1) & ~(kPage - 1);
-  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(kPage - 1);
-  if (end <= begin) return;
-  void* const start = reinterpret_cast<void*>(begin);
-  madvise(start, end - begin, MADV_HUGEPAGE);
-#ifndef MADV_COLLAPSE
-  constexpr int MADV_COLLAPSE = 25;  // Linux's value; glibc 2.36's headers predate it
-#endif
-  madvise(start, end - begin, MADV_COLLAPSE);
-#endif
-}
-
-template <class T>
-void prefer_large_pages(const std::vector<T>& entries) {
-  prefer_large_pages(entries.data(), entries.size() * sizeof(T));
 }
 
 template <std::size_t D>
@@ -163,8 +136,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
       }
     }
   }
-  prefer_large_pages(this->system_.particles);
-  prefer_large_pages(this->system_.records);
+  prefer_large_pages(this->system_);
   set_moving(chain_.active);
 }
 
@@ -248,9 +220,7 @@ T* EcmcEngine<D>::LargePages<T>::allocate(std::size_t n) {
   const std::size_t rounded = (bytes + kPage - 1) / kPage * kPage;
   void* p = std::aligned_alloc(kPage, rounded);
   if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: nothing changes if it is not taken
-#endif
+  prefer_large_pages(p, rounded);
   return static_cast<T*>(p);
 }
 

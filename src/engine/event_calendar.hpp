@@ -21,6 +21,7 @@
 
 #include "carom/core/event.hpp"
 #include "carom/core/physics.hpp"
+#include "large_pages.hpp"
 
 namespace carom {
 
@@ -233,6 +234,15 @@ class EventCalendar {
 
   std::vector<Slot> slot_;
   std::vector<std::uint32_t> bucket_;  // the head of each bucket's list
+
+ public:
+  // Its slots and buckets in large pages (large_pages.hpp).
+  void prefer_large_pages() const {
+    carom::prefer_large_pages(slot_);
+    carom::prefer_large_pages(bucket_);
+  }
+
+ private:
   std::vector<Entry> current_;         // the events due by the end of the current bucket, a heap
   std::uint32_t overflow_ = kEnd;      // the head of the list of events after this year
   std::uint32_t current_bucket_ = 0;

@@ -1,4 +1,5 @@
 #include "fast_engine.hpp"
+#include "large_pages.hpp"
 
 #include <algorithm>
 #include <array>
@@ -33,6 +34,11 @@ FastEngine<D>::FastEngine(System<D> system, const CollisionRule& rule, const Gro
     }
   }
   locate_all();
+  // What an event reads and writes, in large pages (large_pages.hpp).
+  prefer_large_pages(this->system_);
+  grid_.prefer_large_pages();
+  queue_.prefer_large_pages();
+  prefer_large_pages(pending_);
   predict_all();
 }
 

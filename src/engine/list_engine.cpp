@@ -1,4 +1,5 @@
 #include "list_engine.hpp"
+#include "large_pages.hpp"
 
 #include <algorithm>
 #include <array>
@@ -97,6 +98,13 @@ ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKe
     grid_.insert(i, grid_.locate(position_at(this->system_.particles[i], this->now_)));
   }
   make_all_lists();
+  // What an event reads and writes, in large pages (large_pages.hpp).
+  prefer_large_pages(this->system_);
+  grid_.prefer_large_pages();
+  queue_.prefer_large_pages();
+  prefer_large_pages(pending_);
+  prefer_large_pages(centre_);
+  prefer_large_pages(slots_.get(), this->system_.size() * capacity_ * sizeof(std::uint32_t));
 }
 
 template <std::size_t D>
