@@ -12,12 +12,13 @@
 namespace carom {
 
 // The whole 2 MiB pages of [data, data + bytes), in large pages: at once where the system can
-// (MADV_COLLAPSE, Linux 6.1, for memory in use already), else as it finds time.
-void prefer_large_pages(const void* data, std::size_t bytes);
+// (MADV_COLLAPSE, Linux 6.1, for memory in use already), else as it finds time. True if they
+// are large pages now (false also when the range holds no whole one).
+bool prefer_large_pages(const void* data, std::size_t bytes);
 
 template <class T>
-void prefer_large_pages(const std::vector<T>& entries) {
-  prefer_large_pages(entries.data(), entries.size() * sizeof(T));
+bool prefer_large_pages(const std::vector<T>& entries) {
+  return prefer_large_pages(entries.data(), entries.size() * sizeof(T));
 }
 
 template <std::size_t D>
