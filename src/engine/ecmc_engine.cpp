@@ -434,58 +434,9 @@ double EcmcEngine<D>::distance_to_next_column() const {
 }
 
 template <std::size_t D>
-struct EcmcEngine<D>::LiftSums {
-  Counts& run;
-  Counts& window;
-  std::uint64_t lifts = 0;
-  double run_virial = run.virial;
-  double window_virial = window.virial;
-  Fluxes* const fluxes = run.fluxes ? &*run.fluxes : nullptr;
-  Contact last{};
-
-  // Counts::add twice and Fluxes::add_lift, for a pair collision.
-  void operator()(const Contact& contact) {
-    ++lifts;
-    const double impulse = 0.0 + contact.r[contact.axis] * contact.change;
-    run_virial += impulse;
-    window_virial += impulse;
-    if (fluxes) {
-      Vec<D> momentum{};
-      momentum[contact.axis] = contact.change;
-      add_symmetric_outer<D>(fluxes->collisional_stress, contact.r, momentum);
-    }
-    last = contact;
-  }
-  // Into the Counts, as count_lift would have left them.
-  void close(Event& last_event) const {
-    for (Counts* counts : {&run, &window}) {
-      counts->events += lifts;
-      counts->pair_collisions += lifts;
-    }
-    run.virial = run_virial;
-    window.virial = window_virial;
-    if (lifts > 0) write_event(last, last_event);
-  }
-};
-
-template <std::size_t D>
-void EcmcEngine<D>::write_event(const Contact& contact, Event& event) {
-  event.first = contact.first;
-  event.partner = static_cast<std::int32_t>(contact.partner);
-  event.time = contact.time;
-  event.impulse = 0.0 + contact.r[contact.axis] * contact.change;
-  event.elastic_by_tc = false;
-  event.momentum = {};
-  event.momentum[contact.axis] = contact.change;
-  event.contact = {};
-  for (std::size_t k = 0; k < D; ++k) event.contact[k] = contact.r[k];
-}
-
-template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   std::optional<Event> lift(std::in_place);
-  EventSink sink{*lift};
-  if (!next_lift(end_time, sink)) lift.reset();
+  if (!next_lift(end_time, *lift)) lift.reset();
   write_struck();
   return lift;
 }
@@ -502,8 +453,7 @@ void EcmcEngine<D>::write_struck() {
 }
 
 template <std::size_t D>
-template <class Sink>
-bool EcmcEngine<D>::next_lift(double end_time, Sink& sink) {
+bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
   while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
@@ -524,7 +474,7 @@ bool EcmcEngine<D>::next_lift(double end_time, Sink& sink) {
         continue;
       }
       if (!this->due_by(lift_time, end_time)) return false;
-      this->lift(lift, lift_time, sink);
+      this->lift(lift, lift_time, event);
       return true;
     }
     const double crossing_time = flight_.time + std::max(ahead / speed_, 0.0);
@@ -544,12 +494,13 @@ bool EcmcEngine<D>::next_lift(double end_time, Sink& sink) {
 template <std::size_t D>
 std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, Counts& run,
                                           Counts& window, Event& last) {
-  LiftSums sums{run, window};
-  while (sums.lifts < most && next_lift(end_time, sums)) {
+  std::uint64_t done = 0;
+  while (done < most && next_lift(end_time, last)) {
+    count_lift<D>(run, window, last);
+    ++done;
   }
   write_struck();
-  sums.close(last);
-  return sums.lifts;
+  return done;
 }
 
 // Engine::apply's swap-rule collision of the pair, bit for bit, with what it does written out for
@@ -558,17 +509,15 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
 // through the nearest image, the velocities exchanged, r . dp, the mover wrapped into the box.
 // The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
-template <class Sink>
-[[gnu::always_inline]] inline void EcmcEngine<D>::lift(const Lift& lift, double t, Sink& sink) {
+void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   const std::uint32_t moving = chain_.active, target = lift.target;
   const std::size_t axis = chain_.axis;
   System<D>& system = this->system_;
+  event.first = std::min(moving, target);
+  event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
   if (this->events_at_now_ > 64 * system.particles.size() + 1000) [[unlikely]] {
     write_struck();
-    Event event;
-    event.first = std::min(moving, target);
-    event.partner = static_cast<std::int32_t>(std::max(moving, target));
     event.time = t;
     this->throw_stuck(event);
   }
@@ -600,8 +549,12 @@ template <class Sink>
   }
   // The first one's velocity after less before: -speed_ or speed_ along the axis.
   const double change = moving_first ? -speed_ : speed_;
-  sink(Contact{std::min(moving, target), std::max(moving, target), system.absolute(t), r, change,
-               axis});
+  event.impulse = 0.0 + r[axis] * change;
+  event.elastic_by_tc = false;
+  event.momentum = {};
+  event.momentum[axis] = change;
+  for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
+  event.time = system.absolute(t);
   // The mover's entries as Engine::apply leaves them; its being struck (moving since then) is
   // counted now if it was not written then (write_struck()).
   ParticleRecord& rm = system.records[moving];

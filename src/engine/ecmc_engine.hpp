@@ -111,33 +111,12 @@ class EcmcEngine final : public Engine<D> {
   Lift nearest_lift(double ahead) const;
   template <std::size_t Axis>
   Lift nearest_lift(double ahead) const;
-  // What a lift hands on: the pair (first the lower index), the absolute time, the contact
-  // r = first - partner between the touching images, and the momentum the first received along
-  // the chain's axis. An Event's fields, written out by EventSink or only summed by LiftSums.
-  struct Contact {
-    std::uint32_t first;
-    std::uint32_t partner;
-    double time;
-    Vec<D> r;
-    double change;
-    std::size_t axis;
-  };
-  static void write_event(const Contact& contact, Event& event);
-  // step()'s: the lift written into an Event.
-  struct EventSink {
-    Event& event;
-    void operator()(const Contact& contact) const { write_event(contact, event); }
-  };
-  // lift_quietly()'s: what count_lift would add to a run's and a window's Counts, summed in
-  // the same order as it (so bit for bit), and the last lift.
-  struct LiftSums;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
-  // bit; then the target moves on. The lift goes to `sink`.
-  template <class Sink>
-  void lift(const Lift& lift, double t, Sink& sink);
-  // step() into `sink`: false, and nothing given to it, if no lift is due by `end_time`.
-  template <class Sink>
-  bool next_lift(double end_time, Sink& sink);
+  // bit; then the target moves on. Every field of `event` is written (a run that counts lifts
+  // quietly reuses one).
+  void lift(const Lift& lift, double t, Event& event);
+  // step() into `event`: false, and `event` as it was, if no lift is due by `end_time`.
+  bool next_lift(double end_time, Event& event);
   // The System's entries of the particle struck last, as Engine::apply leaves them (moving at
   // speed_ since its lift, which counted): a lift writes them a lift later, with the struck
   // particle's own lift, where they are written anyway (one write of its cache lines, asked for
