@@ -331,6 +331,18 @@ TEST(Ecmc, ABoxUnderThreeDiametersAcrossIsRefused) {
   EXPECT_NO_THROW(check_chain_start(make_initial<2>(options)));
 }
 
+// A slice of a run (Engine::slice_length, between looks at the stop flag) bounds the cell
+// crossings of the one particle that moves. Regression: it bounded those of N particles at the
+// active one's speed, N times shorter; at N = 10^6 a slice was shorter than a lift, each slice's
+// end cost two searches thrown away, and runs there were twice as slow.
+TEST(Ecmc, ASliceHoldsTheLiftsOfManyCellCrossings) {
+  EcmcEngine<2> engine(periodic_start<2>(1024, 0.7, 1), 5.0, pcg32(1));
+  const double slice = engine.slice_length();
+  std::uint64_t lifts = 0;
+  while (engine.step(slice)) ++lifts;
+  EXPECT_GT(lifts, 10000u) << "in a slice of " << slice;
+}
+
 // Stopping anywhere and going on gives the same chains, bit for bit.
 TEST(Ecmc, AnyPiecesGiveTheSameRun) {
   EcmcEngine<3> whole(periodic_start<3>(100, 0.3, 4), 3.0, pcg32(9));

@@ -2,7 +2,14 @@
 
 #include <fmt/format.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
 #include <cstring>
 #include <new>
 #include <stdexcept>
@@ -103,18 +110,16 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     strides_[k] = k == 0 ? 1 : strides_[k - 1] * cells_along_[k - 1];
     widths_[k] = grid_.width(k);
   }
-  // The lists, as long as the fullest cell's.
+  // The blocks, with room for the fullest cell's particles.
   std::vector<std::uint32_t> cell_of(n);
   fill_.assign(grid_.cell_count(), 0);
+  std::uint32_t fullest = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     cell_of[i] = grid_.locate(this->system_.particles[i].position);
-    capacity_ = std::max(capacity_, ++fill_[cell_of[i]]);
+    fullest = std::max(fullest, ++fill_[cell_of[i]]);
   }
   std::fill(fill_.begin(), fill_.end(), 0u);
-  resting_.resize(grid_.cell_count() * capacity_);
-  prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
-  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
-  touching_.resize(gathered_.size());
+  lay_out(std::bit_ceil(std::max(fullest, 4u)));
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
   plain_grid_ = true;
   for (std::size_t k = 0; k < D; ++k) plain_grid_ = plain_grid_ && cells_along_[k] >= 5;
@@ -190,11 +195,55 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
+[[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::position_in(std::uint32_t cell,
+                                                               std::uint32_t lane) const {
+  const double* const b = block(cell);
+  Vec<D> position;
+  for (std::size_t k = 0; k < D; ++k) position[k] = b[k * capacity_ + lane];
+  return position;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline double EcmcEngine<D>::radius_in(std::uint32_t cell,
+                                                             std::uint32_t lane) const {
+  return block(cell)[D * capacity_ + lane];
+}
+
+namespace {
+// The index in a lane of a block of `capacity` lanes (see EcmcEngine::lanes_).
+template <std::size_t D>
+[[gnu::always_inline]] inline std::uint32_t id_at(const double* block, std::uint32_t capacity,
+                                                  std::uint32_t lane) {
+  std::uint32_t id;
+  const auto* ids = reinterpret_cast<const unsigned char*>(block + (D + 1) * capacity);
+  std::memcpy(&id, ids + sizeof(id) * lane, sizeof(id));
+  return id;
+}
+}  // namespace
+
+template <std::size_t D>
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::id_in(std::uint32_t cell,
+                                                                std::uint32_t lane) const {
+  return id_at<D>(block(cell), capacity_, lane);
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::put(std::uint32_t cell, std::uint32_t lane,
+                                                      const Vec<D>& position, double radius,
+                                                      std::uint32_t id) {
+  double* const b = block(cell);
+  for (std::size_t k = 0; k < D; ++k) b[k * capacity_ + lane] = position[k];
+  b[D * capacity_ + lane] = radius;
+  auto* ids = reinterpret_cast<unsigned char*>(b + (D + 1) * capacity_);
+  std::memcpy(ids + sizeof(id) * lane, &id, sizeof(id));
+}
+
+template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell,
                                                        const Vec<D>& position, double radius) {
   if (fill_[cell] == capacity_) [[unlikely]]
-    widen_cells();
-  resting_[cell * capacity_ + fill_[cell]++] = {position, radius, i, cell};
+    lay_out(2 * capacity_);
+  put(cell, fill_[cell]++, position, radius, i);
 }
 
 template <std::size_t D>
@@ -203,9 +252,21 @@ void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   rest(i, cell, p.position, p.radius);
 }
 
+namespace {
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t slot, std::uint32_t cell) {
-  resting_[slot] = resting_[cell * capacity_ + --fill_[cell]];
+Vec<D> nowhere() {
+  Vec<D> x;
+  for (std::size_t k = 0; k < D; ++k) x[k] = std::numeric_limits<double>::quiet_NaN();
+  return x;
+}
+}  // namespace
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t cell,
+                                                           std::uint32_t lane) {
+  const std::uint32_t last = --fill_[cell];
+  put(cell, lane, position_in(cell, last), radius_in(cell, last), id_in(cell, last));
+  put(cell, last, nowhere<D>(), 0.0, 0);
 }
 
 template <std::size_t D>
@@ -225,18 +286,30 @@ T* EcmcEngine<D>::LargePages<T>::allocate(std::size_t n) {
 }
 
 template <std::size_t D>
-void EcmcEngine<D>::widen_cells() {
-  const std::uint32_t wider = capacity_ + 1 + capacity_ / 4;
-  std::vector<Resting, LargePages<Resting>> resting(fill_.size() * wider);
-  for (std::size_t cell = 0; cell < fill_.size(); ++cell) {
-    std::copy_n(resting_.begin() + static_cast<std::ptrdiff_t>(cell * capacity_), fill_[cell],
-                resting.begin() + static_cast<std::ptrdiff_t>(cell * wider));
+void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
+  struct Held {
+    Vec<D> position;
+    double radius;
+    std::uint32_t id;
+    std::uint32_t cell;
+  };
+  std::vector<Held> held;
+  for (std::uint32_t cell = 0; cell < fill_.size() && capacity_ > 0; ++cell) {
+    for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
+      held.push_back({position_in(cell, lane), radius_in(cell, lane), id_in(cell, lane), cell});
+    }
   }
-  resting_ = std::move(resting);
-  capacity_ = wider;
-  prefetch_cells_ = resting_.size() * sizeof(Resting) > kCacheBytes;
-  gathered_.resize(CellGrid<D>::kBlock * std::max(capacity_, 8u) + 8);
-  touching_.resize(gathered_.size());
+  capacity_ = capacity;
+  capacity_shift_ = static_cast<std::uint32_t>(std::countr_zero(capacity));
+  // Coordinates, radii and indices, in whole 64-byte lines.
+  block_ = ((D + 1) * capacity + capacity / 2 + 7) / 8 * 8;
+  lanes_.assign(fill_.size() * block_, 0.0);
+  std::fill(fill_.begin(), fill_.end(), 0u);
+  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {
+    for (std::uint32_t lane = 0; lane < capacity; ++lane) put(cell, lane, nowhere<D>(), 0.0, 0);
+  }
+  for (const Held& h : held) put(h.cell, fill_[h.cell]++, h.position, h.radius, h.id);
+  prefetch_cells_ = lanes_.size() * sizeof(double) > kCacheBytes;
 }
 
 template <std::size_t D>
@@ -245,9 +318,9 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   const Particle<D>& p = this->system_.particles[i];
   flight_ = {p.position, p.time, p.radius};
   const std::uint32_t cell = locate(p.position);
-  std::uint32_t slot = cell * capacity_;
-  while (resting_[slot].id != i) ++slot;
-  take_out(slot, cell);
+  std::uint32_t lane = 0;
+  while (id_in(cell, lane) != i) ++lane;
+  take_out(cell, lane);
   cell_ = cell;
   at_ = grid_.coordinates_of(cell);
   start_flight();
@@ -268,145 +341,145 @@ template <std::size_t D>
 template <std::size_t D>
 template <std::size_t Axis>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
-  const Vec<D> p = flight_.from, half = half_box_, side = this->system_.box.size;
-  const double radius = flight_.radius;
-  const Resting* const resting = resting_.data();
-  const std::uint32_t* const fill = fill_.data();
-  const std::uint32_t capacity = capacity_;
-  Lift best{kNever, chain_.active, 0, 0};
-  // First the cells' slots in use, gathered into one list without a branch on how many each
-  // has (eight at a time, the count added after), then the particles in them: one loop.
-  std::uint32_t* const gathered = gathered_.data();
-  std::size_t count = 0;
-  // Room for 4 x Fours slots a cell: all of them written, the count of those in use added.
-  const auto visit_fours = [&]<int Fours>(std::integral_constant<int, Fours>, std::uint32_t cell) {
-    using Four = std::uint32_t __attribute__((vector_size(16)));
-    Four slots = Four{0, 1, 2, 3} + cell * capacity;
-    for (int k = 0; k < Fours; ++k, slots += 4) std::memcpy(gathered + count + 4 * k, &slots, 16);
-    count += fill[cell];
-  };
-  const auto visit = [&](std::uint32_t cell) {
-    if (capacity <= 8) [[likely]] {
-      visit_fours(std::integral_constant<int, 2>{}, cell);
-      return;
-    }
-    for (std::uint32_t k = 0; k < fill[cell]; ++k) gathered[count + k] = cell * capacity + k;
-    count += fill[cell];
-  };
-  // The cells CellGrid::for_each_ahead visits: the cell's and the next along Axis, each with its
-  // neighbours across (wrapping around the box).
   bool inner = at_[Axis] + 1 < cells_along_[Axis];
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
   }
-  if (inner) [[likely]] {  // no wrapping: fixed offsets
-    const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
-    const auto ahead_cell = [&](std::size_t c) {
-      return static_cast<std::uint32_t>(cell_ + offsets[c]);
-    };
-    if (capacity <= 4) [[likely]] {
-      for (std::size_t c = 0; c < kAhead; ++c) {
-        visit_fours(std::integral_constant<int, 1>{}, ahead_cell(c));
-      }
-    } else if (capacity <= 8) {
-      for (std::size_t c = 0; c < kAhead; ++c) {
-        visit_fours(std::integral_constant<int, 2>{}, ahead_cell(c));
-      }
-    } else {
-      for (std::size_t c = 0; c < kAhead; ++c) visit(ahead_cell(c));
+#if defined(__SSE2__)
+  if (inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis]) [[likely]] {
+    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4>();
+    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8>();
+  }
+#endif
+  return nearest_lift_through_images<Axis>(ahead);
+}
+
+// lift_distance(r, Axis, sigma) with no limit, r = p - b, in two steps: whether the active
+// particle touches b at all (ahead of it, in its lane: the axis first, since half are behind),
+// then where. No bound cuts candidates short, which changes no nearest lift (the nearest is
+// never cut).
+template <std::size_t D, std::size_t Axis>
+struct Approach {
+  double along;  // r's component along the axis (< 0: b is ahead)
+  double c2;     // |r|^2 - sigma^2
+  double discriminant;  // along^2 - c2, >= 0 where the lane meets b
+  Approach(const Vec<D>& r, double sigma)
+      : along(r[Axis]), c2(norm2(r) - sigma * sigma), discriminant(along * along - c2) {}
+  bool touches() const { return along < 0.0 && discriminant >= 0.0; }
+  // How far the active particle moves to touch b, given touches().
+  double distance() const { return c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant)); }
+};
+
+#if defined(__SSE2__)
+// The lanes of the cells' blocks are tested two at a time, without a branch, for whether the
+// active particle touches the particle in each (Approach::touches(), term by term: a lane not in
+// use has NaN coordinates, and every comparison with NaN is false); then the few that do are
+// measured one by one.
+template <std::size_t D>
+template <std::size_t Axis, std::uint32_t Capacity>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes() const {
+  const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
+  __m128d from[D];
+  for (std::size_t k = 0; k < D; ++k) from[k] = _mm_set1_pd(flight_.from[k]);
+  const __m128d radius = _mm_set1_pd(flight_.radius), zero = _mm_setzero_pd();
+  constexpr std::size_t kLanes = kAhead * Capacity;
+  std::array<std::uint64_t, (kLanes + 63) / 64> touching{};
+  for (std::size_t c = 0; c < kAhead; ++c) {
+    const double* const b = block(static_cast<std::uint32_t>(cell_ + offsets[c]));
+    for (std::uint32_t lane = 0; lane < Capacity; lane += 2) {
+      // Lanes are used from the first on: a NaN here is the end of those in use (most cells
+      // have two or fewer).
+      if (lane > 0 && std::isnan(b[lane])) break;
+      __m128d r[D];
+      for (std::size_t k = 0; k < D; ++k) r[k] = from[k] - _mm_loadu_pd(b + k * Capacity + lane);
+      __m128d norm = r[0] * r[0];
+      for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
+      const __m128d sigma = radius + _mm_loadu_pd(b + D * Capacity + lane);
+      const __m128d c2 = norm - sigma * sigma;
+      const __m128d along = r[Axis];
+      const __m128d discriminant = along * along - c2;
+      const auto hits = static_cast<std::uint64_t>(_mm_movemask_pd(
+          _mm_and_pd(_mm_cmplt_pd(along, zero), _mm_cmpge_pd(discriminant, zero))));
+      const std::size_t at = c * Capacity + lane;
+      touching[at / 64] |= hits << (at % 64);
     }
-  } else {
-    std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
-    for (std::size_t k = 0; k < D; ++k) {
-      const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
-      const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
-      if (k == Axis) {
-        along[k] = {at * stride, up, 0};
-      } else {
-        along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
-      }
-    }
-    static_assert(D == 2 || D == 3);
-    if constexpr (D == 2) {
-      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
-      for (std::size_t y = 0; y < kY; ++y) {
-        for (std::size_t x = 0; x < kX; ++x) visit(along[1][y] + along[0][x]);
-      }
-    } else {
-      constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
-      for (std::size_t z = 0; z < kZ; ++z) {
-        for (std::size_t y = 0; y < kY; ++y) {
-          const std::uint32_t row = along[2][z] + along[1][y];
-          for (std::size_t x = 0; x < kX; ++x) visit(row + along[0][x]);
-        }
+  }
+  Lift best{kNever, chain_.active, 0, 0};
+  for (std::size_t word = 0; word < touching.size(); ++word) {
+    for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
+      const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
+      const auto cell = static_cast<std::uint32_t>(cell_ + offsets[at / Capacity]);
+      const auto lane = static_cast<std::uint32_t>(at % Capacity);
+      const double* const b = block(cell);
+      Vec<D> r;
+      for (std::size_t k = 0; k < D; ++k) r[k] = flight_.from[k] - b[k * Capacity + lane];
+      const double s = Approach<D, Axis>(r, flight_.radius + b[D * Capacity + lane]).distance();
+      const std::uint32_t id = id_at<D>(b, Capacity, lane);
+      if (s < best.distance || (s == best.distance && id < best.target)) {
+        best = {s, id, lane, cell};
       }
     }
   }
-  // lift_distance(r, Axis, sigma) with no limit, r = p - b through b's image in the two columns
-  // searched: the axis first (half are behind), and no bound to cut candidates short, which
-  // changes no nearest lift (the nearest is never cut). The two columns lie within a cell width
-  // of their middle, p + ahead, less than half a side: the image is the one within half a side
-  // of it, and the separation is image_separation's wherever that is the nearest image.
-  // Plain: a flight that has not wrapped round the box, among cells that do not wrap either, in
-  // a grid five cells across or more: every separation is the plain difference (the checks below
-  // would change none), and none is checked.
-  const auto scan = [&]<bool Plain>(std::bool_constant<Plain>) {
-    const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
-    const auto separation_along = [&](const Resting& b) {
-      double along = p[Axis] - b.position[Axis];
-      if (!Plain && !(along >= low && along <= high)) [[unlikely]]
-        along -= side[Axis] * std::nearbyint((along - centre) / side[Axis]);
-      return along;
-    };
-    // A particle's separation from the active one and the quadratic's coefficients.
-    const auto coefficients = [&](std::uint32_t slot) {
-      const Resting& b = resting[slot];
+  return best;
+}
+#endif
+
+template <std::size_t D>
+template <std::size_t Axis>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_through_images(double ahead) const {
+  const Vec<D> p = flight_.from, half = half_box_, side = this->system_.box.size;
+  Lift best{kNever, chain_.active, 0, 0};
+  // b's image in the two columns of cells being searched: they lie within a cell width of their
+  // middle, p + ahead, less than half a side, so the image is the one within half a side of it,
+  // and the separation is image_separation's wherever that is the nearest image.
+  const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
+  const auto search = [&](std::uint32_t cell) {
+    for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
+      const Vec<D> b = position_in(cell, lane);
       Vec<D> r;
       for (std::size_t k = 0; k < D; ++k) {
+        r[k] = p[k] - b[k];
         if (k == Axis) {
-          r[k] = separation_along(b);
-          continue;
-        }
-        r[k] = p[k] - b.position[k];
-        if (!Plain && !(std::abs(r[k]) <= half[k])) [[unlikely]]
+          if (!(r[k] >= low && r[k] <= high)) r[k] -= side[k] * std::nearbyint((r[k] - centre) / side[k]);
+        } else if (!(std::abs(r[k]) <= half[k])) {
           r[k] = nearest_image(r[k], side[k]);
+        }
       }
-      const double sigma = radius + b.radius;
-      const double c2 = norm2(r) - sigma * sigma;
-      const double along = r[Axis];
-      return Touching{along, c2, along * along - c2, slot};  // discriminant >= 0 if c2 <= 0
-    };
-    const auto touches = [](const Touching& t) { return t.along < 0.0 && t.discriminant >= 0.0; };
-    // Where the active particle touches one (ahead of it, in its lane).
-    const auto consider = [&](const Touching& t) {
-      const double s = t.c2 <= 0.0 ? 0.0 : t.c2 / (-t.along + std::sqrt(t.discriminant));
-      const Resting* const b = resting + t.slot;
-      if (s < best.distance || (s == best.distance && b->id < best.target)) {
-        best = {s, b->id, t.slot, b->cell};
+      const Approach<D, Axis> approach(r, flight_.radius + radius_in(cell, lane));
+      if (!approach.touches()) continue;
+      const double s = approach.distance();
+      const std::uint32_t id = id_in(cell, lane);
+      if (s < best.distance || (s == best.distance && id < best.target)) {
+        best = {s, id, lane, cell};
       }
-    };
-    if constexpr (D == 2) {
-      for (std::size_t c = 0; c < count; ++c) {
-        const Touching t = coefficients(gathered[c]);
-        if (touches(t)) consider(t);
-      }
-    } else {
-      // Spheres: the ones touched first, kept without a branch on which (about half are behind
-      // and some beside the lane; with eighteen cells' worth the branches' misses cost more than
-      // the extra pass), then their roots.
-      Touching* const touching = touching_.data();
-      std::size_t kept = 0;
-      for (std::size_t c = 0; c < count; ++c) {
-        touching[kept] = coefficients(gathered[c]);
-        kept += touches(touching[kept]);
-      }
-      for (std::size_t c = 0; c < kept; ++c) consider(touching[c]);
     }
   };
-  if (inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis]) [[likely]] {
-    scan(std::true_type{});
+  // The cells CellGrid::for_each_ahead visits: the cell's and the next along Axis, each with its
+  // neighbours across (wrapping around the box).
+  std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
+  for (std::size_t k = 0; k < D; ++k) {
+    const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
+    const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
+    if (k == Axis) {
+      along[k] = {at * stride, up, 0};
+    } else {
+      along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
+    }
+  }
+  static_assert(D == 2 || D == 3);
+  if constexpr (D == 2) {
+    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
+    for (std::size_t y = 0; y < kY; ++y) {
+      for (std::size_t x = 0; x < kX; ++x) search(along[1][y] + along[0][x]);
+    }
   } else {
-    scan(std::false_type{});
+    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
+    for (std::size_t z = 0; z < kZ; ++z) {
+      for (std::size_t y = 0; y < kY; ++y) {
+        const std::uint32_t row = along[2][z] + along[1][y];
+        for (std::size_t x = 0; x < kX; ++x) search(row + along[0][x]);
+      }
+    }
   }
   return best;
 }
@@ -531,18 +604,21 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < fill_.size()) {
-        __builtin_prefetch(resting_.data() + cell * capacity_);
+        const auto* const b = reinterpret_cast<const char*>(block(static_cast<std::uint32_t>(cell)));
+        for (std::size_t line = 0; line < block_ * sizeof(double); line += 64) {
+          __builtin_prefetch(b + line);
+        }
         __builtin_prefetch(fill_.data() + cell);
       }
     }
     __builtin_prefetch(system.particles.data() + target, 1);
     __builtin_prefetch(system.records.data() + target, 1);
   }
-  const Resting& struck = resting_[lift.slot];
+  const Vec<D> struck = position_in(lift.cell, lift.lane);
   Vec<D> xm = flight_.from;
   xm[axis] += speed_ * (t - flight_.time);
   const bool moving_first = moving < target;
-  Vec<D> r = moving_first ? xm - struck.position : struck.position - xm;
+  Vec<D> r = moving_first ? xm - struck : struck - xm;
   for (std::size_t k = 0; k < D; ++k) {
     if (!(std::abs(r[k]) <= half_box_[k])) [[unlikely]]
       r[k] = nearest_image(r[k], system.box.size[k]);
@@ -568,9 +644,9 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   rm.changes += counted;
   rm.last_collision = t;
   struck_unwritten_ = true;
-  flight_ = {struck.position, t, struck.radius};
+  flight_ = {struck, t, radius_in(lift.cell, lift.lane)};
   // The one that stopped rests where it is; the one struck moves on from its cell.
-  take_out(lift.slot, lift.cell);
+  take_out(lift.cell, lift.lane);
   rest(moving, locate_moved(xm), xm, pm.radius);
   chain_.active = target;
   cell_ = lift.cell;

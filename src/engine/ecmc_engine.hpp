@@ -18,10 +18,11 @@
 // in the block of cells around it, and not in the layer behind (CellGrid::for_each_ahead), so the
 // nearest lift there is the next event if it comes before the active particle leaves its cell;
 // otherwise the cell changes and the cells are searched again. No calendar: the next event is
-// always the active particle's. The particles at rest are kept in lists per cell, their positions
-// and radii side by side with their indices, so that a search reads a few runs of contiguous
-// memory and never the System; the System's stored states are brought up to date at every lift,
-// as Engine::apply would (the lifts are its swap-rule collisions bit for bit).
+// always the active particle's. The particles at rest are kept in a block per cell, coordinate by
+// coordinate in lanes, so that a search reads a few runs of contiguous memory, never the System,
+// and tests two particles at a time without a branch on which it touches; the System's stored
+// states are brought up to date at every lift, as Engine::apply would (the lifts are its
+// swap-rule collisions bit for bit).
 //
 // Lifts are measured from where the active particle's flight began (its stored state), through
 // the image of each candidate that lies in the two columns of cells being searched: the flight
@@ -72,24 +73,20 @@ class EcmcEngine final : public Engine<D> {
     flight_.time = this->system_.particles[chain_.active].time;
   }
   void velocity_reset(std::uint32_t) override;
+  // One particle moves (at speed_, N mean diameters a unit of time): a slice of a run bounds its
+  // cell crossings, not those of N particles at that speed (with which a slice at N = 10^6 was
+  // shorter than a lift, and each of its ends cost searches thrown away).
+  double moving_particles() const override { return 1.0; }
 
-  // A particle at rest as the search reads it: its stored position and radius, its index and
-  // its cell.
-  struct Resting {
-    Vec<D> position;
-    double radius;
-    std::uint32_t id;
-    std::uint32_t cell;
-  };
   // The nearest lift found: how far from the active particle's stored position (kNever if none),
-  // the partner, and where it rests (its index in resting_, its cell).
+  // the partner, and where it rests (its cell and its lane there).
   struct Lift {
     double distance;
     std::uint32_t target;
-    std::uint32_t slot;
+    std::uint32_t lane;
     std::uint32_t cell;
   };
-  // Memory for the lists: large ones in 2 MiB pages where the system offers them (a search reads
+  // Memory for the blocks: large ones in 2 MiB pages where the system offers them (a search reads
   // rows of cells a box side apart, each on a page of its own otherwise).
   template <class T>
   struct LargePages {
@@ -106,11 +103,19 @@ class EcmcEngine final : public Engine<D> {
   void start_next_chain();
   // The nearest lift of the active particle among the particles around its cell (the cells
   // CellGrid::for_each_ahead visits), measured from its stored position: ties go to the lower
-  // index.
-  // `ahead` is distance_to_next_column(a).
+  // index. `ahead` is distance_to_next_column().
   Lift nearest_lift(double ahead) const;
   template <std::size_t Axis>
   Lift nearest_lift(double ahead) const;
+  // nearest_lift where no separation needs an image: the cells around cell_ do not wrap, the
+  // flight has not wrapped round the box, and the grid is five cells across or more. For
+  // blocks of Capacity (capacity_) lanes.
+  template <std::size_t Axis, std::uint32_t Capacity>
+  Lift nearest_lift_in_lanes() const;
+  // nearest_lift anywhere else: the lanes in use one by one, each separation through the image
+  // the columns searched see.
+  template <std::size_t Axis>
+  Lift nearest_lift_through_images(double ahead) const;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on. Every field of `event` is written (a run that counts lifts
   // quietly reuses one).
@@ -132,11 +137,24 @@ class EcmcEngine final : public Engine<D> {
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
   void start_moving_at(double t);
-  // Puts particle i at rest into cell `cell`'s list (its position and radius as given, or the
-  // System's), or takes the one in `slot` out of it.
+  // Puts particle i at rest into cell `cell`'s block (its position and radius as given, or the
+  // System's), or takes the one in `lane` out of it.
   void rest(std::uint32_t i, std::uint32_t cell, const Vec<D>& position, double radius);
   void rest(std::uint32_t i, std::uint32_t cell);
-  void take_out(std::uint32_t slot, std::uint32_t cell);
+  void take_out(std::uint32_t cell, std::uint32_t lane);
+  // A cell's block, and what a lane of it holds (see lanes_).
+  double* block(std::uint32_t cell) { return lanes_.data() + std::size_t{cell} * block_; }
+  const double* block(std::uint32_t cell) const {
+    return lanes_.data() + std::size_t{cell} * block_;
+  }
+  Vec<D> position_in(std::uint32_t cell, std::uint32_t lane) const;
+  double radius_in(std::uint32_t cell, std::uint32_t lane) const;
+  std::uint32_t id_in(std::uint32_t cell, std::uint32_t lane) const;
+  void put(std::uint32_t cell, std::uint32_t lane, const Vec<D>& position, double radius,
+           std::uint32_t id);
+  // Every cell's lanes laid out for `capacity` a cell (a power of two, 4 or more), those in use
+  // kept.
+  void lay_out(std::uint32_t capacity);
   // Takes the particle i, at rest, out of its cell's list to move: the active one.
   void set_moving(std::uint32_t i);
   // The active particle's stored state, as the System has it, kept here for the next search: the
@@ -147,8 +165,6 @@ class EcmcEngine final : public Engine<D> {
     double time = 0.0;  // stored time
     double radius = 0.0;
   };
-  // Room for one more particle a cell: every list laid out again.
-  void widen_cells();
   // grid_.locate(position), bit for bit: inside the box without libm's floor.
   std::uint32_t locate(const Vec<D>& position) const;
   // locate(position) for the active particle moved along the axis from where its flight began
@@ -162,23 +178,18 @@ class EcmcEngine final : public Engine<D> {
   ChainState chain_;
   Flight flight_;
   // The grid's geometry only: which cells are searched, and when the active particle leaves
-  // its cell. The particles at rest are listed here instead: cell c's are resting_[c *
-  // capacity_ + k] for k below fill_[c], their stored positions side by side, so that a search
-  // reads a few contiguous runs of memory. The active particle is in no list.
+  // its cell. The particles at rest are kept here instead, cell by cell in blocks of block_
+  // doubles: a block holds, for each of its capacity_ lanes, one run of coordinates per axis,
+  // then the radii, then the indices (uint32, two in a double's room, read and written through
+  // memcpy). Lanes below fill_[c] are in use; the others hold NaN coordinates, which touch
+  // nothing, so that a search reads whole blocks, two lanes at a time, without a branch on how
+  // many are in use. The active particle is in no block.
   CellGrid<D> grid_;
-  std::vector<Resting, LargePages<Resting>> resting_;
+  std::vector<double, LargePages<double>> lanes_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
-  mutable std::vector<std::uint32_t> gathered_;  // the search's slots in use (see nearest_lift)
-  // A particle the active one would touch: the separation along the axis, the quadratic's c and
-  // discriminant (see nearest_lift), its slot.
-  struct Touching {
-    double along;
-    double c2;
-    double discriminant;
-    std::uint32_t slot;
-  };
-  mutable std::vector<Touching> touching_;
-  std::uint32_t capacity_ = 1;
+  std::uint32_t capacity_ = 0;
+  std::uint32_t capacity_shift_ = 0;  // log2(capacity_)
+  std::size_t block_ = 0;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
   std::array<std::uint32_t, D> cells_along_{};
@@ -191,7 +202,7 @@ class EcmcEngine final : public Engine<D> {
   // The column of cells kLead ahead of a cell, relative to it, per axis: fetched ahead (lift()).
   static constexpr std::uint32_t kLead = 2;
   std::array<std::array<std::int64_t, kAhead / 2>, D> lead_offsets_{};
-  // Lists larger than this are fetched ahead of a search (see lift()).
+  // Blocks larger than this in all are fetched ahead of a search (see lift()).
   static constexpr std::size_t kCacheBytes = std::size_t{1} << 20;
   bool prefetch_cells_ = false;
   // Five cells or more along every axis: two cells either way are less than half a side.

@@ -263,9 +263,10 @@ template <std::size_t D>
 double Engine<D>::slice_length() const {
   const double width =
       CellGrid<D>::least_width(system_.box, 2.0 * largest_radius(system_), system_.size());
-  const auto n = static_cast<double>(system_.size());
-  double crossings_per_time = n * D * speed_bound(system_) / width;
-  if (system_.box.sheared()) crossings_per_time += n / image_horizon();
+  double crossings_per_time = moving_particles() * D * speed_bound(system_) / width;
+  if (system_.box.sheared()) {
+    crossings_per_time += static_cast<double>(system_.size()) / image_horizon();
+  }
   return crossings_per_time > 0.0 ? kCrossingsPerSlice / crossings_per_time : kNever;
 }
 

@@ -133,6 +133,8 @@ class Engine {
   virtual void velocities_changed() {}
   // After reset_velocity() gave particle i a new velocity at now_: its events predicted again.
   virtual void velocity_reset(std::uint32_t i) = 0;
+  // How many particles move at once, for slice_length(): every one in dynamics.
+  virtual double moving_particles() const { return static_cast<double>(system_.size()); }
 
   // The image of particle j that particle i sees at time t (zero in a box with walls).
   Vec<D> image(std::uint32_t i, std::uint32_t j, double t) const;
