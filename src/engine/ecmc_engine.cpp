@@ -345,13 +345,59 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
   }
+  // Plain: no separation needs an image (cells that do not wrap, a flight that has not wrapped
+  // round the box, a grid five cells across or more).
+  const bool plain =
+      inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis];
+  Cells cells;
+  if (inner) [[likely]] {
+    for (std::size_t c = 0; c < kAhead; ++c) {
+      cells[c] = static_cast<std::uint32_t>(cell_ + inner_offsets_[Axis][c]);
+    }
+  } else {
+    cells_ahead<Axis>(cells);
+  }
 #if defined(__SSE2__)
-  if (inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis]) [[likely]] {
-    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4>();
-    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8>();
+  if (capacity_ == 4) {
+    return plain ? nearest_lift_in_lanes<Axis, 4, false>(cells, ahead)
+                 : nearest_lift_in_lanes<Axis, 4, true>(cells, ahead);
+  }
+  if (capacity_ == 8) {
+    return plain ? nearest_lift_in_lanes<Axis, 8, false>(cells, ahead)
+                 : nearest_lift_in_lanes<Axis, 8, true>(cells, ahead);
   }
 #endif
-  return nearest_lift_through_images<Axis>(ahead);
+  return nearest_lift_one_by_one<Axis>(cells, ahead);
+}
+
+template <std::size_t D>
+template <std::size_t Axis>
+void EcmcEngine<D>::cells_ahead(Cells& cells) const {
+  std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
+  for (std::size_t k = 0; k < D; ++k) {
+    const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
+    const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
+    if (k == Axis) {
+      along[k] = {at * stride, up, 0};
+    } else {
+      along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
+    }
+  }
+  static_assert(D == 2 || D == 3);
+  std::size_t c = 0;
+  if constexpr (D == 2) {
+    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
+    for (std::size_t y = 0; y < kY; ++y) {
+      for (std::size_t x = 0; x < kX; ++x) cells[c++] = along[1][y] + along[0][x];
+    }
+  } else {
+    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
+    for (std::size_t z = 0; z < kZ; ++z) {
+      for (std::size_t y = 0; y < kY; ++y) {
+        for (std::size_t x = 0; x < kX; ++x) cells[c++] = along[2][z] + along[1][y] + along[0][x];
+      }
+    }
+  }
 }
 
 // lift_distance(r, Axis, sigma) with no limit, r = p - b, in two steps: whether the active
@@ -370,28 +416,91 @@ struct Approach {
   double distance() const { return c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant)); }
 };
 
-#if defined(__SSE2__)
-// The lanes of the cells' blocks are tested two at a time, without a branch, for whether the
-// active particle touches the particle in each (Approach::touches(), term by term: a lane not in
-// use has NaN coordinates, and every comparison with NaN is false); then the few that do are
-// measured one by one.
+// The image of b the search sees: the one in the two columns of cells being searched. They lie
+// within a cell width of their middle, p + ahead, less than half a side, so the image is the one
+// within half a side of it; across the axis it is image_separation's nearest image.
 template <std::size_t D>
-template <std::size_t Axis, std::uint32_t Capacity>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes() const {
-  const std::array<std::int64_t, kAhead>& offsets = inner_offsets_[Axis];
-  __m128d from[D];
-  for (std::size_t k = 0; k < D; ++k) from[k] = _mm_set1_pd(flight_.from[k]);
+template <std::size_t Axis>
+[[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::separation(const Vec<D>& b,
+                                                              double ahead) const {
+  const Vec<D>& half = half_box_;
+  const Vec<D>& side = this->system_.box.size;
+  const double centre = -ahead;
+  Vec<D> r;
+  for (std::size_t k = 0; k < D; ++k) {
+    r[k] = flight_.from[k] - b[k];
+    if (k == Axis) {
+      if (!(r[k] >= centre - half[k] && r[k] <= centre + half[k])) {
+        r[k] -= side[k] * std::nearbyint((r[k] - centre) / side[k]);
+      }
+    } else if (!(std::abs(r[k]) <= half[k])) {
+      r[k] = nearest_image(r[k], side[k]);
+    }
+  }
+  return r;
+}
+
+#if defined(__SSE2__)
+namespace {
+// std::nearbyint, two at a time, in the default rounding mode, for |x| < 2^51: x plus 1.5 x 2^52
+// is rounded to a whole number (ties to even) and the addend taken off exactly. (Only the sign
+// of a zero may differ, and x - side * n is the same for either.)
+inline __m128d nearbyint2(__m128d x) {
+  const __m128d shift = _mm_set1_pd(0x1.8p52);
+  return (x + shift) - shift;
+}
+// mask ? a : b, lane by lane.
+inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
+  return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b));
+}
+}  // namespace
+
+// The lanes of the cells' blocks are tested two at a time, without a branch, for whether the
+// active particle touches the particle in each (Approach::touches(), term by term, through the
+// image separation() takes where Images: a lane not in use has NaN coordinates, and every
+// comparison with NaN is false); then the few that do are measured one by one, as
+// nearest_lift_one_by_one measures them.
+template <std::size_t D>
+template <std::size_t Axis, std::uint32_t Capacity, bool Images>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
+                                                                   double ahead) const {
+  __m128d from[D], half[D], side[D], per_side[D];
+  for (std::size_t k = 0; k < D; ++k) {
+    from[k] = _mm_set1_pd(flight_.from[k]);
+    half[k] = _mm_set1_pd(half_box_[k]);
+    side[k] = _mm_set1_pd(this->system_.box.size[k]);
+    per_side[k] = _mm_set1_pd(1.0 / this->system_.box.size[k]);
+  }
   const __m128d radius = _mm_set1_pd(flight_.radius), zero = _mm_setzero_pd();
+  const __m128d centre = _mm_set1_pd(-ahead);
+  const __m128d low = centre - half[Axis], high = centre + half[Axis];
+  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
   constexpr std::size_t kLanes = kAhead * Capacity;
   std::array<std::uint64_t, (kLanes + 63) / 64> touching{};
   for (std::size_t c = 0; c < kAhead; ++c) {
-    const double* const b = block(static_cast<std::uint32_t>(cell_ + offsets[c]));
+    const double* const b = block(cells[c]);
     for (std::uint32_t lane = 0; lane < Capacity; lane += 2) {
       // Lanes are used from the first on: a NaN here is the end of those in use (most cells
       // have two or fewer).
       if (lane > 0 && std::isnan(b[lane])) break;
       __m128d r[D];
-      for (std::size_t k = 0; k < D; ++k) r[k] = from[k] - _mm_loadu_pd(b + k * Capacity + lane);
+      for (std::size_t k = 0; k < D; ++k) {
+        r[k] = from[k] - _mm_loadu_pd(b + k * Capacity + lane);
+        // separation(), term by term, but for whole sides counted with 1 / side for / side:
+        // the two differ only for a quotient within a rounding of a half, a particle half a side
+        // from the columns searched, which touches through neither image (a lane that touches
+        // is measured again through separation()).
+        if constexpr (Images) {
+          if (k == Axis) {
+            const __m128d inside = _mm_and_pd(_mm_cmpge_pd(r[k], low), _mm_cmple_pd(r[k], high));
+            r[k] = choose(inside, r[k],
+                          r[k] - side[k] * nearbyint2((r[k] - centre) * per_side[k]));
+          } else {
+            const __m128d inside = _mm_cmple_pd(_mm_and_pd(r[k], magnitude), half[k]);
+            r[k] = choose(inside, r[k], r[k] - side[k] * nearbyint2(r[k] * per_side[k]));
+          }
+        }
+      }
       __m128d norm = r[0] * r[0];
       for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
       const __m128d sigma = radius + _mm_loadu_pd(b + D * Capacity + lane);
@@ -408,11 +517,13 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes() const {
   for (std::size_t word = 0; word < touching.size(); ++word) {
     for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
       const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
-      const auto cell = static_cast<std::uint32_t>(cell_ + offsets[at / Capacity]);
+      const std::uint32_t cell = cells[at / Capacity];
       const auto lane = static_cast<std::uint32_t>(at % Capacity);
       const double* const b = block(cell);
-      Vec<D> r;
-      for (std::size_t k = 0; k < D; ++k) r[k] = flight_.from[k] - b[k * Capacity + lane];
+      Vec<D> position;
+      for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
+      Vec<D> r = flight_.from - position;
+      if constexpr (Images) r = separation<Axis>(position, ahead);
       const double s = Approach<D, Axis>(r, flight_.radius + b[D * Capacity + lane]).distance();
       const std::uint32_t id = id_at<D>(b, Capacity, lane);
       if (s < best.distance || (s == best.distance && id < best.target)) {
@@ -426,58 +537,18 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes() const {
 
 template <std::size_t D>
 template <std::size_t Axis>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_through_images(double ahead) const {
-  const Vec<D> p = flight_.from, half = half_box_, side = this->system_.box.size;
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_one_by_one(const Cells& cells,
+                                                                    double ahead) const {
   Lift best{kNever, chain_.active, 0, 0};
-  // b's image in the two columns of cells being searched: they lie within a cell width of their
-  // middle, p + ahead, less than half a side, so the image is the one within half a side of it,
-  // and the separation is image_separation's wherever that is the nearest image.
-  const double centre = -ahead, low = centre - half[Axis], high = centre + half[Axis];
-  const auto search = [&](std::uint32_t cell) {
+  for (const std::uint32_t cell : cells) {
     for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
-      const Vec<D> b = position_in(cell, lane);
-      Vec<D> r;
-      for (std::size_t k = 0; k < D; ++k) {
-        r[k] = p[k] - b[k];
-        if (k == Axis) {
-          if (!(r[k] >= low && r[k] <= high)) r[k] -= side[k] * std::nearbyint((r[k] - centre) / side[k]);
-        } else if (!(std::abs(r[k]) <= half[k])) {
-          r[k] = nearest_image(r[k], side[k]);
-        }
-      }
-      const Approach<D, Axis> approach(r, flight_.radius + radius_in(cell, lane));
+      const Approach<D, Axis> approach(separation<Axis>(position_in(cell, lane), ahead),
+                                       flight_.radius + radius_in(cell, lane));
       if (!approach.touches()) continue;
       const double s = approach.distance();
       const std::uint32_t id = id_in(cell, lane);
       if (s < best.distance || (s == best.distance && id < best.target)) {
         best = {s, id, lane, cell};
-      }
-    }
-  };
-  // The cells CellGrid::for_each_ahead visits: the cell's and the next along Axis, each with its
-  // neighbours across (wrapping around the box).
-  std::array<std::array<std::uint32_t, 3>, D> along;  // per axis, place x stride
-  for (std::size_t k = 0; k < D; ++k) {
-    const std::uint32_t at = at_[k], n = cells_along_[k], stride = strides_[k];
-    const std::uint32_t up = (at + 1 == n ? 0 : at + 1) * stride;
-    if (k == Axis) {
-      along[k] = {at * stride, up, 0};
-    } else {
-      along[k] = {(at == 0 ? n - 1 : at - 1) * stride, at * stride, up};
-    }
-  }
-  static_assert(D == 2 || D == 3);
-  if constexpr (D == 2) {
-    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3;
-    for (std::size_t y = 0; y < kY; ++y) {
-      for (std::size_t x = 0; x < kX; ++x) search(along[1][y] + along[0][x]);
-    }
-  } else {
-    constexpr std::size_t kX = Axis == 0 ? 2 : 3, kY = Axis == 1 ? 2 : 3, kZ = Axis == 2 ? 2 : 3;
-    for (std::size_t z = 0; z < kZ; ++z) {
-      for (std::size_t y = 0; y < kY; ++y) {
-        const std::uint32_t row = along[2][z] + along[1][y];
-        for (std::size_t x = 0; x < kX; ++x) search(row + along[0][x]);
       }
     }
   }

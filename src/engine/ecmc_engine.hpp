@@ -107,15 +107,23 @@ class EcmcEngine final : public Engine<D> {
   Lift nearest_lift(double ahead) const;
   template <std::size_t Axis>
   Lift nearest_lift(double ahead) const;
-  // nearest_lift where no separation needs an image: the cells around cell_ do not wrap, the
-  // flight has not wrapped round the box, and the grid is five cells across or more. For
-  // blocks of Capacity (capacity_) lanes.
-  template <std::size_t Axis, std::uint32_t Capacity>
-  Lift nearest_lift_in_lanes() const;
-  // nearest_lift anywhere else: the lanes in use one by one, each separation through the image
-  // the columns searched see.
+  // The cells a search reads (CellGrid::for_each_ahead's), wrapping round the box.
+  static constexpr std::size_t kAhead = D == 2 ? 6 : 18;
+  using Cells = std::array<std::uint32_t, kAhead>;
   template <std::size_t Axis>
-  Lift nearest_lift_through_images(double ahead) const;
+  void cells_ahead(Cells& cells) const;
+  // The separation from b (a particle's stored position) to the active particle's stored
+  // position, through the image of b a search of the cells ahead sees; `ahead` as in
+  // nearest_lift.
+  template <std::size_t Axis>
+  Vec<D> separation(const Vec<D>& b, double ahead) const;
+  // nearest_lift among `cells`, for blocks of Capacity lanes: the lanes two at a time, through
+  // images where Images (else the plain differences, which nearest_lift has checked are theirs).
+  template <std::size_t Axis, std::uint32_t Capacity, bool Images>
+  Lift nearest_lift_in_lanes(const Cells& cells, double ahead) const;
+  // nearest_lift among `cells` for any capacity: the lanes in use one by one.
+  template <std::size_t Axis>
+  Lift nearest_lift_one_by_one(const Cells& cells, double ahead) const;
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on. Every field of `event` is written (a run that counts lifts
   // quietly reuses one).
@@ -197,7 +205,6 @@ class EcmcEngine final : public Engine<D> {
   Vec<D> widths_;
   // The cells ahead of a cell one from every edge, relative to it, per axis (the search finds
   // the cells ahead itself).
-  static constexpr std::size_t kAhead = D == 2 ? 6 : 18;  // cells a search reads
   std::array<std::array<std::int64_t, kAhead>, D> inner_offsets_{};
   // The column of cells kLead ahead of a cell, relative to it, per axis: fetched ahead (lift()).
   static constexpr std::uint32_t kLead = 2;
