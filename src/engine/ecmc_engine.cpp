@@ -9,8 +9,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <stdexcept>
 
@@ -300,7 +300,6 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
     }
   }
   capacity_ = capacity;
-  capacity_shift_ = static_cast<std::uint32_t>(std::countr_zero(capacity));
   // Coordinates, radii and indices, in whole 64-byte lines.
   block_ = ((D + 1) * capacity + capacity / 2 + 7) / 8 * 8;
   lanes_.assign(fill_.size() * block_, 0.0);

@@ -163,7 +163,7 @@ class EcmcEngine final : public Engine<D> {
   // Every cell's lanes laid out for `capacity` a cell (a power of two, 4 or more), those in use
   // kept.
   void lay_out(std::uint32_t capacity);
-  // Takes the particle i, at rest, out of its cell's list to move: the active one.
+  // Takes the particle i, at rest, out of its cell's block to move: the active one.
   void set_moving(std::uint32_t i);
   // The active particle's stored state, as the System has it, kept here for the next search: the
   // System's copy is written at every lift but read by none (a lift's next search starts from
@@ -190,13 +190,12 @@ class EcmcEngine final : public Engine<D> {
   // doubles: a block holds, for each of its capacity_ lanes, one run of coordinates per axis,
   // then the radii, then the indices (uint32, two in a double's room, read and written through
   // memcpy). Lanes below fill_[c] are in use; the others hold NaN coordinates, which touch
-  // nothing, so that a search reads whole blocks, two lanes at a time, without a branch on how
-  // many are in use. The active particle is in no block.
+  // nothing, so that a search tests lanes two at a time, whether in use or not, and reads no
+  // count (it stops at a pair that begins with a NaN). The active particle is in no block.
   CellGrid<D> grid_;
   std::vector<double, LargePages<double>> lanes_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   std::uint32_t capacity_ = 0;
-  std::uint32_t capacity_shift_ = 0;  // log2(capacity_)
   std::size_t block_ = 0;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
