@@ -266,7 +266,9 @@ template <std::size_t D>
                                                            std::uint32_t lane) {
   const std::uint32_t last = --fill_[cell];
   put(cell, lane, position_in(cell, last), radius_in(cell, last), id_in(cell, last));
-  put(cell, last, nowhere<D>(), 0.0, 0);
+  // A NaN first coordinate is enough: the lane's distance, discriminant and every test on them
+  // are NaN or false.
+  block(cell)[last] = std::numeric_limits<double>::quiet_NaN();
 }
 
 template <std::size_t D>
@@ -456,9 +458,9 @@ inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
 
 // The lanes of the cells' blocks are tested two at a time, without a branch, for whether the
 // active particle touches the particle in each (Approach::touches(), term by term, through the
-// image separation() takes where Images: a lane not in use has NaN coordinates, and every
-// comparison with NaN is false); then the few that do are measured one by one, as
-// nearest_lift_one_by_one measures them.
+// image separation() takes where Images: a lane not in use has a NaN first coordinate, so a
+// NaN squared distance, and every comparison with NaN is false); then the few that do are
+// measured one by one, as nearest_lift_one_by_one measures them.
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Images>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,

@@ -189,9 +189,10 @@ class EcmcEngine final : public Engine<D> {
   // its cell. The particles at rest are kept here instead, cell by cell in blocks of block_
   // doubles: a block holds, for each of its capacity_ lanes, one run of coordinates per axis,
   // then the radii, then the indices (uint32, two in a double's room, read and written through
-  // memcpy). Lanes below fill_[c] are in use; the others hold NaN coordinates, which touch
-  // nothing, so that a search tests lanes two at a time, whether in use or not, and reads no
-  // count (it stops at a pair that begins with a NaN). The active particle is in no block.
+  // memcpy). Lanes below fill_[c] are in use; the others have a NaN first coordinate, which
+  // touches nothing, so that a search tests lanes two at a time, whether in use or not, and
+  // reads no count (it stops at a pair that begins with a NaN). The active particle is in no
+  // block.
   CellGrid<D> grid_;
   std::vector<double, LargePages<double>> lanes_;
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
