@@ -312,6 +312,37 @@ TEST(Ecmc, FlightsOfAnyLengthMeetWhatTheReferenceEngineMeets) {
   EXPECT_GE(silent, 5);         // a flight in an empty lane, or nothing near
 }
 
+// Small disks beside a large one: cells as wide as the large one's diameter hold dozens, more
+// than the eight lanes the searches by pairs of lanes take, and are searched one lane at a time.
+// The lifts are still the reference engine's collisions of one mover.
+TEST(Ecmc, CellsOfManySmallDisksMeetWhatTheReferenceEngineMeets) {
+  System<2> start;
+  start.box = {{{26.0, 26.0}}, Boundary::periodic};
+  Particle<2> large;
+  large.position = {{13.0, 13.0}};
+  large.radius = 4.0;
+  start.add(large);
+  for (double x = 0.7; x < 26.0; x += 1.25) {
+    for (double y = 0.7; y < 26.0; y += 1.25) {
+      Particle<2> small;
+      small.position = {{x, y}};
+      small.radius = 0.5;
+      if (norm2(small.position - large.position) > 4.6 * 4.6) start.add(small);
+    }
+  }
+  EcmcEngine<2> chains(start, 1e9, pcg32(3));
+  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
+  for (int k = 0; k < 500; ++k) {
+    const std::optional<Event> lift = chains.step(kNever);
+    const std::optional<Event> collision = reference.step(kNever);
+    ASSERT_TRUE(lift && collision) << "event " << k;
+    ASSERT_EQ(lift->first, collision->first) << "event " << k;
+    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
+    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
+  }
+  EXPECT_FALSE(find_pair_overlap(chains.system(), chains.stored_time()).has_value());
+}
+
 // A box under three cells across along an axis holds two images of a particle in the columns a
 // search reads: chains refuse it, by name.
 TEST(Ecmc, ABoxUnderThreeDiametersAcrossIsRefused) {
