@@ -252,15 +252,6 @@ void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
   rest(i, cell, p.position, p.radius);
 }
 
-namespace {
-template <std::size_t D>
-Vec<D> nowhere() {
-  Vec<D> x;
-  for (std::size_t k = 0; k < D; ++k) x[k] = std::numeric_limits<double>::quiet_NaN();
-  return x;
-}
-}  // namespace
-
 template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t cell,
                                                            std::uint32_t lane) {
@@ -296,7 +287,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
     std::uint32_t cell;
   };
   std::vector<Held> held;
-  for (std::uint32_t cell = 0; cell < fill_.size() && capacity_ > 0; ++cell) {
+  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {
     for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
       held.push_back({position_in(cell, lane), radius_in(cell, lane), id_in(cell, lane), cell});
     }
@@ -306,8 +297,8 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   block_ = ((D + 1) * capacity + capacity / 2 + 7) / 8 * 8;
   lanes_.assign(fill_.size() * block_, 0.0);
   std::fill(fill_.begin(), fill_.end(), 0u);
-  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {
-    for (std::uint32_t lane = 0; lane < capacity; ++lane) put(cell, lane, nowhere<D>(), 0.0, 0);
+  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {  // every lane empty (take_out)
+    std::fill_n(block(cell), capacity, std::numeric_limits<double>::quiet_NaN());
   }
   for (const Held& h : held) put(h.cell, fill_[h.cell]++, h.position, h.radius, h.id);
   prefetch_cells_ = lanes_.size() * sizeof(double) > kCacheBytes;
@@ -526,10 +517,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       Vec<D> r = flight_.from - position;
       if constexpr (Images) r = separation<Axis>(position, ahead);
       const double s = Approach<D, Axis>(r, flight_.radius + b[D * Capacity + lane]).distance();
-      const std::uint32_t id = id_at<D>(b, Capacity, lane);
-      if (s < best.distance || (s == best.distance && id < best.target)) {
-        best = {s, id, lane, cell};
-      }
+      best.keep_nearer({s, id_at<D>(b, Capacity, lane), lane, cell});
     }
   }
   return best;
@@ -546,11 +534,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_one_by_one(const Cells&
       const Approach<D, Axis> approach(separation<Axis>(position_in(cell, lane), ahead),
                                        flight_.radius + radius_in(cell, lane));
       if (!approach.touches()) continue;
-      const double s = approach.distance();
-      const std::uint32_t id = id_in(cell, lane);
-      if (s < best.distance || (s == best.distance && id < best.target)) {
-        best = {s, id, lane, cell};
-      }
+      best.keep_nearer({approach.distance(), id_in(cell, lane), lane, cell});
     }
   }
   return best;

@@ -85,6 +85,12 @@ class EcmcEngine final : public Engine<D> {
     std::uint32_t target;
     std::uint32_t lane;
     std::uint32_t cell;
+    // Becomes `other` if other is nearer; of two as near, the one with the lower index.
+    void keep_nearer(const Lift& other) {
+      if (other.distance < distance || (other.distance == distance && other.target < target)) {
+        *this = other;
+      }
+    }
   };
   // Memory for the blocks: large ones in 2 MiB pages where the system offers them (a search reads
   // rows of cells a box side apart, each on a page of its own otherwise).
