@@ -119,7 +119,12 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     fullest = std::max(fullest, ++fill_[cell_of[i]]);
   }
   std::fill(fill_.begin(), fill_.end(), 0u);
-  lay_out(std::bit_ceil(std::max(fullest, 4u)));
+  radius_ = this->system_.particles[0].radius;
+  radii_kept_ = std::any_of(this->system_.particles.begin(), this->system_.particles.end(),
+                            [&](const Particle<D>& p) { return p.radius != radius_; });
+  std::uint32_t capacity = D == 2 && !radii_kept_ ? 3 : 4;
+  while (capacity < fullest) capacity *= 2;
+  lay_out(capacity);
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
   plain_grid_ = true;
   for (std::size_t k = 0; k < D; ++k) plain_grid_ = plain_grid_ && cells_along_[k] >= 5;
@@ -206,16 +211,16 @@ template <std::size_t D>
 template <std::size_t D>
 [[gnu::always_inline]] inline double EcmcEngine<D>::radius_in(std::uint32_t cell,
                                                              std::uint32_t lane) const {
-  return block(cell)[D * capacity_ + lane];
+  return radii_kept_ ? block(cell)[D * capacity_ + lane] : radius_;
 }
 
 namespace {
-// The index in a lane of a block of `capacity` lanes (see EcmcEngine::lanes_).
-template <std::size_t D>
-[[gnu::always_inline]] inline std::uint32_t id_at(const double* block, std::uint32_t capacity,
+// The index in a lane of a block whose indices begin `offset` doubles in (see
+// EcmcEngine::lanes_).
+[[gnu::always_inline]] inline std::uint32_t id_at(const double* block, std::size_t offset,
                                                   std::uint32_t lane) {
   std::uint32_t id;
-  const auto* ids = reinterpret_cast<const unsigned char*>(block + (D + 1) * capacity);
+  const auto* ids = reinterpret_cast<const unsigned char*>(block + offset);
   std::memcpy(&id, ids + sizeof(id) * lane, sizeof(id));
   return id;
 }
@@ -224,7 +229,7 @@ template <std::size_t D>
 template <std::size_t D>
 [[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::id_in(std::uint32_t cell,
                                                                 std::uint32_t lane) const {
-  return id_at<D>(block(cell), capacity_, lane);
+  return id_at(block(cell), ids_offset(), lane);
 }
 
 template <std::size_t D>
@@ -233,8 +238,8 @@ template <std::size_t D>
                                                       std::uint32_t id) {
   double* const b = block(cell);
   for (std::size_t k = 0; k < D; ++k) b[k * capacity_ + lane] = position[k];
-  b[D * capacity_ + lane] = radius;
-  auto* ids = reinterpret_cast<unsigned char*>(b + (D + 1) * capacity_);
+  if (radii_kept_) b[D * capacity_ + lane] = radius;
+  auto* ids = reinterpret_cast<unsigned char*>(b + ids_offset());
   std::memcpy(ids + sizeof(id) * lane, &id, sizeof(id));
 }
 
@@ -294,7 +299,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   }
   capacity_ = capacity;
   // Coordinates, radii and indices, in whole 64-byte lines.
-  block_ = ((D + 1) * capacity + capacity / 2 + 7) / 8 * 8;
+  block_ = (ids_offset() + (capacity + 1) / 2 + 7) / 8 * 8;
   lanes_.assign(fill_.size() * block_, 0.0);
   std::fill(fill_.begin(), fill_.end(), 0u);
   for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {  // every lane empty (take_out)
@@ -350,13 +355,13 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
     cells_ahead<Axis>(cells);
   }
 #if defined(__SSE2__)
-  if (capacity_ == 4) {
-    return plain ? nearest_lift_in_lanes<Axis, 4, false>(cells, ahead)
-                 : nearest_lift_in_lanes<Axis, 4, true>(cells, ahead);
-  }
-  if (capacity_ == 8) {
-    return plain ? nearest_lift_in_lanes<Axis, 8, false>(cells, ahead)
-                 : nearest_lift_in_lanes<Axis, 8, true>(cells, ahead);
+  if (!radii_kept_) {
+    if (capacity_ == 3) return nearest_lift_in_lanes<Axis, 3, false>(cells, ahead, !plain);
+    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4, false>(cells, ahead, !plain);
+    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8, false>(cells, ahead, !plain);
+  } else {
+    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4, true>(cells, ahead, !plain);
+    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8, true>(cells, ahead, !plain);
   }
 #endif
   return nearest_lift_one_by_one<Axis>(cells, ahead);
@@ -453,9 +458,19 @@ inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
 // NaN squared distance, and every comparison with NaN is false); then the few that do are
 // measured one by one, as nearest_lift_one_by_one measures them.
 template <std::size_t D>
-template <std::size_t Axis, std::uint32_t Capacity, bool Images>
+template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
+                                                                   double ahead,
+                                                                   bool images) const {
+  return images ? nearest_lift_in_lanes<Axis, Capacity, Radii, true>(cells, ahead)
+                : nearest_lift_in_lanes<Axis, Capacity, Radii, false>(cells, ahead);
+}
+
+template <std::size_t D>
+template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
                                                                    double ahead) const {
+  constexpr std::size_t kIds = (D + (Radii ? 1 : 0)) * Capacity;
   __m128d from[D], half[D], side[D], per_side[D];
   for (std::size_t k = 0; k < D; ++k) {
     from[k] = _mm_set1_pd(flight_.from[k]);
@@ -464,6 +479,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
     per_side[k] = _mm_set1_pd(1.0 / this->system_.box.size[k]);
   }
   const __m128d radius = _mm_set1_pd(flight_.radius), zero = _mm_setzero_pd();
+  const __m128d both_radii = _mm_set1_pd(flight_.radius + radius_);
   const __m128d centre = _mm_set1_pd(-ahead);
   const __m128d low = centre - half[Axis], high = centre + half[Axis];
   const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
@@ -475,9 +491,15 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       // Lanes are used from the first on: a NaN here is the end of those in use (most cells
       // have two or fewer).
       if (lane > 0 && std::isnan(b[lane])) break;
+      // Of an odd number, the last lane is read alone (beside a zero, whose hit is dropped): the
+      // double after it is the next run's, or indices.
+      const bool single = Capacity % 2 == 1 && lane + 1 == Capacity;
+      const auto load = [&](const double* at) {
+        return single ? _mm_load_sd(at) : _mm_loadu_pd(at);
+      };
       __m128d r[D];
       for (std::size_t k = 0; k < D; ++k) {
-        r[k] = from[k] - _mm_loadu_pd(b + k * Capacity + lane);
+        r[k] = from[k] - load(b + k * Capacity + lane);
         // separation(), term by term, but for whole sides counted with 1 / side for / side:
         // the two differ only for a quotient within a rounding of a half, a particle half a side
         // from the columns searched, which touches through neither image (a lane that touches
@@ -495,12 +517,13 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       }
       __m128d norm = r[0] * r[0];
       for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
-      const __m128d sigma = radius + _mm_loadu_pd(b + D * Capacity + lane);
+      const __m128d sigma = Radii ? radius + load(b + D * Capacity + lane) : both_radii;
       const __m128d c2 = norm - sigma * sigma;
       const __m128d along = r[Axis];
       const __m128d discriminant = along * along - c2;
-      const auto hits = static_cast<std::uint64_t>(_mm_movemask_pd(
-          _mm_and_pd(_mm_cmplt_pd(along, zero), _mm_cmpge_pd(discriminant, zero))));
+      const auto hits = static_cast<std::uint64_t>(_mm_movemask_pd(_mm_and_pd(
+                            _mm_cmplt_pd(along, zero), _mm_cmpge_pd(discriminant, zero)))) &
+                        (single ? 1u : 3u);
       const std::size_t at = c * Capacity + lane;
       touching[at / 64] |= hits << (at % 64);
     }
@@ -516,8 +539,10 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
       Vec<D> r = flight_.from - position;
       if constexpr (Images) r = separation<Axis>(position, ahead);
-      const double s = Approach<D, Axis>(r, flight_.radius + b[D * Capacity + lane]).distance();
-      best.keep_nearer({s, id_at<D>(b, Capacity, lane), lane, cell});
+      const double s =
+          Approach<D, Axis>(r, flight_.radius + (Radii ? b[D * Capacity + lane] : radius_))
+              .distance();
+      best.keep_nearer({s, id_at(b, kIds, lane), lane, cell});
     }
   }
   return best;
@@ -659,7 +684,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   // the indices: 3D spheres at N = 32768 were 5 % slower with them). So are the target's System
   // entries, written at its own lift.
   if (prefetch_cells_) {
-    const std::size_t read = (D + 1) * capacity_ * sizeof(double);
+    const std::size_t read = ids_offset() * sizeof(double);
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < fill_.size()) {

@@ -123,10 +123,13 @@ class EcmcEngine final : public Engine<D> {
   // nearest_lift.
   template <std::size_t Axis>
   Vec<D> separation(const Vec<D>& b, double ahead) const;
-  // nearest_lift among `cells`, for blocks of Capacity lanes: the lanes two at a time, through
-  // images where Images (else the plain differences, which nearest_lift has checked are theirs).
-  template <std::size_t Axis, std::uint32_t Capacity, bool Images>
+  // nearest_lift among `cells`, for blocks of Capacity lanes with the radii in them where Radii
+  // (else every radius is radius_): the lanes two at a time, through images where Images (else
+  // the plain differences, which nearest_lift has checked are theirs).
+  template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
   Lift nearest_lift_in_lanes(const Cells& cells, double ahead) const;
+  template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
+  Lift nearest_lift_in_lanes(const Cells& cells, double ahead, bool images) const;
   // nearest_lift among `cells` for any capacity: the lanes in use one by one.
   template <std::size_t Axis>
   Lift nearest_lift_one_by_one(const Cells& cells, double ahead) const;
@@ -166,9 +169,10 @@ class EcmcEngine final : public Engine<D> {
   std::uint32_t id_in(std::uint32_t cell, std::uint32_t lane) const;
   void put(std::uint32_t cell, std::uint32_t lane, const Vec<D>& position, double radius,
            std::uint32_t id);
-  // Every cell's lanes laid out for `capacity` a cell (a power of two, 4 or more), those in use
-  // kept.
+  // Every cell's lanes laid out for `capacity` a cell, those in use kept.
   void lay_out(std::uint32_t capacity);
+  // Where a block's indices begin, in doubles (after the coordinates, and the radii if kept).
+  std::size_t ids_offset() const { return (D + (radii_kept_ ? 1 : 0)) * capacity_; }
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
   void set_moving(std::uint32_t i);
   // The active particle's stored state, as the System has it, kept here for the next search: the
@@ -193,9 +197,13 @@ class EcmcEngine final : public Engine<D> {
   Flight flight_;
   // The grid's geometry only: which cells are searched, and when the active particle leaves
   // its cell. The particles at rest are kept here instead, cell by cell in blocks of block_
-  // doubles: a block holds, for each of its capacity_ lanes, one run of coordinates per axis,
-  // then the radii, then the indices (uint32, two in a double's room, read and written through
-  // memcpy). Lanes below fill_[c] are in use; the others have a NaN first coordinate, which
+  // doubles (whole 64-byte lines): a block holds, for each of its capacity_ lanes, one run of
+  // coordinates per axis, then the radii unless every particle has the same (radius_), then the
+  // indices (uint32, two in a double's room, read and written through memcpy). Equal disks
+  // start with three lanes a cell, which fill one line (cells a diameter wide rarely hold more:
+  // four only at the corners), so that a search reads one line a cell; others with four (the
+  // fullest cell decides: lanes are added, doubling, when a cell is full). Lanes below
+  // fill_[c] are in use; the others have a NaN first coordinate, which
   // touches nothing, so that a search tests lanes two at a time, whether in use or not, and
   // reads no count (it stops at a pair that begins with a NaN). The active particle is in no
   // block.
@@ -204,6 +212,8 @@ class EcmcEngine final : public Engine<D> {
   std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
   std::uint32_t capacity_ = 0;
   std::size_t block_ = 0;
+  bool radii_kept_ = true;  // in the blocks; else every particle's radius is radius_
+  double radius_ = 0.0;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
   std::array<std::uint32_t, D> cells_along_{};
