@@ -112,13 +112,13 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   }
   // The blocks, with room for the fullest cell's particles.
   std::vector<std::uint32_t> cell_of(n);
-  fill_.assign(grid_.cell_count(), 0);
+  std::vector<std::uint32_t> in_cell(grid_.cell_count(), 0);
   std::uint32_t fullest = 0;
   for (std::uint32_t i = 0; i < n; ++i) {
     cell_of[i] = grid_.locate(this->system_.particles[i].position);
-    fullest = std::max(fullest, ++fill_[cell_of[i]]);
+    fullest = std::max(fullest, ++in_cell[cell_of[i]]);
   }
-  std::fill(fill_.begin(), fill_.end(), 0u);
+  cells_ = grid_.cell_count();
   radius_ = this->system_.particles[0].radius;
   radii_kept_ = std::any_of(this->system_.particles.begin(), this->system_.particles.end(),
                             [&](const Particle<D>& p) { return p.radius != radius_; });
@@ -233,6 +233,18 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::fill(std::uint32_t cell) const {
+  return id_at(block(cell), ids_offset(), capacity_);
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::set_fill(std::uint32_t cell,
+                                                           std::uint32_t lanes) {
+  auto* ids = reinterpret_cast<unsigned char*>(block(cell) + ids_offset());
+  std::memcpy(ids + sizeof(lanes) * capacity_, &lanes, sizeof(lanes));
+}
+
+template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::put(std::uint32_t cell, std::uint32_t lane,
                                                       const Vec<D>& position, double radius,
                                                       std::uint32_t id) {
@@ -246,9 +258,13 @@ template <std::size_t D>
 template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell,
                                                        const Vec<D>& position, double radius) {
-  if (fill_[cell] == capacity_) [[unlikely]]
+  std::uint32_t lanes = fill(cell);
+  if (lanes == capacity_) [[unlikely]] {
     lay_out(2 * capacity_);
-  put(cell, fill_[cell]++, position, radius, i);
+    lanes = fill(cell);
+  }
+  put(cell, lanes, position, radius, i);
+  set_fill(cell, lanes + 1);
 }
 
 template <std::size_t D>
@@ -260,7 +276,8 @@ void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
 template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t cell,
                                                            std::uint32_t lane) {
-  const std::uint32_t last = --fill_[cell];
+  const std::uint32_t last = fill(cell) - 1;
+  set_fill(cell, last);
   put(cell, lane, position_in(cell, last), radius_in(cell, last), id_in(cell, last));
   // A NaN first coordinate is enough: the lane's distance, discriminant and every test on them
   // are NaN or false.
@@ -292,20 +309,24 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
     std::uint32_t cell;
   };
   std::vector<Held> held;
-  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {
-    for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
+  for (std::uint32_t cell = 0; cell < (lanes_.empty() ? 0 : cells_); ++cell) {
+    for (std::uint32_t lane = 0; lane < fill(cell); ++lane) {
       held.push_back({position_in(cell, lane), radius_in(cell, lane), id_in(cell, lane), cell});
     }
   }
   capacity_ = capacity;
-  // Coordinates, radii and indices, in whole 64-byte lines.
-  block_ = (ids_offset() + (capacity + 1) / 2 + 7) / 8 * 8;
-  lanes_.assign(fill_.size() * block_, 0.0);
-  std::fill(fill_.begin(), fill_.end(), 0u);
-  for (std::uint32_t cell = 0; cell < fill_.size(); ++cell) {  // every lane empty (take_out)
+  ids_offset_ = (D + (radii_kept_ ? 1 : 0)) * capacity;
+  // Coordinates, radii, indices and the count, in whole 64-byte lines.
+  block_ = (ids_offset() + (capacity + 2) / 2 + 7) / 8 * 8;
+  lanes_.assign(std::size_t{cells_} * block_, 0.0);  // no lane in use
+  for (std::uint32_t cell = 0; cell < cells_; ++cell) {  // every lane empty (take_out)
     std::fill_n(block(cell), capacity, std::numeric_limits<double>::quiet_NaN());
   }
-  for (const Held& h : held) put(h.cell, fill_[h.cell]++, h.position, h.radius, h.id);
+  for (const Held& h : held) {
+    const std::uint32_t lane = fill(h.cell);
+    put(h.cell, lane, h.position, h.radius, h.id);
+    set_fill(h.cell, lane + 1);
+  }
   prefetch_cells_ = lanes_.size() * sizeof(double) > kCacheBytes;
 }
 
@@ -555,7 +576,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_one_by_one(const Cells&
                                                                     double ahead) const {
   Lift best{kNever, chain_.active, 0, 0};
   for (const std::uint32_t cell : cells) {
-    for (std::uint32_t lane = 0; lane < fill_[cell]; ++lane) {
+    for (std::uint32_t lane = 0, lanes = fill(cell); lane < lanes; ++lane) {
       const Approach<D, Axis> approach(separation<Axis>(position_in(cell, lane), ahead),
                                        flight_.radius + radius_in(cell, lane));
       if (!approach.touches()) continue;
@@ -687,12 +708,11 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
     const std::size_t read = ids_offset() * sizeof(double);
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
-      if (cell < fill_.size()) {
+      if (cell < cells_) {
         const auto* const b = reinterpret_cast<const char*>(block(static_cast<std::uint32_t>(cell)));
         for (std::size_t line = 0; line < read; line += 64) {
           __builtin_prefetch(b + line);
         }
-        __builtin_prefetch(fill_.data() + cell);
       }
     }
     __builtin_prefetch(system.particles.data() + target, 1);

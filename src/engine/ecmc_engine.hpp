@@ -167,12 +167,15 @@ class EcmcEngine final : public Engine<D> {
   Vec<D> position_in(std::uint32_t cell, std::uint32_t lane) const;
   double radius_in(std::uint32_t cell, std::uint32_t lane) const;
   std::uint32_t id_in(std::uint32_t cell, std::uint32_t lane) const;
+  // How many of a cell's lanes are in use (the first ones), and setting it.
+  std::uint32_t fill(std::uint32_t cell) const;
+  void set_fill(std::uint32_t cell, std::uint32_t lanes);
   void put(std::uint32_t cell, std::uint32_t lane, const Vec<D>& position, double radius,
            std::uint32_t id);
   // Every cell's lanes laid out for `capacity` a cell, those in use kept.
   void lay_out(std::uint32_t capacity);
   // Where a block's indices begin, in doubles (after the coordinates, and the radii if kept).
-  std::size_t ids_offset() const { return (D + (radii_kept_ ? 1 : 0)) * capacity_; }
+  std::size_t ids_offset() const { return ids_offset_; }
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
   void set_moving(std::uint32_t i);
   // The active particle's stored state, as the System has it, kept here for the next search: the
@@ -199,19 +202,20 @@ class EcmcEngine final : public Engine<D> {
   // its cell. The particles at rest are kept here instead, cell by cell in blocks of block_
   // doubles (whole 64-byte lines): a block holds, for each of its capacity_ lanes, one run of
   // coordinates per axis, then the radii unless every particle has the same (radius_), then the
-  // indices (uint32, two in a double's room, read and written through memcpy). Equal disks
+  // indices and after them the count of lanes in use (uint32s, two in a double's room, read and
+  // written through memcpy). Equal disks
   // start with three lanes a cell, which fill one line (cells a diameter wide rarely hold more:
   // four only at the corners), so that a search reads one line a cell; others with four (the
-  // fullest cell decides: lanes are added, doubling, when a cell is full). Lanes below
-  // fill_[c] are in use; the others have a NaN first coordinate, which
-  // touches nothing, so that a search tests lanes two at a time, whether in use or not, and
-  // reads no count (it stops at a pair that begins with a NaN). The active particle is in no
-  // block.
+  // fullest cell decides: lanes are added, doubling, when a cell is full). Lanes below the
+  // count (fill()) are in use; the others have a NaN first coordinate, which touches nothing,
+  // so that a search tests lanes two at a time, whether in use or not, and reads no count (it
+  // stops at a pair that begins with a NaN). The active particle is in no block.
   CellGrid<D> grid_;
   std::vector<double, LargePages<double>> lanes_;
-  std::vector<std::uint32_t, LargePages<std::uint32_t>> fill_;
+  std::uint32_t cells_ = 0;  // in the grid
   std::uint32_t capacity_ = 0;
   std::size_t block_ = 0;
+  std::size_t ids_offset_ = 0;  // (D + radii_kept_) x capacity_
   bool radii_kept_ = true;  // in the blocks; else every particle's radius is radius_
   double radius_ = 0.0;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
