@@ -147,6 +147,8 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     }
   }
   prefer_large_pages(this->system_);
+  stops_held_ = (sizeof(Particle<D>) + sizeof(ParticleRecord)) * n > kHeldAbove;
+  if (stops_held_) stops_.reserve(kStopsHeld);
   set_moving(chain_.active);
 }
 
@@ -184,6 +186,15 @@ template <std::size_t D>
     if (k != axis) cell += strides_[k] * at_[k];
   }
   return cell;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline bool EcmcEngine<D>::in_box(const Vec<D>& position) const {
+  bool inside = true;
+  for (std::size_t k = 0; k < D; ++k) {
+    inside = inside && position[k] > 0.0 && position[k] < this->system_.box.size[k];
+  }
+  return inside;
 }
 
 template <std::size_t D>
@@ -612,12 +623,40 @@ template <std::size_t D>
 std::optional<Event> EcmcEngine<D>::step(double end_time) {
   std::optional<Event> lift(std::in_place);
   if (!next_lift(end_time, *lift)) lift.reset();
-  write_struck();
+  write_back();
   return lift;
 }
 
 template <std::size_t D>
-void EcmcEngine<D>::write_struck() {
+void EcmcEngine<D>::write_stops() {
+  System<D>& system = this->system_;
+  constexpr std::size_t kAheadOfWrite = 8;
+  for (std::size_t s = 0; s < stops_.size(); ++s) {
+    if (s + kAheadOfWrite < stops_.size()) {
+      const std::uint32_t later = stops_[s + kAheadOfWrite].id;
+      __builtin_prefetch(system.particles.data() + later, 1);
+      __builtin_prefetch(system.records.data() + later, 1);
+    }
+    write_stop(stops_[s]);
+  }
+  stops_.clear();
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::write_stop(const Stop& stop) {
+  Particle<D>& p = this->system_.particles[stop.id];
+  p.position = stop.position;
+  p.velocity[chain_.axis] = 0.0;
+  p.time = stop.time;
+  ParticleRecord& r = this->system_.records[stop.id];
+  r.pair_collisions += stop.counted;
+  r.changes += stop.counted;
+  r.last_collision = stop.time;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::write_back() {
+  write_stops();
   if (!struck_unwritten_) return;
   struck_unwritten_ = false;
   const std::uint32_t i = chain_.active;
@@ -674,7 +713,7 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
     count_lift<D>(run, window, last);
     ++done;
   }
-  write_struck();
+  write_back();
   return done;
 }
 
@@ -692,7 +731,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   event.partner = static_cast<std::int32_t>(std::max(moving, target));
   this->events_at_now_ = t == this->now_ ? this->events_at_now_ + 1 : 0;
   if (this->events_at_now_ > 64 * system.particles.size() + 1000) [[unlikely]] {
-    write_struck();
+    write_back();
     event.time = t;
     this->throw_stuck(event);
   }
@@ -705,7 +744,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   // the indices: 3D spheres at N = 32768 were 5 % slower with them). So are the target's System
   // entries, written at its own lift.
   if (prefetch_cells_) {
-    const std::size_t read = ids_offset() * sizeof(double);
+    const std::size_t read = ids_offset_ * sizeof(double);
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < cells_) {
@@ -715,8 +754,10 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
         }
       }
     }
-    __builtin_prefetch(system.particles.data() + target, 1);
-    __builtin_prefetch(system.records.data() + target, 1);
+    if (!stops_held_) {
+      __builtin_prefetch(system.particles.data() + target, 1);
+      __builtin_prefetch(system.records.data() + target, 1);
+    }
   }
   const Vec<D> struck = position_in(lift.cell, lift.lane);
   Vec<D> xm = flight_.from;
@@ -735,23 +776,25 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   event.momentum[axis] = change;
   for (std::size_t k = 0; k < D; ++k) event.contact[k] = r[k];
   event.time = system.absolute(t);
-  // The mover's entries as Engine::apply leaves them; its being struck (moving since then) is
-  // counted now if it was not written then (write_struck()).
-  ParticleRecord& rm = system.records[moving];
-  wrap_into_box(xm, rm.image);
-  Particle<D>& pm = system.particles[moving];
-  pm.position = xm;
-  pm.velocity[axis] = 0.0;
-  pm.time = t;
-  const std::uint32_t counted = struck_unwritten_ ? 2 : 1;
-  rm.pair_collisions += counted;
-  rm.changes += counted;
-  rm.last_collision = t;
+  // The mover's entries as Engine::apply leaves them, now or with the chain's other stops
+  // (stops_held_) but for its image flags, which change only here; its being struck (moving
+  // since then) is counted now if it was not written then (write_back()).
+  if (!in_box(xm)) [[unlikely]]
+    wrap_into_box(xm, system.records[moving].image);
+  const Stop stop{xm, t, moving, struck_unwritten_ ? 2u : 1u};
+  if (stops_held_) {
+    if (stops_.size() == kStopsHeld) [[unlikely]]
+      write_stops();
+    stops_.push_back(stop);
+  } else {
+    write_stop(stop);
+  }
   struck_unwritten_ = true;
+  const double mover_radius = flight_.radius;
   flight_ = {struck, t, radius_in(lift.cell, lift.lane)};
   // The one that stopped rests where it is; the one struck moves on from its cell.
   take_out(lift.cell, lift.lane);
-  rest(moving, locate_moved(xm), xm, pm.radius);
+  rest(moving, locate_moved(xm), xm, mover_radius);
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
@@ -760,7 +803,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
 
 template <std::size_t D>
 void EcmcEngine<D>::start_next_chain() {
-  write_struck();
+  write_back();
   Particle<D>& a = this->system_.particles[chain_.active];
   ParticleRecord& record = this->system_.records[chain_.active];
   const double t = chain_.chain_end;
