@@ -327,8 +327,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   }
   capacity_ = capacity;
   ids_offset_ = (D + (radii_kept_ ? 1 : 0)) * capacity;
-  // Coordinates, radii, indices and the count, in whole 64-byte lines.
-  block_ = (ids_offset() + (capacity + 2) / 2 + 7) / 8 * 8;
+  block_ = block_doubles(capacity, radii_kept_);
   lanes_.assign(std::size_t{cells_} * block_, 0.0);  // no lane in use
   for (std::uint32_t cell = 0; cell < cells_; ++cell) {  // every lane empty (take_out)
     std::fill_n(block(cell), capacity, std::numeric_limits<double>::quiet_NaN());
@@ -503,6 +502,8 @@ template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
                                                                    double ahead) const {
   constexpr std::size_t kIds = (D + (Radii ? 1 : 0)) * Capacity;
+  constexpr std::size_t kBlock = block_doubles(Capacity, Radii);
+  const double* const lanes = lanes_.data();
   __m128d from[D], half[D], side[D], per_side[D];
   for (std::size_t k = 0; k < D; ++k) {
     from[k] = _mm_set1_pd(flight_.from[k]);
@@ -518,7 +519,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
   constexpr std::size_t kLanes = kAhead * Capacity;
   std::array<std::uint64_t, (kLanes + 63) / 64> touching{};
   for (std::size_t c = 0; c < kAhead; ++c) {
-    const double* const b = block(cells[c]);
+    const double* const b = lanes + std::size_t{cells[c]} * kBlock;
     for (std::uint32_t lane = 0; lane < Capacity; lane += 2) {
       // Lanes are used from the first on: a NaN here is the end of those in use (most cells
       // have two or fewer).
@@ -566,7 +567,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
       const std::uint32_t cell = cells[at / Capacity];
       const auto lane = static_cast<std::uint32_t>(at % Capacity);
-      const double* const b = block(cell);
+      const double* const b = lanes + std::size_t{cell} * kBlock;
       Vec<D> position;
       for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
       Vec<D> r = flight_.from - position;

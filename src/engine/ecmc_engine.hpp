@@ -176,6 +176,11 @@ class EcmcEngine final : public Engine<D> {
            std::uint32_t id);
   // Every cell's lanes laid out for `capacity` a cell, those in use kept.
   void lay_out(std::uint32_t capacity);
+  // The doubles a block of `capacity` lanes takes: coordinates, radii if kept, indices and the
+  // count, in whole 64-byte lines.
+  static constexpr std::size_t block_doubles(std::uint32_t capacity, bool radii) {
+    return ((D + (radii ? 1 : 0)) * capacity + (capacity + 2) / 2 + 7) / 8 * 8;
+  }
   // Where a block's indices begin, in doubles (after the coordinates, and the radii if kept).
   std::size_t ids_offset() const { return ids_offset_; }
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
