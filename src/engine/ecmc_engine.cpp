@@ -741,9 +741,9 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   // a cell or so a lift, and each search reads cells the ones before did not. The column of
   // cells kLead ahead of the target's is asked for now, a lift or two before a search reads it,
   // where the blocks do not fit in a core's cache (at an edge of the grid some of these are other
-  // cells: no harm): the lines of their coordinates and radii, which every search reads (not
-  // the indices: 3D spheres at N = 32768 were 5 % slower with them). So are the target's System
-  // entries, written at its own lift.
+  // cells: no harm): the lines of their coordinates (and radii), which every search reads (not
+  // the indices' beyond them: 3D spheres at N = 32768 were 5 % slower with them). So are the
+  // target's System entries where a lift writes its stop itself (not stops_held_).
   if (prefetch_cells_) {
     const std::size_t read = ids_offset_ * sizeof(double);
     for (const std::int64_t offset : lead_offsets_[axis]) {

@@ -68,7 +68,8 @@ class EcmcEngine final : public Engine<D> {
   double speed() const { return speed_; }
 
  private:
-  // Only times move: the flight's start and the columns it crossed stay as they were.
+  // Only times move: the flight's start and the columns it crossed stay as they were (no stop is
+  // held: the engine has returned, write_back() done).
   void rebased(double shift) override {
     chain_.chain_end -= shift;
     flight_.time = this->system_.particles[chain_.active].time;
@@ -212,13 +213,13 @@ class EcmcEngine final : public Engine<D> {
   // doubles (whole 64-byte lines): a block holds, for each of its capacity_ lanes, one run of
   // coordinates per axis, then the radii unless every particle has the same (radius_), then the
   // indices and after them the count of lanes in use (uint32s, two in a double's room, read and
-  // written through memcpy). Equal disks
-  // start with three lanes a cell, which fill one line (cells a diameter wide rarely hold more:
-  // four only at the corners), so that a search reads one line a cell; others with four (the
-  // fullest cell decides: lanes are added, doubling, when a cell is full). Lanes below the
-  // count (fill()) are in use; the others have a NaN first coordinate, which touches nothing,
-  // so that a search tests lanes two at a time, whether in use or not, and reads no count (it
-  // stops at a pair that begins with a NaN). The active particle is in no block.
+  // written through memcpy). Equal disks start with three lanes a cell, which fill one line
+  // (cells a diameter wide hold four only at their corners), so that a search reads one line a
+  // cell; others with four (or as many as the fullest cell needs: lanes are added, doubling,
+  // when a cell is full). Lanes below the count (fill()) are in use; the others have a NaN
+  // first coordinate, which touches nothing, so that a search tests lanes two at a time,
+  // whether in use or not, and reads no count (it stops at a pair that begins with a NaN). The
+  // active particle is in no block.
   CellGrid<D> grid_;
   std::vector<double, LargePages<double>> lanes_;
   std::uint32_t cells_ = 0;  // in the grid
