@@ -189,24 +189,15 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline bool EcmcEngine<D>::in_box(const Vec<D>& position) const {
-  bool inside = true;
-  for (std::size_t k = 0; k < D; ++k) {
-    inside = inside && position[k] > 0.0 && position[k] < this->system_.box.size[k];
-  }
-  return inside;
-}
-
-template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(
-    Vec<D>& position, std::array<std::int32_t, 3>& image) const {
+[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(Vec<D>& position,
+                                                                std::uint32_t i) {
   for (std::size_t k = 0; k < D; ++k) {
     const double side = this->system_.box.size[k];
     if (position[k] > 0.0 && position[k] < side) [[likely]]
       continue;
     const double sides = std::floor(position[k] / side);
     position[k] -= side * sides;
-    if (sides != 0.0) add_sides(image[k], sides);
+    if (sides != 0.0) add_sides(this->system_.records[i].image[k], sides);
   }
 }
 
@@ -780,8 +771,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   // The mover's entries as Engine::apply leaves them, now or with the chain's other stops
   // (stops_held_) but for its image flags, which change only here; its being struck (moving
   // since then) is counted now if it was not written then (write_back()).
-  if (!in_box(xm)) [[unlikely]]
-    wrap_into_box(xm, system.records[moving].image);
+  wrap_into_box(xm, moving);
   const Stop stop{xm, t, moving, struck_unwritten_ ? 2u : 1u};
   if (stops_held_) {
     if (stops_.size() == kStopsHeld) [[unlikely]]

@@ -199,10 +199,9 @@ class EcmcEngine final : public Engine<D> {
   // locate(position) for the active particle moved along the axis from where its flight began
   // (across the axis it is where cell_ is), bit for bit.
   std::uint32_t locate_moved(const Vec<D>& position) const;
-  // Whether wrap() leaves a position alone.
-  bool in_box(const Vec<D>& position) const;
-  // wrap(position, box, image), bit for bit, inline.
-  void wrap_into_box(Vec<D>& position, std::array<std::int32_t, 3>& image) const;
+  // wrap(position, box, particle i's image flags), bit for bit, inline: its record is touched
+  // only where a flag changes.
+  void wrap_into_box(Vec<D>& position, std::uint32_t i);
 
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
