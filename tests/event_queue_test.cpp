@@ -104,5 +104,28 @@ TYPED_TEST(EventQueues, EqualTimesAndEmptiness) {
   EXPECT_EQ(queue.top(), 17u);
 }
 
+// The tag a slot's event was queued with comes back with that slot, wherever the calendar keeps
+// the event (its heap, a bucket, the overflow) and across new years; a slot's update replaces it.
+TEST(EventCalendar, KeepsEachSlotsTagWithItsEvent) {
+  pcg32 rng(11);
+  const std::uint32_t n = 200;
+  EventCalendar calendar(n);
+  std::vector<std::uint32_t> tags(n);
+  const auto uniform = [&] { return static_cast<double>(rng()) / 4294967296.0; };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    tags[i] = rng();
+    calendar.update(i, {uniform(), 0}, tags[i]);
+  }
+  for (int step = 0; step < 50000; ++step) {
+    const std::uint32_t i = calendar.top();
+    ASSERT_EQ(calendar.tag(i), tags[i]) << "step " << step;
+    const std::uint32_t other = rng() % n;
+    ASSERT_EQ(calendar.tag(other), tags[other]) << "step " << step;
+    tags[i] = rng();
+    const double later = calendar.top_key().time + (rng() % 100 == 0 ? 1e4 : 1.0) * uniform();
+    calendar.update(i, {later, 0}, tags[i]);
+  }
+}
+
 }  // namespace
 }  // namespace carom

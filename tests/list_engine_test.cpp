@@ -73,6 +73,24 @@ TEST(ListEngine, ListsAreSymmetricAndHoldEveryPairWithinReach) {
   EXPECT_GT(pairs, 10u * n);  // about 13 neighbours each at this density
 }
 
+// The list engine keeps no pending event beside the calendar: what an entry is comes back from
+// its key alone, for every kind and either order of a pair.
+TEST(KeyedEntry, ReadsEveryKindOfEntryFromItsKey) {
+  const auto read = [](std::uint32_t i, const EventKey& key) { return keyed_entry<3>(i, key); };
+  const KeyedEntry own = read(7, {1.0, after_collisions(7)});
+  EXPECT_EQ(own.kind, EntryKind::crossing);
+  for (std::int32_t wall = -1; wall >= -6; --wall) {
+    const KeyedEntry hit = read(7, key_of<3>({1.0, 7, wall}));
+    EXPECT_EQ(hit.kind, EntryKind::wall);
+    EXPECT_EQ(hit.partner, wall);
+  }
+  for (std::uint32_t j : {0u, 6u, 8u, 2000000000u}) {
+    const KeyedEntry pair = read(7, key_of<3>(pair_event(1.0, 7, j)));
+    EXPECT_EQ(pair.kind, EntryKind::pair);
+    EXPECT_EQ(pair.partner, static_cast<std::int32_t>(j)) << j;
+  }
+}
+
 TEST(ShellExitDelay, EndsOnTheShellWithoutCancellation) {
   EXPECT_EQ(shell_exit_delay(Vec<3>{{0, 0, 0}}, Vec<3>{{0, 0, 0}}, 0.25), kNever);
   EXPECT_EQ(shell_exit_delay(Vec<3>{{0.3, 0, 0}}, Vec<3>{{1, 0, 0}}, 0.25), 0.0);

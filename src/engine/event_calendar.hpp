@@ -50,12 +50,15 @@ class EventCalendar {
   }
   EventKey key(std::uint32_t slot) const { return slot_[slot].key; }
 
-  // Replaces the pending event of `slot` (kNoEvent: no event).
-  void update(std::uint32_t slot, const EventKey& key) {
+  // Replaces the pending event of `slot` (kNoEvent: no event), with 32 bits of the caller's about
+  // it (tag(slot) gives them back).
+  void update(std::uint32_t slot, const EventKey& key, std::uint32_t tag = 0) {
     remove(slot);
     slot_[slot].key = key;
+    slot_[slot].tag = tag;
     if (key.time != kNever) insert(slot);
   }
+  std::uint32_t tag(std::uint32_t slot) const { return slot_[slot].tag; }
 
  private:
   // Slot::where values: a bucket index below kInHeap, or one of these.
@@ -65,12 +68,16 @@ class EventCalendar {
   static constexpr std::uint32_t kEnd = 0xFFFFFFFFu;       // end of a bucket's list
   static constexpr double kPerBucket = 2.0;                // events a bucket is tuned to hold
 
-  // Everything about one slot in one place: a single cache miss reaches it.
+  // Everything about one slot in one place: a single cache miss reaches it. The tag fills what
+  // would be padding: a caller keeps there what it needs when the event comes (the neighbour-list
+  // engine, the partner's version), in the line the calendar reads anyway.
   struct alignas(32) Slot {
     EventKey key = kNoEvent;
     std::uint32_t next = kEnd, prev = kEnd;  // neighbours in a bucket's list or the overflow
     std::uint32_t where = kIdle;
+    std::uint32_t tag = 0;
   };
+  static_assert(sizeof(Slot) == 32);
   struct Entry {
     EventKey key;
     std::uint32_t slot;

@@ -89,7 +89,6 @@ ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKe
       reach_(2.0 * (largest_radius(this->system_) + shell_) * (1.0 + kReachMargin)),
       grid_(this->system_.box, reach_, this->system_.size()),
       queue_(static_cast<std::uint32_t>(this->system_.size())),
-      pending_(this->system_.size()),
       centre_(this->system_.size() + 1),  // one more, which near_points may read
       size_(this->system_.size(), 0),
       kernel_(std::min(kernel, widest_contact_kernel())) {
@@ -102,7 +101,6 @@ ListEngine<D>::ListEngine(System<D> system, const CollisionRule& rule, ContactKe
   prefer_large_pages(this->system_);
   grid_.prefer_large_pages();
   queue_.prefer_large_pages();
-  prefer_large_pages(pending_);
   prefer_large_pages(centre_);
   prefer_large_pages(slots_.get(), this->system_.size() * capacity_ * sizeof(std::uint32_t));
 }
@@ -275,10 +273,8 @@ void ListEngine<D>::predict_with(std::uint32_t i, const Contacts& contacts) {
                        std::min(count - from, kMostContacts), ByOffset{});
   }
   earliest.read_partner_version(this->system_.records);
-  // A renewal leaves `pending` as it was (a wall hit, or nothing): step() does not read it then.
-  const EventKey key = earliest.key;
-  pending_[i] = earliest.pending;
-  queue_.update(i, key);
+  // The version fits the tag: it counts in 32 bits (ParticleRecord::changes).
+  queue_.update(i, earliest.key, static_cast<std::uint32_t>(earliest.pending.partner_version));
 }
 
 template <std::size_t D>
@@ -329,12 +325,12 @@ std::optional<Event> ListEngine<D>::step_with(double end_time, const Contacts& c
   const auto& records = this->system_.records;
   while (true) {
     // Events a few steps away are known: what they will read is fetched while these are handled.
-    const std::uint32_t i =
-        queue_.top([&](std::uint32_t slot, int distance) { prefetch_entry(slot, distance); });
+    const std::uint32_t i = queue_.top([&](std::uint32_t slot, int) { prefetch_entry(slot); });
     const EventKey key = queue_.top_key();
     const double t = key.time;
     if (t == kNever || !this->due_by(t, end_time)) return std::nullopt;  // kNever: none queued
-    switch (particle_entry(i, key, pending_[i])) {
+    const KeyedEntry entry = keyed_entry<D>(i, key);
+    switch (entry.kind) {
       case EntryKind::crossing:  // leaving its shell
         clock_ = t;
         make_list_with(i, contacts);
@@ -342,14 +338,13 @@ std::optional<Event> ListEngine<D>::step_with(double end_time, const Contacts& c
         continue;
       case EntryKind::wall: {
         clock_ = t;
-        const Event event = this->apply({t, i, pending_[i].partner});
+        const Event event = this->apply({t, i, entry.partner});
         predict_with(i, contacts);
         return event;
       }
       case EntryKind::pair: {
-        const Pending pending = pending_[i];
-        const auto j = static_cast<std::uint32_t>(pending.partner);
-        if (records[j].version() != pending.partner_version) {
+        const auto j = static_cast<std::uint32_t>(entry.partner);
+        if (records[j].version() != queue_.tag(i)) {
           predict_with(i, contacts);  // the partner has collided since: this event will not happen
           continue;
         }

@@ -87,12 +87,10 @@ class ListEngine final : public Engine<D> {
   std::optional<Event> step_avx512(double end_time);
   template <class Contacts>
   std::optional<Event> step_with(double end_time, const Contacts& contacts);
-  // For the queue entry of particle i, `distance` entries from the top: the particle and its
-  // list, and at 2 its pending collision.
-  void prefetch_entry(std::uint32_t i, int distance) const {
+  // For the queue entry of particle i a few entries from the top: the particle and its list.
+  void prefetch_entry(std::uint32_t i) const {
     __builtin_prefetch(&this->system_.particles[i]);
     __builtin_prefetch(&slots_[slot(i)]);
-    if (distance == 2) __builtin_prefetch(&pending_[i]);
   }
   // Particle i's list made again around where it is now (its next event is then predicted).
   template <class Contacts>
@@ -112,8 +110,9 @@ class ListEngine final : public Engine<D> {
   double shell_;  // how far a particle moves from its shell's centre before it makes its list again
   double reach_;  // the farthest apart two centres of neighbours are
   CellGrid<D> grid_;  // the shells' centres, to find neighbours when a list is made
+  // Each particle's next event: its key says what it is (keyed_entry) and, for a pair, the tag
+  // holds the partner's version when it was predicted (a stale prediction is dropped).
   EventCalendar queue_;
-  std::vector<Pending> pending_;
   std::vector<Vec<D>> centre_;
   // Particle i's list in slots_[slot(i) ..], size_[i] long, its neighbours named by offset (see
   // ByOffset: what the contact kernel reads, without a multiplication); the rest of its slots

@@ -53,6 +53,23 @@ inline EntryKind particle_entry(std::uint32_t i, const EventKey& key, const Pend
   return pending.kind == PendingKind::wall ? EntryKind::wall : EntryKind::pair;
 }
 
+// Particle i's entry with key `key`, read from the key alone: its own event (ordered
+// after_collisions), or the collision key_of ordered (the first particle in the high half, the
+// other's partner_rank in the low), whose partner is the wall or the particle other than i.
+struct KeyedEntry {
+  EntryKind kind;
+  std::int32_t partner;  // wall label or particle index; 0 for the particle's own event
+};
+template <std::size_t D>
+constexpr KeyedEntry keyed_entry(std::uint32_t i, const EventKey& key) {
+  const auto first = static_cast<std::uint32_t>(key.order >> 32);
+  const auto rank = static_cast<std::uint32_t>(key.order);
+  if (rank == 0xFFFFFFFFu) return {EntryKind::crossing, 0};
+  if (rank < 2 * D) return {EntryKind::wall, -static_cast<std::int32_t>(rank) - 1};
+  const std::uint32_t second = rank - 2 * D;
+  return {EntryKind::pair, static_cast<std::int32_t>(first == i ? second : first)};
+}
+
 // The calendar key of particle i's pending collision at `time` (kNoEvent for none).
 template <std::size_t D>
 EventKey collision_key(const Pending& pending, double time, std::uint32_t i) {
