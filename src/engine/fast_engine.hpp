@@ -66,7 +66,7 @@ class FastEngine final : public Engine<D> {
   void prefetch_entry(std::uint32_t slot, int distance) const;
   EntryKind entry_kind(std::uint32_t slot, const EventKey& key) const {
     return slot == horizon_slot_ ? EntryKind::renewal
-                                 : particle_entry(slot, key, pending_[slot].pending);
+                                 : keyed_entry<D>(slot, key).kind;
   }
   // Predicts every particle afresh (at the start and after rebases and interventions).
   void predict_all();

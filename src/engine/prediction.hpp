@@ -21,8 +21,9 @@ enum class PendingKind : std::uint8_t { none, wall, pair };
 // A particle's earliest collision, as predicted, and (for the cell engine) the way out of its
 // cell. The calendar holds the collision or the engine's own event for the particle (a cell
 // crossing, a neighbour list's renewal), whichever comes first, told apart by the event's order
-// (after_collisions). Its time is the calendar key's: 16 bytes a particle, not 24 (the cell
-// engine, whose calendar may hold the crossing instead, keeps the time beside it).
+// (after_collisions, keyed_entry). The cell engine keeps it, with its time, beside the calendar,
+// which may hold the crossing instead; the list engine keeps only the partner's version, in the
+// calendar entry's tag.
 struct Pending {
   std::uint64_t partner_version = 0;  // for a pair: the partner's version when predicted
   std::int32_t partner = 0;           // wall label or particle index
@@ -45,13 +46,6 @@ enum class EntryKind : std::uint8_t {
   wall,      // its predicted wall collision
   pair,      // its predicted pair collision (void if the partner has collided since)
 };
-
-// The kind of particle i's entry with key `key`: its own event (ordered after_collisions), else
-// the collision `pending` holds (read only then).
-inline EntryKind particle_entry(std::uint32_t i, const EventKey& key, const Pending& pending) {
-  if (key.order == after_collisions(i)) return EntryKind::crossing;
-  return pending.kind == PendingKind::wall ? EntryKind::wall : EntryKind::pair;
-}
 
 // Particle i's entry with key `key`, read from the key alone: its own event (ordered
 // after_collisions), or the collision key_of ordered (the first particle in the high half, the
