@@ -170,10 +170,16 @@ void ListEngine<D>::make_all_lists() {
 template <std::size_t D>
 template <class Contacts>
 void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
-  for (std::uint32_t k = 0; k < size_[i]; ++k) {
-    remove(ByOffset::index<D>(slots_[slot(i) + k]), i, contacts);
+  // The old neighbours, told apart from the new ones: most are neighbours again, and their lists
+  // keep i where it is; only the lists of those that leave or come change.
+  const std::uint32_t old_count = size_[i];
+  std::uint32_t* old = former_.data();
+  if (former_.size() < old_count + 8) {
+    former_.resize(old_count + 8);  // the list, a sentinel and the rest of its eight
+    old = former_.data();
   }
-  std::fill_n(&slots_[slot(i)], size_[i], name_of<D>(i));
+  std::copy_n(&slots_[slot(i)], old_count, old);
+  std::uint32_t left = old_count;  // old neighbours not found again yet: old[0 .. left)
   size_[i] = 0;
   const Vec<D> centre = position_at(this->system_.particles[i], clock_);
   centre_[i] = centre;
@@ -187,8 +193,13 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
              contacts.near_points(centre, centre_.data(), batch.data(), size, box, reach_);
          near != 0; near &= near - 1) {
       const std::uint32_t j = batch[static_cast<std::size_t>(std::countr_zero(near))];
-      if (j != i) {
-        add(i, j);
+      if (j == i) continue;
+      add(i, j);
+      old[left] = name_of<D>(j);  // a sentinel: the search stops at `left` if j is new
+      const std::uint32_t k = position_in(old, name_of<D>(j), contacts);
+      if (k < left) {
+        old[k] = old[--left];
+      } else {
         add(j, i);
       }
     }
@@ -199,6 +210,11 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
     if (size == kMostContacts) flush();
   });
   if (size > 0) flush();
+  for (std::uint32_t k = 0; k < left; ++k) remove(ByOffset::index<D>(old[k]), i, contacts);
+  // Slots the shorter list no longer holds are padding again.
+  if (size_[i] < old_count) {
+    std::fill(&slots_[slot(i) + size_[i]], &slots_[slot(i) + old_count], name_of<D>(i));
+  }
   if (cell != grid_.cell_of(i)) grid_.move(i, cell);
 }
 

@@ -46,12 +46,13 @@ template <std::size_t D>
 class ListEngine final : public Engine<D> {
  public:
   // How many largest radii thick shells are at packing fraction `packing`: the measured optima
-  // (instructions a collision, N = 10^4, skins from 0.4 to 1.5). Spheres cost least at 0.7 from
-  // packing 0.3 (0.5: 7 % more, 1.0: 9 %) to 0.45 (0.5 to 0.7 within 1 %, 0.4: 5 % more).
+  // (instructions a collision, N = 10^4, skins from 0.4 to 1.5). Spheres at packing 0.3 cost
+  // least at 0.8 (0.7: 0.3 % more, 0.9: 1.2 %, 0.6: 3.2 %), at 0.45 at 0.7 (0.6: 0.2 % more,
+  // 0.8: 4 %, 0.9: 8 %).
   // Disks at 0.5 cost least at 1.2 (0.9: 4 % more, 1.5: 5 %), at 0.6 and 0.7 at 0.9 (1.2: 7 and
   // 10 % more): thicker shells the less dense, as a particle goes further between collisions.
   static constexpr double skin(double packing) {
-    if constexpr (D == 3) return 0.7;
+    if constexpr (D == 3) return std::clamp(0.7 + (0.45 - packing) * 2.0 / 3.0, 0.7, 0.8);
     return std::clamp(0.9 + 3.0 * (0.6 - packing), 0.9, 1.2);
   }
   // Lists serve systems at least this densely packed (see suits()): below, a particle leaves its
@@ -128,6 +129,8 @@ class ListEngine final : public Engine<D> {
   // Gives slots_ room for `count` slots, keeping what it holds.
   void reserve_slots(std::size_t count);
   std::vector<std::uint32_t> size_;
+  // A list being made again keeps its old neighbours here (make_list_with).
+  std::vector<std::uint32_t> former_;
   // Slots a particle, a multiple of eight. Not a std::uint32_t, which a store to a slot might
   // alias: the compiler would read it again after every store.
   std::size_t capacity_ = 0;

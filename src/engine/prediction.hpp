@@ -265,8 +265,11 @@ struct EarliestEvent {
                                        times.data(), names);
          soon != 0; soon &= soon - 1) {
       const auto n = static_cast<std::size_t>(std::countr_zero(soon));
+      const double time = std::max(times[n], clock);
+      // A later contact cannot come first: only one no later than the best is keyed and compared.
+      if (time > key.time) continue;
       const std::uint32_t j = Names::template index<D>(candidates[n]);
-      const EventKey candidate = key_of<D>(pair_event(std::max(times[n], clock), i, j));
+      const EventKey candidate = key_of<D>(pair_event(time, i, j));
       if (candidate < key) {
         key = candidate;
         pending = {0, static_cast<std::int32_t>(j), PendingKind::pair};
