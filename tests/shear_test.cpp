@@ -198,7 +198,9 @@ void expect_sheared_runs_agree(double rate, bool thermostat, bool andersen = fal
   EXPECT_EQ(fast.counts(), reference.counts());
   EXPECT_EQ(fast.snapshot(), reference.snapshot());
   // The thermostat's interventions move the epoch, and with it the images' offset.
-  if (thermostat) EXPECT_NE(fast.state().box.shear_offset, 0.0);
+  if (thermostat) {
+    EXPECT_NE(fast.state().box.shear_offset, 0.0);
+  }
 
   Simulation<D> first = make(EngineKind::fast);
   first.run_until(2.3);
