@@ -173,11 +173,9 @@ void ListEngine<D>::make_list_with(std::uint32_t i, const Contacts& contacts) {
   // The old neighbours, told apart from the new ones: most are neighbours again, and their lists
   // keep i where it is; only the lists of those that leave or come change.
   const std::uint32_t old_count = size_[i];
+  // Room for the list, a sentinel and the rest of its eight.
+  if (former_.size() < old_count + 8) former_.resize(old_count + 8);
   std::uint32_t* old = former_.data();
-  if (former_.size() < old_count + 8) {
-    former_.resize(old_count + 8);  // the list, a sentinel and the rest of its eight
-    old = former_.data();
-  }
   std::copy_n(&slots_[slot(i)], old_count, old);
   std::uint32_t left = old_count;  // old neighbours not found again yet: old[0 .. left)
   size_[i] = 0;
