@@ -3,6 +3,7 @@
 // checkpoint holds the chain in flight and its generator, so a resumed run is the run in one.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -116,6 +117,32 @@ TEST(EcmcRun, StopsWrittenInBulkAreTheStopsOneByOne) {
   watched.run_until(0.03);
   expect_same_run(batched, watched);
   EXPECT_GT(watched.counts().events, 20000u);
+}
+
+// Chains far shorter than the space between particles end by the thousand without a lift: a
+// slice bounds them too, so that a run looks at its stop flag (and takes their velocity changes)
+// every few thousand chains. Regression: a run of chains of 1e-6 diameters went on to its end
+// without a look at the flag, its velocity changes held by the billion (gigabytes).
+TEST(EcmcRun, ShortChainsStillLookAtTheStopFlag) {
+  Simulation<2> simulation(periodic_gas<2>(256, 0.6), chains(1e-6));
+  const std::atomic<int> stop{1};
+  simulation.set_stop_flag(&stop);
+  EXPECT_EQ(simulation.run_until(1e-3), RunStatus::stopped);
+  EXPECT_LT(simulation.time(), 1e-4);  // a slice: 4096 chains of 1e-6 / 256
+}
+
+// Chains too short for a double to count their ends by the run's end are refused before the run,
+// not left to run for ever at one time.
+TEST(EcmcRun, ChainsTooShortForTheClockAreRefused) {
+  Simulation<2> simulation(periodic_gas<2>(256, 0.6), chains(1e-9));
+  EXPECT_NO_THROW(simulation.run_until(1e-6));
+  try {
+    simulation.run_until(1e4);
+    FAIL() << "chains of 1e-9 diameters ran to 1e4";
+  } catch (const RunLengthError& e) {
+    EXPECT_NE(std::string(e.what()).find("use a longer chain length"), std::string::npos)
+        << e.what();
+  }
 }
 
 // One particle moves at v at every instant, along x, y (and z) in turn: the kinetic stress's

@@ -362,6 +362,34 @@ TEST(Ecmc, ABoxUnderThreeDiametersAcrossIsRefused) {
   EXPECT_NO_THROW(check_chain_start(make_initial<2>(options)));
 }
 
+// A sparse system in a long narrow box wider than three diameters is taken, however few its
+// particles (its grid has room for three cells across), and its lifts are the reference engine's.
+// Regression: a grid of about two cells a particle made 10 disks in an 8 x 200 box one cell wide,
+// and the box was refused as under three diameters across.
+TEST(Ecmc, ASparseNarrowBoxWiderThanThreeDiametersIsTaken) {
+  System<2> start;
+  start.box = {{{8.0, 200.0}}, Boundary::periodic};
+  for (std::uint32_t i = 0; i < 10; ++i) {
+    Particle<2> p;
+    p.position = {{1.0 + 0.6 * i, 10.0 + 19.0 * i}};
+    p.radius = 0.5;
+    start.particles.push_back(p);
+  }
+  start.records.resize(start.size());
+  EcmcEngine<2> chains(start, 1e9, pcg32(4));
+  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
+  const double end = 40.0 * 200.0 / chains.speed();
+  for (int k = 0; k < 50; ++k) {
+    const std::optional<Event> lift = chains.step(end);
+    const std::optional<Event> collision = reference.step(end);
+    ASSERT_EQ(lift.has_value(), collision.has_value()) << "event " << k;
+    if (!lift) break;
+    ASSERT_EQ(lift->first, collision->first) << "event " << k;
+    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
+    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
+  }
+}
+
 // A slice of a run (Engine::slice_length, between looks at the stop flag) bounds the cell
 // crossings of the one particle that moves. Regression: it bounded those of N particles at the
 // active one's speed, N times shorter; at N = 10^6 a slice was shorter than a lift, each slice's

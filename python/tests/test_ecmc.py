@@ -108,6 +108,28 @@ def test_python_words_the_refusals_its_own_way(tmp_path):
                          boundary="periodic", sampler="ecmc")
 
 
+def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
+    """kT and rule have defaults in Python (1, elastic): other values were asked for, and chains
+    would ignore them. A chain length without chains is refused by every front end."""
+    with pytest.raises(ValueError, match='kT= needs dynamics'):
+        carom.init(50, 0.3, boundary="periodic", sampler="ecmc", kT=2.0)
+    with pytest.raises(ValueError, match='rule= needs dynamics'):
+        carom.init(50, 0.3, boundary="periodic", sampler="ecmc", rule="swap")
+    gas = carom.init(50, 0.3, boundary="periodic")
+    with pytest.raises(ValueError, match='rule= needs dynamics'):
+        carom.Simulation(gas.positions, gas.velocities, gas.box, boundary="periodic",
+                         sampler="ecmc", rule="swap")
+    with pytest.raises(ValueError, match='chain_length= needs sampler="ecmc"'):
+        carom.init(50, 0.3, boundary="periodic", chain_length=3.0)
+    start = tmp_path / "start.txt"
+    cli("init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start)
+    assert "--chain-length needs --sampler ecmc" in cli.error("run", start, "1", "--chain-length", "3")
+    plan = tmp_path / "plan.toml"
+    plan.write_text('[start]\nn = 50\nphi = 0.3\nboundary = "periodic"\n'
+                    '[run]\nend_time = 1\nchain_length = 3\n[sweep]\nseed = [1, 2]\n')
+    assert "needs" in cli.error("sweep", plan, "-o", tmp_path / "out")
+
+
 def test_a_seed_alone_still_needs_something_to_seed(cli, tmp_path):
     start = tmp_path / "start.txt"
     cli("init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start)

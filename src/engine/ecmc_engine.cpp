@@ -15,18 +15,26 @@
 #include <stdexcept>
 
 #include "carom/engine/initial.hpp"
+#include "carom/engine/simulation.hpp"
 #include "large_pages.hpp"
 
 namespace carom {
 
 namespace {
 
-// The grid the chains search: cells one largest diameter wide or more, with room for three along
-// every axis even with a handful of particles (a grid allows about two cells a particle).
+// The grid the chains search: cells one largest diameter wide or more, and three or more along
+// every axis wherever the box is wider than three diameters, however sparse the system (a grid
+// allows about two cells a particle: a sparse one is given room for as many cells as a third of
+// the narrowest side, halved, makes).
 template <std::size_t D>
 CellGrid<D> chain_grid(const System<D>& system) {
-  return CellGrid<D>(system.box, 2.0 * largest_radius(system),
-                     std::max<std::size_t>(system.size(), 6));
+  double narrowest = system.box.size[0];
+  for (std::size_t k = 1; k < D; ++k) narrowest = std::min(narrowest, system.box.size[k]);
+  const double width = narrowest / 6.0;
+  double cells = 1.0;
+  for (std::size_t k = 0; k < D; ++k) cells *= std::floor(system.box.size[k] / width);
+  const double room = std::max({static_cast<double>(system.size()), 6.0, std::ceil(cells / 2.0)});
+  return CellGrid<D>(system.box, 2.0 * largest_radius(system), static_cast<std::size_t>(room));
 }
 
 // A system as chains start in it: every particle at rest at the latest stored time (the engine
@@ -72,7 +80,7 @@ void check_chain_start(const System<D>& system, const CellGrid<D>& grid) {
   for (std::size_t k = 0; k < D; ++k) {
     if (grid.cells_along(k) < 3) {
       throw std::invalid_argument(fmt::format(
-          "event-chain Monte Carlo needs a box three of the largest diameters wide or more along "
+          "event-chain Monte Carlo needs a box more than three of the largest diameters wide along "
           "every axis; this one is {} wide along axis {}, and the largest diameter is {}",
           system.box.size[k], "xyz"[k], 2.0 * largest_radius(system)));
     }
@@ -817,6 +825,24 @@ void EcmcEngine<D>::start_moving_at(double t) {
   next.velocity = along<D>(chain_.axis, speed_);
   chain_.chain_end = t + chain_duration_;
   set_moving(chain_.active);
+}
+
+template <std::size_t D>
+double EcmcEngine<D>::slice_length() const {
+  return std::min(Engine<D>::slice_length(), kChainsPerSlice * chain_duration_);
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::check_target(double t) const {
+  // A chain's end is its start plus chain_duration_, in stored times no later than t: resolved
+  // to a millionth of a chain at least.
+  if (!(chain_duration_ >= std::abs(t) * 0x1p-32)) {
+    throw RunLengthError(fmt::format(
+        "event chains of {:.3g} mean diameters last {:.3g} time units each, too short for a clock "
+        "to count to {} by (a double's resolution there is {:.3g}): use a longer chain length",
+        chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_, t,
+        std::abs(t) * 0x1p-52));
+  }
 }
 
 template <std::size_t D>

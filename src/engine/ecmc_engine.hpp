@@ -64,6 +64,13 @@ class EcmcEngine final : public Engine<D> {
                              Event& last);
 
   const ChainState& chain() const { return chain_; }
+  // A slice also bounds the chains begun in it (kChainsPerSlice): chains far shorter than the
+  // space between particles end by the thousand without a lift, each a velocity change the
+  // Simulation takes only after the engine returns.
+  double slice_length() const override;
+  // Chains too short for the clock to resolve by t (a chain's end no later than its start, or
+  // hardly): RunLengthError.
+  void check_target(double t) const override;
   // The active particle's speed: N mean diameters per unit time.
   double speed() const { return speed_; }
 
@@ -203,6 +210,7 @@ class EcmcEngine final : public Engine<D> {
   // only where a flag changes.
   void wrap_into_box(Vec<D>& position, std::uint32_t i);
 
+  static constexpr double kChainsPerSlice = 4096;
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;

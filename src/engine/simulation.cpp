@@ -137,6 +137,7 @@ void Simulation<D>::check_target(double t) const {
     throw RunLengthError(fmt::format("{} is before the run's current time {}", t, time_));
   }
   check_latest_time(t);
+  engine_->check_target(t);
   const double crossings = most_crossings(state(), t - time_);
   if (crossings > kMostCrossings) {
     throw RunLengthError(fmt::format(

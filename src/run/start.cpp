@@ -238,7 +238,13 @@ void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
 
 void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
                            bool rule_named, bool draws_velocities) {
-  if (settings.sampler.kind != SamplerKind::ecmc) return;
+  if (settings.sampler.kind != SamplerKind::ecmc) {
+    if (settings.sampler.chain_length != 0.0) {
+      throw RequestError({option("chain_length"), " needs ", option("sampler", "ecmc"),
+                          ": dynamics has no chains"});
+    }
+    return;
+  }
   const MessagePiece chains = option("sampler", "ecmc");
   const auto refuse = [&](MessagePiece what, const std::string& why) {
     throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"), "): ",
@@ -337,7 +343,9 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
                  const ShearRequest& shear) {
   require_dimension(dimension);
   check_settings(settings);
-  check_sampler_request(settings, options.boundary == Boundary::periodic, shear, false, false);
+  // carom.init's rule and kT have defaults (elastic, 1): others were asked for.
+  check_sampler_request(settings, options.boundary == Boundary::periodic, shear,
+                        settings.rule.rule != Rule::elastic, options.temperature != 1.0);
   AnySystem system =
       dimension == 2 ? AnySystem(make_initial<2>(options)) : AnySystem(make_initial<3>(options));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);
@@ -354,7 +362,8 @@ Start init_start(int dimension, const InitialOptions& options, const Settings& s
 Start arrays_start(const ParticleArrays& arrays, const Settings& settings,
                    const ShearRequest& shear) {
   require_dimension(arrays.dimension);
-  check_sampler_request(settings, arrays.boundary == Boundary::periodic, shear, false, false);
+  check_sampler_request(settings, arrays.boundary == Boundary::periodic, shear,
+                        settings.rule.rule != Rule::elastic, false);
   AnySystem system =
       arrays.dimension == 2 ? AnySystem(system_from<2>(arrays)) : AnySystem(system_from<3>(arrays));
   std::visit([&](auto& s) { apply_shear(s, shear, settings.rule.rule); }, system);

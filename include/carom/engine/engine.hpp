@@ -94,7 +94,10 @@ class Engine {
   // A stretch of simulated time in which the particles make at most about 10^5 cell crossings in
   // all (the work between events, a few milliseconds), for the system as it is now: the
   // Simulation looks at its stop flag at least this often, events or not.
-  double slice_length() const;
+  virtual double slice_length() const;
+  // RunLengthError if the engine cannot run on to the absolute time t (the Simulation's own
+  // checks aside): nothing in dynamics.
+  virtual void check_target(double /*t*/) const {}
   // The absolute time of the last processed event (the latest stored time before any).
   double time() const { return system_.absolute(now_); }
   // The same as a stored time: exact, where time() may be rounded.

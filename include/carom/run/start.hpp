@@ -74,7 +74,7 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
 // Throws RequestError, naming the options, when `settings` ask for event chains and the run asks
 // for what only dynamics has: a box with walls (`periodic` false), a shear, a thermostat, a
 // restitution below 1, a collision rule or engine named (`rule_named`), or velocities drawn
-// (`draws_velocities`).
+// (`draws_velocities`); or a chain length without event chains.
 void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
                            bool rule_named, bool draws_velocities);
 
