@@ -107,7 +107,8 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
 }
 
 template <std::size_t D>
-Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement) {
+Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement,
+                                   double number_density) {
   const double kT = o.temperature;
   if (kT > 0.0) {
     o.pressure /= kT;
@@ -126,12 +127,15 @@ Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurem
                          : std::numeric_limits<double>::quiet_NaN();
     }
     o.directional_z = z;
+    if (o.pressure_tensor) {
+      for (std::size_t k = 0; k < D; ++k) (*o.pressure_tensor)[k] = number_density * z[k];
+    }
   }
   return o;
 }
 
-template Observables<2> at_unit_temperature(Observables<2>, const Measurement&);
-template Observables<3> at_unit_temperature(Observables<3>, const Measurement&);
+template Observables<2> at_unit_temperature(Observables<2>, const Measurement&, double);
+template Observables<3> at_unit_temperature(Observables<3>, const Measurement&, double);
 template double kinetic_energy(const System<2>&);
 template double kinetic_energy(const System<3>&);
 template Vec<2> momentum(const System<2>&);

@@ -555,7 +555,10 @@ double Simulation<D>::temperature() const {
 template <std::size_t D>
 Observables<D> Simulation<D>::observables_over(const Measurement& stretch, double now) const {
   Observables<D> o = measure(state(), stretch, now);
-  if (chains_) return at_unit_temperature(o, stretch);
+  if (chains_) {
+    return at_unit_temperature(
+        o, stretch, static_cast<double>(state().size()) / box_volume(state().box));
+  }
   return o;
 }
 

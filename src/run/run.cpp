@@ -24,6 +24,17 @@ namespace {
 constexpr const char* kCannotStream =
     "cannot write the trajectory, the event log or the time series (is the disk full?)";
 
+// How many turns of event chains (a chain along every axis) a stretch of `time` holds: a chain
+// lasts its length over N (the moving particle runs at N mean diameters a unit of time).
+// Dynamics has no chains: kNever.
+template <std::size_t D>
+double turns_of_chains(const Simulation<D>& simulation, double time) {
+  const Sampler& sampler = simulation.settings().sampler;
+  if (sampler.kind != SamplerKind::ecmc) return kNever;
+  const double chain = sampler.chain_length / static_cast<double>(simulation.state().size());
+  return time / (static_cast<double>(D) * chain);
+}
+
 // Calls the caller's progress function every kProgressEvents events.
 template <std::size_t D>
 class ProgressCall final : public Observer<D> {
@@ -218,10 +229,15 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   }
   account();
   records = records_now();
-  drift = z_drift ? z_drift->verdict() : std::nullopt;
-  pressure_tensor_error = z_drift ? z_drift->pressure_tensor_error() : std::nullopt;
+  // Event chains' intervals each hold a turn of chains (one along every axis) or more, else
+  // they are pieces of a few chains, neither alike nor apart, and say nothing of an error.
+  const bool intervals_apart =
+      !z_drift || turns_of_chains(simulation, z_drift->record().every) >= 1.0;
+  drift = z_drift && intervals_apart ? z_drift->verdict() : std::nullopt;
+  pressure_tensor_error =
+      z_drift && intervals_apart ? z_drift->pressure_tensor_error() : std::nullopt;
   compressibility_factor_error =
-      z_drift ? z_drift->compressibility_factor_error() : std::nullopt;
+      z_drift && intervals_apart ? z_drift->compressibility_factor_error() : std::nullopt;
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();

@@ -75,8 +75,13 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
 // moving particle has the kinetic temperature m v^2 / (D N), a unit of the sampler's clock rather
 // than of the system; Z = 1 + (the lifts' virial) / (v^2 elapsed) comes out exact. These are the
 // same observables in kT = 1: the pressure and its tensor are beta P, the temperature 1, and the
-// window's fluxes give Z along each axis. Z, rates and the packing are unchanged.
+// window's fluxes give Z along each axis. The tensor's diagonal is beta P along each axis,
+// `number_density` times that Z (NaN along an axis no chain moved along): the displacement along
+// an axis, not the time, is what its lifts are measured against, and a stretch whose chains did
+// not move as far along every axis (part of a turn of chains) weighs them differently. Z, rates
+// and the packing are unchanged.
 template <std::size_t D>
-Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement);
+Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement,
+                                   double number_density);
 
 }  // namespace carom
