@@ -79,6 +79,7 @@ class EcmcEngine final : public Engine<D> {
   // held: the engine has returned, write_back() done).
   void rebased(double shift) override {
     chain_.chain_end -= shift;
+    stall_since_ -= shift;
     flight_.time = this->system_.particles[chain_.active].time;
   }
   void velocity_reset(std::uint32_t) override;
@@ -211,6 +212,8 @@ class EcmcEngine final : public Engine<D> {
   void wrap_into_box(Vec<D>& position, std::uint32_t i);
 
   static constexpr double kChainsPerSlice = 4096;
+  // The stored time the clock last moved on from by a step a double resolves (see lift()).
+  double stall_since_ = 0.0;
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;
