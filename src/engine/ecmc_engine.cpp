@@ -844,9 +844,9 @@ void EcmcEngine<D>::check_target(double t) const {
   // to a millionth of a chain at least.
   if (!(chain_duration_ >= std::abs(t) * 0x1p-32)) {
     throw RunLengthError(fmt::format(
-        "event chains of {:.3g} mean diameters last {:.3g} time units each, too short for a clock "
-        "to count to {} by (a double's resolution there is {:.3g}): use a longer chain length",
-        chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_, t,
+        "{} is too late for event chains of {:.3g} mean diameters: each lasts {:.3g} time units, "
+        "and a double resolves time there only to {:.3g}; use a longer chain length",
+        t, chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_,
         std::abs(t) * 0x1p-52));
   }
 }
