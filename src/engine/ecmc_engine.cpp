@@ -23,9 +23,9 @@ namespace carom {
 namespace {
 
 // The grid the chains search: cells one largest diameter wide or more, and three or more along
-// every axis wherever the box is wider than three diameters, however sparse the system (a grid
-// allows about two cells a particle: a sparse one is given room for as many cells as a third of
-// the narrowest side, halved, makes).
+// every axis wherever the box is wider than three diameters, however sparse the system: a grid
+// allows about two cells a particle, so a sparse one is given the particles' room for the cells
+// a sixth of the narrowest side wide would make.
 template <std::size_t D>
 CellGrid<D> chain_grid(const System<D>& system) {
   double narrowest = system.box.size[0];
