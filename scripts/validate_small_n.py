@@ -15,7 +15,9 @@ N = 870 in a periodic box of sides 29 : 30 sqrt(3)/2 (a 29 x 30 triangular latti
 `carom init --aspect 29/(15 sqrt(3))`) at 0.67 to 0.71.
 
 Each state point: --replicas independent runs, half of them from `carom init`'s triangular
-lattice (--seed s) and half from a fluid (`carom init --random` at packing 0.4, --seed s, grown to
+lattice (--seed s; for event chains melted first by one unit of dynamics, since chains can push
+the rows of a perfect lattice in a small box into a ring of disks in contact that no chain along
+the row moves) and half from a fluid (`carom init --random` at packing 0.4, --seed s, grown to
 the packing by `carom compress --unit-diameter`), so that a start that has not been forgotten
 shows as a difference between the two halves. Each run is `carom run START T --equilibrate TE
 --log ... --summary ...` (with --sampler and --chain-length passed through when given, and for
@@ -91,10 +93,14 @@ def sampler_options(args, seed):
     return opts
 
 
-def make_start(carom, n, aspect, eta, seed, kind, path):
+def make_start(carom, n, aspect, eta, seed, kind, path, sampler):
     common = ["--n", str(n), "--aspect", repr(aspect), "--boundary", "periodic",
               "--seed", str(seed)]
-    if kind == "lattice":
+    if kind == "lattice" and sampler == "ecmc":
+        lattice = path + ".lattice.txt"
+        run([carom, "init", "--phi", repr(eta), "--lattice", *common, "-o", lattice])
+        run([carom, "run", lattice, "1", "--final", path, "-q", "-o", os.devnull])
+    elif kind == "lattice":
         run([carom, "init", "--phi", repr(eta), "--lattice", *common, "-o", path])
     else:
         fluid = path + ".fluid.txt"
@@ -112,7 +118,7 @@ def diameter_of(start):
 def one_run(carom, args, n, aspect, eta, seed, kind, folder):
     tag = f"n{n}-eta{eta:.3f}-{kind}-s{seed}"
     start = os.path.join(folder, f"start-{tag}.txt")
-    make_start(carom, n, aspect, eta, seed, kind, start)
+    make_start(carom, n, aspect, eta, seed, kind, start, args.sampler)
     d = diameter_of(start)
     extra = sampler_options(args, seed)
     # A trial run gives the events per unit of run time, from which T and TE follow.

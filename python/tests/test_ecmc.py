@@ -71,18 +71,25 @@ def test_the_pressure_tensor_and_errors_hold_for_chains_of_any_length(cli, tmp_p
     assert summaries["0"]["compressibility_factor_error"] > 0
 
 
-def test_chains_that_stall_stop_with_an_error(cli, tmp_path):
-    """72 disks at 0.72 from carom init's lattice (seed 407): at t = 0.1217 the chains of seed 407
-    go on lifting for ever at one instant, the clock creeping by an ulp now and then (rounding
-    near a contact), Z without bound. The jam guard counts lifts that move the clock on by
-    nothing a double resolves and stops the run with an error. Regression: it counted lifts at
-    one unchanged time only, and the run hung."""
+def test_chains_round_a_ring_in_contact_stop_with_an_error_that_says_so(cli, tmp_path):
+    """72 disks at 0.72 from carom init's lattice (seed 407): by t = 0.1217 the chains of seed 407
+    have pushed each disk of a row up into contact with both of its neighbours in the row above
+    (the lattice puts it exactly between them), which closes a ring of disks in contact all round
+    the box along x. A chain along x then lifts round it for ever without moving: exactly, not by
+    rounding (the clock creeps by an ulp now and then). The jam guard counts lifts that move the
+    clock on by nothing a double resolves and stops the run, naming the ring and the way out.
+    Regression: it counted lifts at one unchanged time only, and the run hung."""
     start = tmp_path / "start.txt"
     cli("init", "--n", "72", "--phi", "0.72", "--boundary", "periodic", "--seed", "407",
         "-o", start)
     message = cli.error("run", start, "1", "--sampler", "ecmc", "--seed", "407", "-q",
                         "-o", tmp_path / "end.txt", expect=1)
     assert "jammed" in message and "without time advancing" in message
+    assert "ring of disks in contact across the box along x" in message
+    # The way out it names works: one unit of dynamics, then the same chains.
+    melted = tmp_path / "melted.txt"
+    cli("run", start, "1", "-q", "--final", melted, "-o", tmp_path / "table.txt")
+    cli("run", melted, "1", "--sampler", "ecmc", "--seed", "407", "-q", "-o", tmp_path / "end.txt")
 
 
 def test_other_seeds_give_other_chains_and_the_same_seed_the_same(cli, tmp_path, start):

@@ -739,7 +739,7 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   } else if (++this->events_at_now_ > 64 * system.particles.size() + 1000) [[unlikely]] {
     write_back();
     event.time = t;
-    this->throw_stuck(event);
+    throw_ring(event);
   }
   this->now_ = t;
   // The particle struck is the next one ahead, about a diameter on: a chain's front moves on by
@@ -804,6 +804,19 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
   start_flight();
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::throw_ring(const Event& event) const {
+  const char axis = "xyz"[chain_.axis];
+  throw JamError(fmt::format(
+      "the {0} are jammed for event chains: {1} lifts at t = {2} without time advancing (particle "
+      "{3} and particle {4}): the chain goes round a ring of {0} in contact across the box along "
+      "{5}, which no move along {5} can open. A perfect lattice (carom init's) can close such a "
+      "ring in a small box; start the chains from a state dynamics has disordered, such as "
+      "`carom run START 1 --final START2 -o /dev/null` leaves (one unit of molecular dynamics)",
+      kParticlesName<D>, this->events_at_now_, this->system_.absolute(event.time), event.first,
+      event.partner, axis));
 }
 
 template <std::size_t D>

@@ -117,6 +117,11 @@ class EcmcEngine final : public Engine<D> {
 
   // Stops the active particle at the chain's end and starts the next chain.
   void start_next_chain();
+  // JamError for lifts that no longer move the clock on: in a periodic box, a ring of particles
+  // in contact all round it along the chain's axis, round which a chain lifts for ever with no
+  // displacement (exactly, not by rounding: a perfect lattice gives rows whose particles, each
+  // pushed across the axis into contact with both neighbours ahead of it, close one).
+  [[noreturn]] void throw_ring(const Event& event) const;
   // The nearest lift of the active particle among the particles around its cell (the cells
   // CellGrid::for_each_ahead visits), measured from its stored position: ties go to the lower
   // index. `ahead` is distance_to_next_column().
