@@ -7,16 +7,16 @@ import numpy as np
 
 # The json fields that depend on the wall clock or on how the run was named, not on the physics.
 NOT_DETERMINISTIC = ("input", "wall_seconds", "events_per_second")
-# Each run (carom run, sim.run) cuts the part of the measurement window it covers into 20
-# intervals to check that Z settled: runs cut into other pieces give other verdicts.
-PIECE_DEPENDENT = ("compressibility_factor_drift", "compressibility_factor_error", "pressure_tensor_error",
-                   "transport")
+# The transport coefficients' blocks are spaced by the run's end: runs cut into pieces that end
+# elsewhere measure each piece's part of the window. (Z's drift verdict and errors are not: their
+# blocks double as the window grows, whatever its end.)
+PIECE_DEPENDENT = ("transport",)
 
 
-# What a checkpoint keeps of its run's measurements (the drift verdict's intervals, the transport
-# blocks, the window they measure): a run in pieces measures each piece's window, so its
-# checkpoints differ from a run in one piece's there (and in the checksum that covers them).
-PIECE_RECORDS = ("z_drift", "transport", "window_records", "checksum")
+# What a checkpoint keeps of its run's measurements that depends on the run's end (the transport
+# blocks, the window and end they measure): a run in pieces has other ends, so its checkpoints
+# differ from a run in one piece's there (and in the checksum that covers them).
+PIECE_RECORDS = ("transport", "window_records", "checksum")
 
 
 def checkpoint_state(data):
@@ -42,12 +42,8 @@ def assert_bitwise_equal(a, b, what="arrays"):
 
 def deterministic(summary):
     """A json summary without the fields that legitimately differ between two equal runs (and
-    the verdict on Z's drift, which depends on how the run was cut, as do the errors of the
-    shear stress, taken from the pressure tensor's)."""
-    kept = {k: v for k, v in summary.items() if k not in NOT_DETERMINISTIC + PIECE_DEPENDENT}
-    if kept.get("shear"):
-        kept["shear"] = {k: v for k, v in kept["shear"].items() if not k.endswith("_error")}
-    return kept
+    the transport coefficients, which depend on how the run was cut)."""
+    return {k: v for k, v in summary.items() if k not in NOT_DETERMINISTIC + PIECE_DEPENDENT}
 
 
 def assert_same_state(a, b, what=""):

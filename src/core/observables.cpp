@@ -86,7 +86,7 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
   o.packing_fraction = packing_fraction(system);
   if (o.elapsed > 0.0) {
     const double kinetic = n * o.temperature;
-    o.pressure = (kinetic + counts.virial / (static_cast<double>(D) * o.elapsed)) / volume;
+    o.pressure = pressure_over<D>(counts.virial, o.elapsed, kinetic, volume);
     o.compressibility_factor =
         kinetic > 0.0 ? o.pressure * volume / kinetic : std::numeric_limits<double>::quiet_NaN();
     o.wall_pressure =

@@ -51,14 +51,16 @@ Json counts_json(const Counts& c) {
   return j;
 }
 
-// The drift record, null without one (the key is absent from checkpoints before carom 1.5).
+// The drift record, null without one (the key is absent from checkpoints before carom 1.5; those
+// of earlier versions hold intervals of another kind, under "every").
 Json drift_json(const std::optional<DriftRecord>& drift) {
   if (!drift) return nullptr;
-  return {{"every", drift->every},
-          {"last_time", drift->last_time ? Json(*drift->last_time) : Json(nullptr)},
-          {"last_totals", counts_json(drift->last_totals)},
-          {"z", drift->z},
-          {"pressure_tensors", drift->pressure_tensors}};
+  Json totals = Json::array();
+  for (const Counts& c : drift->totals) totals.push_back(counts_json(c));
+  return {{"block_length", drift->block_length},
+          {"boundaries", drift->boundaries},
+          {"totals", totals},
+          {"temperatures", drift->temperatures}};
 }
 
 // The transport measurement under way (absent from checkpoints of runs without one).

@@ -207,32 +207,26 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
     if (const auto& from = f.at(j, "measure_from"); !from.is_null()) {
       c.measure_from = f.coordinate(from, "\"measure_from\"");
     }
-    if (const auto found = j.find("z_drift"); found != j.end() && !found->is_null()) {
+    // Checkpoints of earlier versions cut the window into intervals that depended on the run's end
+    // (under "every"): a run resumed from one measures its errors afresh.
+    if (const auto found = j.find("z_drift");
+        found != j.end() && !found->is_null() && !found->contains("every")) {
       const std::string where = "\"z_drift\"";
       DriftRecord drift;
-      drift.every = f.coordinate(f.at(*found, "every", where), "the drift's interval");
-      if (const auto& last = f.at(*found, "last_time", where); !last.is_null()) {
-        drift.last_time = f.coordinate(last, "the drift's last_time");
+      drift.block_length = f.coordinate(f.at(*found, "block_length", where), "the drift's block_length");
+      if (!(drift.block_length > 0.0)) fail("the drift's \"block_length\" must be above 0");
+      const auto& boundaries = f.at(*found, "boundaries", where);
+      const auto& totals = f.at(*found, "totals", where);
+      const auto& temperatures = f.at(*found, "temperatures", where);
+      if (!boundaries.is_array() || !totals.is_array() || !temperatures.is_array() ||
+          boundaries.size() != totals.size() || boundaries.size() != temperatures.size()) {
+        fail("the drift's \"boundaries\", \"totals\" and \"temperatures\" must be lists of one "
+             "length");
       }
-      drift.last_totals = f.counts(f.at(*found, "last_totals", where), where);
-      const auto& z = f.at(*found, "z", where);
-      if (!z.is_array()) fail("the drift's \"z\" must be a list of numbers");
-      for (const auto& value : z) drift.z.push_back(f.number(value, "a drift interval's Z"));
-      // Absent before carom 1.6.
-      if (const auto tensors = found->find("pressure_tensors"); tensors != found->end()) {
-        if (!tensors->is_array()) fail("the drift's \"pressure_tensors\" must be a list");
-        for (const auto& tensor : *tensors) {
-          if (!tensor.is_array() || tensor.size() != 6) {
-            fail(fmt::format(
-                "a drift interval's pressure tensor must be a list of 6 numbers, found {}",
-                shown(tensor)));
-          }
-          SymmetricTensor t;
-          for (std::size_t c = 0; c < 6; ++c) {
-            t[c] = f.number(tensor[c], "a drift interval's pressure tensor component");
-          }
-          drift.pressure_tensors.push_back(t);
-        }
+      for (std::size_t b = 0; b < boundaries.size(); ++b) {
+        drift.boundaries.push_back(f.coordinate(boundaries[b], "a drift block's boundary"));
+        drift.totals.push_back(f.counts(totals[b], where));
+        drift.temperatures.push_back(f.number(temperatures[b], "a drift block's temperature"));
       }
       c.records.drift = std::move(drift);
     }

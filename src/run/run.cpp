@@ -85,8 +85,9 @@ class RunObservers {
   RunObservers(const RunObservers&) = delete;
   RunObservers& operator=(const RunObservers&) = delete;
   template <class O>
-  std::shared_ptr<O> add(std::shared_ptr<O> observer) {
-    simulation_.add_observer(observer);
+  std::shared_ptr<O> add(std::shared_ptr<O> observer,
+                         typename Simulation<D>::FirstLook first = Simulation<D>::FirstLook::next) {
+    simulation_.add_observer(observer, first);
     added_.push_back(observer);
     return observer;
   }
@@ -105,7 +106,10 @@ SavedRunError::SavedRunError(const std::string& cause, std::string checkpoint, d
       time_(time) {}
 
 struct Runner::State {
-  explicit State(Start s) : start(std::move(s)), records(start.records) {}
+  // A resumed run's report is its checkpoint's until it runs on.
+  explicit State(Start s) : start(std::move(s)), records(start.records) {
+    start.simulation.visit([&](const auto& simulation) { take_errors(simulation); });
+  }
   Start start;
   // What the measurements of the last run() gathered (before any, the resumed checkpoint's):
   // what a checkpoint saved now holds with the state, and the next run() goes on with when it
@@ -138,6 +142,18 @@ struct Runner::State {
   }
   template <std::size_t D>
   RunOutcome run(Simulation<D>& simulation, const RunSpec& spec, const RunHooks& hooks);
+  // The drift verdict and errors from the records' blocks. Event chains' blocks must each hold
+  // a turn of chains (one along every axis) or more, else they are pieces of a few chains,
+  // neither alike nor apart, and say nothing of an error.
+  template <std::size_t D>
+  void take_errors(const Simulation<D>& simulation) {
+    const BlockErrors errors =
+        records.drift ? block_errors(*records.drift, simulation) : BlockErrors{};
+    const bool blocks_apart = turns_of_chains(simulation, errors.block_length) >= 1.0;
+    drift = blocks_apart ? errors.verdict : std::nullopt;
+    pressure_tensor_error = blocks_apart ? errors.pressure_tensor : std::nullopt;
+    compressibility_factor_error = blocks_apart ? errors.compressibility_factor : std::nullopt;
+  }
 };
 
 template <std::size_t D>
@@ -166,24 +182,28 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
                                     : std::max<std::uint64_t>(1000, simulation.state().size());
     observers.add(std::make_shared<InvariantCheck<D>>(every));
   }
-  // Z over 20 intervals of the measurement window, first half against second; a run resumed
-  // from a checkpoint goes on with the intervals (and transport blocks) it holds when it measures
-  // the same window to the same end: one resumed at its end rebuilds its summary from them.
+  // Z over blocks of the measurement window, first half against second; a run continued (in
+  // pieces, or resumed from a checkpoint) goes on with the blocks it holds when it measures the
+  // same window, to any end, and with its transport blocks when to the same end: one resumed at
+  // its end rebuilds its summary from them.
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
-  const WindowRecords earlier =
-      records.continued_by(window_start, spec.end_time) ? records : WindowRecords{};
   std::shared_ptr<ZDrift<D>> z_drift;
   if (spec.end_time > window_start) {
-    z_drift = observers.add(std::make_shared<ZDrift<D>>(
-        (spec.end_time - window_start) / ZDrift<D>::kIntervals, earlier.drift));
+    // A window that opens now has a block boundary now (a run's first instant, or one resumed
+    // where it opens), which a block continued to here holds already.
+    z_drift = observers.add(
+        std::make_shared<ZDrift<D>>(
+            window_start, records.drift_continued_by(window_start) ? records.drift : std::nullopt),
+        Simulation<D>::FirstLook::now);
   }
   std::shared_ptr<TransportMeter<D>> transport_meter;
   if (spec.transport && spec.end_time > window_start) {
     simulation.keep_heat_flux();
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
         TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
-        earlier.transport));
+        records.transport_continued_by(window_start, spec.end_time) ? records.transport
+                                                                     : std::nullopt));
   }
   const auto records_now = [&] {
     WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};
@@ -229,15 +249,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   }
   account();
   records = records_now();
-  // Event chains' intervals each hold a turn of chains (one along every axis) or more, else
-  // they are pieces of a few chains, neither alike nor apart, and say nothing of an error.
-  const bool intervals_apart =
-      !z_drift || turns_of_chains(simulation, z_drift->record().every) >= 1.0;
-  drift = z_drift && intervals_apart ? z_drift->verdict() : std::nullopt;
-  pressure_tensor_error =
-      z_drift && intervals_apart ? z_drift->pressure_tensor_error() : std::nullopt;
-  compressibility_factor_error =
-      z_drift && intervals_apart ? z_drift->compressibility_factor_error() : std::nullopt;
+  take_errors(simulation);
   transport = transport_meter ? transport_meter->estimate(simulation.state()) : std::nullopt;
   // The streamed files are complete (or the failure is known) before any result is written.
   const bool streamed_ok = outputs.flush();

@@ -2,68 +2,124 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <span>
 
 #include "carom/core/statistics.hpp"
 
 namespace carom {
 
+namespace {
+
+// The blocks' first length: 2^-20, or 2^-40 of the window's start where that is longer (a time
+// trigger counts multiples of it from t = 0 in doubles).
+double first_block_length(double window_start) {
+  const double shortest = std::ldexp(1.0, -20);
+  if (!(std::abs(window_start) * std::ldexp(1.0, -40) > shortest)) return shortest;
+  return std::ldexp(1.0, std::ilogb(window_start) + 1 - 40);
+}
+
+template <std::size_t D>
+DriftRecord record_for(double window_start, const std::optional<DriftRecord>& earlier) {
+  if (earlier && earlier->block_length > 0.0) return *earlier;
+  return DriftRecord{first_block_length(window_start), {}, {}, {}};
+}
+
+}  // namespace
+
+template <std::size_t D>
+ZDrift<D>::ZDrift(double window_start, const std::optional<DriftRecord>& earlier)
+    : Observer<D>(Trigger::every_time(record_for<D>(window_start, earlier).block_length)),
+      record_(record_for<D>(window_start, earlier)) {}
+
 template <std::size_t D>
 void ZDrift<D>::observe(const Simulation<D>& simulation) {
   const double now = simulation.time();
-  const bool measuring = !simulation.pending_measurement();
-  std::optional<double>& last_time = record_.last_time;
-  if (last_time && measuring && *last_time >= simulation.measurement().start_time &&
-      now > *last_time) {
-    const Measurement interval{*last_time, 0.0,
-                               difference(simulation.current_counts(), record_.last_totals),
-                               std::nullopt};
-    const Observables<D> o = simulation.observables_over(interval, now);
-    if (std::isfinite(o.compressibility_factor)) record_.z.push_back(o.compressibility_factor);
-    // An event-chain interval with no move along an axis has no pressure along it (NaN): it
-    // holds less than a turn of chains, and the run gives no error from such intervals.
+  if (simulation.pending_measurement() || now < simulation.measurement().start_time) return;
+  // Only boundaries: a first look at a resumed run's own time is none, and an instant is taken
+  // once (a run resumed from a failed one looks at it again).
+  if (std::fmod(now, record_.block_length) != 0.0) return;
+  if (!record_.boundaries.empty() && !(now > record_.boundaries.back())) return;
+  record_.boundaries.push_back(now);
+  record_.totals.push_back(simulation.current_counts());
+  record_.temperatures.push_back(kinetic_temperature(simulation.state()));
+  if (record_.boundaries.size() > kMostBlocks) coarsen();
+}
+
+template <std::size_t D>
+void ZDrift<D>::coarsen() {
+  const double length = 2.0 * record_.block_length;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < record_.boundaries.size(); ++i) {
+    if (std::fmod(record_.boundaries[i], length) != 0.0) continue;
+    record_.boundaries[kept] = record_.boundaries[i];
+    record_.totals[kept] = std::move(record_.totals[i]);
+    record_.temperatures[kept] = record_.temperatures[i];
+    ++kept;
+  }
+  record_.boundaries.resize(kept);
+  record_.totals.resize(kept);
+  record_.temperatures.resize(kept);
+  record_.block_length = length;
+  this->set_period(length);
+}
+
+template <std::size_t D>
+BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulation) {
+  constexpr std::size_t kLeastPerHalf = ZDrift<D>::kLeastPerHalf;
+  BlockErrors errors;
+  errors.block_length = record.block_length;
+  std::vector<double> z;
+  std::vector<SymmetricTensor> tensors;
+  const auto n = static_cast<double>(simulation.state().size());
+  const double volume = box_volume(simulation.state().box);
+  for (std::size_t i = 1; i < record.boundaries.size(); ++i) {
+    const double from = record.boundaries[i - 1], to = record.boundaries[i];
+    if (to - from != record.block_length) continue;  // a gap, not a block
+    const Measurement block{from, 0.0, difference(record.totals[i], record.totals[i - 1]),
+                            std::nullopt};
+    const Observables<D> o = simulation.observables_over(block, to);
+    // Z as the window's is measured, but with the temperature at the block's end, not the run's
+    // (a cooling gas's blocks would otherwise all be measured at its last temperature).
+    const double kinetic = n * record.temperatures[i];
+    const double block_z =
+        kinetic > 0.0
+            ? pressure_over<D>(block.counts.virial, to - from, kinetic, volume) * volume / kinetic
+            : std::numeric_limits<double>::quiet_NaN();
+    if (std::isfinite(block_z)) z.push_back(block_z);
+    // An event-chain block with no move along an axis has no pressure along it (NaN): it holds
+    // less than a turn of chains, and the run gives no error from such blocks.
     if (o.pressure_tensor && std::ranges::all_of(*o.pressure_tensor,
                                                  [](double p) { return std::isfinite(p); })) {
-      record_.pressure_tensors.push_back(*o.pressure_tensor);
+      tensors.push_back(*o.pressure_tensor);
     }
   }
-  last_time = now;
-  record_.last_totals = simulation.current_counts();
-}
-
-template <std::size_t D>
-std::optional<DriftVerdict> ZDrift<D>::verdict() const {
-  const std::vector<double>& z_ = record_.z;
-  const std::size_t half = z_.size() / 2;
-  if (half < kLeastPerHalf) return std::nullopt;
-  // The halves' means and the squared standard errors of those means; the middle interval of an
-  // odd count is in neither half.
-  const std::span<const double> z(z_);
-  const auto [first, first_variance] = mean_and_variance_of_mean(z.first(half));
-  const auto [second, second_variance] = mean_and_variance_of_mean(z.last(half));
-  const double error = std::sqrt(first_variance + second_variance);
-  const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
-  return DriftVerdict{first, second, sigmas, z_.size()};
-}
-
-template <std::size_t D>
-std::optional<SymmetricTensor> ZDrift<D>::pressure_tensor_error() const {
-  const std::vector<SymmetricTensor>& tensors = record_.pressure_tensors;
-  if (tensors.size() < 2 * kLeastPerHalf) return std::nullopt;
-  SymmetricTensor error{};
-  std::vector<double> component(tensors.size());
-  for (std::size_t c = 0; c < 6; ++c) {
-    for (std::size_t i = 0; i < tensors.size(); ++i) component[i] = tensors[i][c];
-    error[c] = std::sqrt(mean_and_variance_of_mean(component).second);
+  const std::size_t half = z.size() / 2;
+  if (half >= kLeastPerHalf) {
+    // The halves' means and the squared standard errors of those means; the middle block of an
+    // odd count is in neither half.
+    const std::span<const double> all(z);
+    const auto [first, first_variance] = mean_and_variance_of_mean(all.first(half));
+    const auto [second, second_variance] = mean_and_variance_of_mean(all.last(half));
+    const double error = std::sqrt(first_variance + second_variance);
+    const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
+    errors.verdict = DriftVerdict{first, second, sigmas, z.size()};
+    errors.compressibility_factor = std::sqrt(mean_and_variance_of_mean(z).second);
   }
-  return error;
+  if (tensors.size() >= 2 * kLeastPerHalf) {
+    SymmetricTensor error{};
+    std::vector<double> component(tensors.size());
+    for (std::size_t c = 0; c < 6; ++c) {
+      for (std::size_t i = 0; i < tensors.size(); ++i) component[i] = tensors[i][c];
+      error[c] = std::sqrt(mean_and_variance_of_mean(component).second);
+    }
+    errors.pressure_tensor = error;
+  }
+  return errors;
 }
 
-template <std::size_t D>
-std::optional<double> ZDrift<D>::compressibility_factor_error() const {
-  if (record_.z.size() < 2 * kLeastPerHalf) return std::nullopt;
-  return std::sqrt(mean_and_variance_of_mean(record_.z).second);
-}
-
+template BlockErrors block_errors(const DriftRecord&, const Simulation<2>&);
+template BlockErrors block_errors(const DriftRecord&, const Simulation<3>&);
 template class ZDrift<2>;
 template class ZDrift<3>;
 

@@ -74,17 +74,16 @@ struct Measurement {
   friend bool operator==(const Measurement&, const Measurement&) = default;
 };
 
-// Where the drift verdict of a run's summary stands (ZDrift, time_series.hpp): Z (and the
-// pressure tensor) over each interval of length `every` of the measurement window so far, and
-// the last interval's start.
-// A checkpoint keeps it, so that a run continued from one gives the verdict of a run in one piece.
+// Where the drift verdict of a run's summary stands (ZDrift): the run's counts at the ends of
+// the blocks the measurement window is cut into so far, blocks of `block_length` between
+// consecutive multiples of it (counted from t = 0). The blocks double in length as the window
+// grows, whatever its end, so that a run continued to a later end (in pieces, or resumed from a
+// checkpoint) holds the blocks of a run in one piece. A checkpoint keeps it.
 struct DriftRecord {
-  double every = 0.0;
-  std::optional<double> last_time;  // the start of the interval under way
-  Counts last_totals;               // the run's counts then
-  std::vector<double> z;
-  // The pressure tensor over each of those intervals, for a run that keeps its fluxes.
-  std::vector<SymmetricTensor> pressure_tensors;
+  double block_length = 0.0;
+  std::vector<double> boundaries;    // multiples of block_length, each the next but for gaps
+  std::vector<Counts> totals;        // the run's counts at each boundary
+  std::vector<double> temperatures;  // the kinetic temperature at each (a block's Z is at its end's)
 
   friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
 };
@@ -98,10 +97,13 @@ struct WindowRecords {
   std::optional<double> window_start, end_time;
   std::optional<DriftRecord> drift;          // the drift verdict's (ZDrift)
   std::optional<TransportRecord> transport;  // the transport coefficients' (TransportMeter)
-  // Whether a run measuring from `start` to `end` goes on with them: the same measurement, not
-  // one resumed to another end or with its window opened afresh (whose intervals and blocks are
-  // others: mixing them would report a verdict on two windows).
-  bool continued_by(double start, double end) const {
+  // Whether a run measuring from `start` goes on with the drift's blocks: one measuring the same
+  // window, to any end (not one with its window opened afresh: mixing them would report a
+  // verdict on two windows).
+  bool drift_continued_by(double start) const { return !window_start || *window_start == start; }
+  // The same for the transport's blocks, whose spacing follows from the end too: the same
+  // measurement to the same end.
+  bool transport_continued_by(double start, double end) const {
     return !window_start || (*window_start == start && end_time == end);
   }
   friend bool operator==(const WindowRecords&, const WindowRecords&) = default;

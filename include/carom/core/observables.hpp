@@ -67,6 +67,13 @@ struct Observables {
   std::optional<std::array<double, D>> directional_z;
 };
 
+// The pressure over a stretch of time `elapsed` whose pair collisions' virial is `virial`, with
+// `kinetic` = N kT, in a box of volume `volume`: (N kT + virial / (D elapsed)) / V.
+template <std::size_t D>
+double pressure_over(double virial, double elapsed, double kinetic, double volume) {
+  return (kinetic + virial / (static_cast<double>(D) * elapsed)) / volume;
+}
+
 // The observables of `system` at time `now` over the window `measurement` opened.
 template <std::size_t D>
 Observables<D> measure(const System<D>& system, const Measurement& measurement, double now);

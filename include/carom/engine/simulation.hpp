@@ -89,6 +89,11 @@ class Observer {
   const Trigger& trigger() const { return trigger_; }
   virtual void observe(const Simulation<D>& simulation) = 0;
 
+ protected:
+  // A time observer may change its period as it observes: it is next due at the first multiple
+  // of the new one after now.
+  void set_period(double period) { trigger_.period = period; }
+
  private:
   Trigger trigger_;
 };

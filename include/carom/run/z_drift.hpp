@@ -11,40 +11,55 @@
 
 namespace carom {
 
-// Whether Z settled over the measurement window: Z over equal intervals (between multiples of
-// `every`, counted from t = 0) that lie in the window, the first half of them against the
-// second. A run still equilibrating shows a drift of many standard errors.
+// Whether Z settled over the measurement window: Z over equal blocks of the window, the first
+// half of them against the second. A run still equilibrating shows a drift of many standard
+// errors.
 struct DriftVerdict {
-  double first = 0.0, second = 0.0;  // mean Z over each half's intervals
+  double first = 0.0, second = 0.0;  // mean Z over each half's blocks
   double sigmas = 0.0;               // (second - first) / the standard error of the difference
-  std::size_t intervals = 0;
+  std::size_t intervals = 0;         // blocks
   // Past this many standard errors a run says it was not equilibrated.
   static constexpr double kWarning = 3.0;
   bool drifted() const { return std::abs(sigmas) > kWarning; }
 };
 
+// What the blocks of a window give: the drift verdict, and the standard errors of Z's mean and
+// the pressure tensor's over the blocks (taken as independent), each once there are as many
+// blocks as a verdict needs.
+struct BlockErrors {
+  std::optional<DriftVerdict> verdict;
+  std::optional<double> compressibility_factor;
+  std::optional<SymmetricTensor> pressure_tensor;
+  double block_length = 0.0;
+};
+
+// Cuts the measurement window into blocks between consecutive multiples of a length, 20 to 40 of
+// them: the length starts short (2^-20 time units, or 2^-40 of the window's start if longer)
+// and doubles whenever there are 40, two blocks becoming one. The blocks so depend on the
+// window's start and on how far it has come, never on where the run will end: a run in pieces,
+// or resumed to a later end, has the blocks of one run to its last end, and reports the same
+// verdict and errors. (Data between the window's start and the first multiple of the length, and
+// after the last, is in no block: less than a block at either end.)
+// The verdict and errors from a record's blocks, measured in `simulation` (which gives N and the
+// volume, as for the window's own Z).
+template <std::size_t D>
+BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulation);
+
 template <std::size_t D>
 class ZDrift final : public Observer<D> {
  public:
-  // Fewer intervals than this in a half give no verdict.
+  // Fewer blocks than this in a half give no verdict.
   static constexpr std::size_t kLeastPerHalf = 4;
-  // Intervals a window is cut into when its length is known.
-  static constexpr double kIntervals = 20.0;
-  // Continues `earlier` (a checkpoint's) when it has the same interval length.
-  explicit ZDrift(double every, const std::optional<DriftRecord>& earlier = std::nullopt)
-      : Observer<D>(Trigger::every_time(every)),
-        record_(earlier && earlier->every == every ? *earlier
-                                                   : DriftRecord{every, {}, {}, {}, {}}) {}
+  // Blocks are merged in pairs when there are this many.
+  static constexpr std::size_t kMostBlocks = 40;
+  // Continues `earlier` (a checkpoint's, of the window that starts at window_start).
+  explicit ZDrift(double window_start, const std::optional<DriftRecord>& earlier = std::nullopt);
   void observe(const Simulation<D>& simulation) override;
-  std::optional<DriftVerdict> verdict() const;
-  // The standard error of the pressure tensor's mean over the intervals (taken as independent:
-  // each is 1/20 of the window), once there are as many as a verdict needs.
-  std::optional<SymmetricTensor> pressure_tensor_error() const;
-  // The same for Z.
-  std::optional<double> compressibility_factor_error() const;
   const DriftRecord& record() const { return record_; }
 
  private:
+  // Merges the blocks in pairs: the boundaries that are multiples of twice the length are kept.
+  void coarsen();
   DriftRecord record_;
 };
 
