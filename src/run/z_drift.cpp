@@ -35,7 +35,17 @@ ZDrift<D>::ZDrift(double window_start, const std::optional<DriftRecord>& earlier
 template <std::size_t D>
 void ZDrift<D>::observe(const Simulation<D>& simulation) {
   const double now = simulation.time();
-  if (simulation.pending_measurement() || now < simulation.measurement().start_time) return;
+  if (const std::optional<double> opens = simulation.pending_measurement()) {
+    // Nothing is measured before the window opens: look again by then, at a cadence that at
+    // least halves the wait each time (blocks of 2^-20 through an equilibration of 2000 would
+    // stop the run 2 x 10^9 times), down to the blocks' own where the window opens.
+    double period = record_.block_length;
+    while (2.0 * period <= *opens - now) period *= 2.0;
+    this->set_period(period);
+    return;
+  }
+  this->set_period(record_.block_length);
+  if (now < simulation.measurement().start_time) return;
   // Only boundaries: a first look at a resumed run's own time is none, and an instant is taken
   // once (a run resumed from a failed one looks at it again).
   if (std::fmod(now, record_.block_length) != 0.0) return;
