@@ -77,6 +77,9 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->add_option("--fs-k", args.fs_k,
                    "The wave number of F_s(k,t) and tau_alpha (default: S(k)'s main peak)")
       ->type_name("K");
+  analyze->add_flag("--com", args.from_centre_of_mass,
+                    "Take the MSD's and F_s(k,t)'s displacements from the centre of mass (event "
+                    "chains move it; dynamics does not)");
   analyze
       ->add_option("--order-cutoff", args.order_cutoff,
                    "The neighbour distance of the Steinhardt bond order (default: 1.5 d)")
@@ -168,6 +171,7 @@ void analyze_command(const AnalyzeArguments& args) {
   options.k_max = option_number(args.k_max, "--k-max", 0.0);
   options.fs_k = option_number(args.fs_k, "--fs-k", 0.0);
   options.bond_order.cutoff = option_number(args.order_cutoff, "--order-cutoff", 0.0);
+  options.from_centre_of_mass = args.from_centre_of_mass;
   Analysis analysis;
   try {
     analysis = analyze(spec);

@@ -11,6 +11,7 @@ struct AnalyzeArguments {
   std::string html;
   std::string log;
   std::string from_time, bin_width, r_max, contact_width, order_cutoff;
+  bool from_centre_of_mass = false;  // --com
   std::string k_max, fs_k;
 };
 

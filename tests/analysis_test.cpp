@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -303,12 +304,12 @@ TEST(Contact, TheFitRecoversAQuadraticAtContact) {
   EXPECT_FALSE(contact_value(rdf, 1.0, 2, 0.5, 0.05));
 }
 
-TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
-  // Particles at constant velocity, wrapped with image flags: MSD(t) = <v^2> t^2.
+namespace {
+
+// 30 frames (t = 2, 2.5, ...) of disks at constant velocities from (1, 2), wrapped into a periodic
+// 4 x 5 box with image flags.
+std::vector<Frame> ballistic_frames(const std::vector<Vec<3>>& velocity) {
   std::vector<Frame> frames;
-  const std::vector<Vec<3>> velocity = {{{1.5, -0.5, 0}}, {{-2.0, 0.25, 0}}, {{0.1, 3.0, 0}}};
-  double v2 = 0.0;
-  for (const Vec<3>& v : velocity) v2 += norm2(v) / 3.0;
   for (int f = 0; f < 30; ++f) {
     Frame frame;
     frame.time = 2.0 + 0.5 * f;
@@ -326,6 +327,17 @@ TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
     }
     frames.push_back(frame);
   }
+  return frames;
+}
+
+}  // namespace
+
+TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
+  // Particles at constant velocity, wrapped with image flags: MSD(t) = <v^2> t^2.
+  const std::vector<Vec<3>> velocity = {{{1.5, -0.5, 0}}, {{-2.0, 0.25, 0}}, {{0.1, 3.0, 0}}};
+  double v2 = 0.0;
+  for (const Vec<3>& v : velocity) v2 += norm2(v) / 3.0;
+  const std::vector<Frame> frames = ballistic_frames(velocity);
   const Msd msd = mean_square_displacement(frames);
   ASSERT_EQ(msd.t.size(), 30u);
   for (std::size_t lag = 0; lag < 30; ++lag) {
@@ -339,6 +351,51 @@ TEST(Msd, BallisticMotionThroughAPeriodicBoxGrowsAsTSquared) {
   std::vector<Frame> uneven = frames;
   uneven[5].time += 0.1;
   EXPECT_THROW(mean_square_displacement(uneven), std::invalid_argument);
+}
+
+// Event chains move the centre of mass (along +x, +y); --com measures displacements from it.
+// Ballistic particles whose mean velocity is u: from the centre of mass, MSD(t) = <|v - u|^2> t^2,
+// and the centre of mass moved |u| (t_last - t_first).
+TEST(Msd, FromTheCentreOfMassItsMotionIsTakenOut) {
+  // 40 disks flowing at about (1, 1), each with a velocity of its own around that.
+  constexpr std::size_t kDisks = 40;
+  std::vector<Vec<3>> velocity;
+  for (std::size_t i = 0; i < kDisks; ++i) {
+    const auto angle = static_cast<double>(i);
+    velocity.push_back({{1.0 + 0.5 * std::cos(angle), 1.0 + 0.5 * std::sin(angle), 0}});
+  }
+  Vec<3> mean{};
+  for (const Vec<3>& v : velocity) mean = mean + (1.0 / kDisks) * v;
+  double relative2 = 0.0;
+  for (const Vec<3>& v : velocity) relative2 += norm2(v - mean) / kDisks;
+  std::vector<Frame> frames = ballistic_frames(velocity);
+  const Msd moved = mean_square_displacement(frames);
+  const Msd relative = mean_square_displacement(frames, true);
+  const double elapsed = frames.back().time - frames.front().time;
+  EXPECT_NEAR(moved.centre_of_mass_shift, std::sqrt(norm2(mean)) * elapsed, 1e-12);
+  EXPECT_EQ(relative.centre_of_mass_shift, moved.centre_of_mass_shift);
+  for (std::size_t lag = 0; lag < relative.t.size(); ++lag) {
+    EXPECT_NEAR(relative.msd[lag], relative2 * relative.t[lag] * relative.t[lag],
+                1e-9 * (1 + relative.msd[lag]));
+  }
+  EXPECT_GT(moved.msd.back(), relative.msd.back() * 1.01);
+  // The report warns of the flow, and not once it is taken out.
+  const auto flow_warned = [&](bool from_centre_of_mass) {
+    AnalysisOptions options;
+    options.from_centre_of_mass = from_centre_of_mass;
+    for (Frame& frame : frames) {
+      frame.radius.assign(kDisks, 0.01);
+      frame.velocity.assign(kDisks, Vec<3>{});
+      frame.collisions.assign(kDisks, 0);
+    }
+    const Analysis a = analyze(frames, "drifting", options);
+    EXPECT_EQ(a.from_centre_of_mass, from_centre_of_mass);
+    return std::ranges::any_of(a.warnings, [](const std::string& w) {
+      return w.find("the centre of mass moved by") != std::string::npos;
+    });
+  };
+  EXPECT_TRUE(flow_warned(false));
+  EXPECT_FALSE(flow_warned(true));
 }
 
 // A sheared run's frame (the images one box up shifted along x): a pair that touches across the

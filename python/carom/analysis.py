@@ -24,12 +24,13 @@ _INVARIANTS = tuple(f"{kind}{l}{bar}" for l in (4, 6) for kind in "qw" for bar i
 
 
 def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=None, log=None,
-            html=None, k_max=None, fs_k=None, order_cutoff=None):
+            html=None, k_max=None, fs_k=None, order_cutoff=None, com=False):
     """`carom analyze` on a .gsd or .xyz trajectory: a dict of its JSON, arrays as numpy arrays.
 
     Keys: "rdf" (r, g, bin_width, r_max, contact: {r, g, Z} or None, and for a trajectory of two
     types or more partial: {"A-B": g_AB(r), ...} and partial_weights: {"A-B": share of pairs},
-    sum share x g_AB = g), "msd" (t, msd) or None,
+    sum share x g_AB = g), "msd" (t, msd, self_diffusion, centre_of_mass_shift,
+    from_centre_of_mass) or None,
     "psi6" (t, global, local_mean) or None (spheres), "steinhardt" or None (disks): per frame t,
     the means q4, q6, w4, w6, q4_bar, q6_bar, w4_bar, w6_bar, the counts solid_like and
     largest_cluster, cluster_sizes (an array a frame, largest first), and last_frame (each
@@ -40,7 +41,8 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     "warnings" (why an analysis is absent), ... Frames before `equilibrate` are left out; bin
     (default d / 50), r_max (5 d), contact_width (d / 10), k_max (20 / d), fs_k (the main peak of
     S(k)) and order_cutoff (1.5 d) are the command's --bin, --r-max, --contact-width, --k-max,
-    --fs-k and --order-cutoff. `log` adds a `carom run --log` table to the result and
+    --fs-k and --order-cutoff; com=True is its --com (the MSD and F_s(k,t) from displacements
+    relative to the centre of mass, which event chains move). `log` adds a `carom run --log` table to the result and
     the page; `html` writes the report page there. A broken file raises carom.InputError, bad
     options ValueError.
     """
@@ -48,7 +50,7 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         _path(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),
         _positive("bin", bin), _positive("r_max", r_max),
         _positive("contact_width", contact_width), _positive("k_max", k_max),
-        _positive("fs_k", fs_k), _positive("order_cutoff", order_cutoff),
+        _positive("fs_k", fs_k), _positive("order_cutoff", order_cutoff), bool(com),
         None if log is None else _path(log), None if html is None else _path(html)))
     arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean"),
               "structure_factor": ("k", "s"), "self_scattering": ("t", "fs", "alpha2"),

@@ -17,7 +17,7 @@ void export_analysis(py::module_& m) {
   m.def(
       "analyze",
       [](const std::string& trajectory, double equilibrate, double bin_width, double r_max,
-         double contact_width, double k_max, double fs_k, double order_cutoff,
+         double contact_width, double k_max, double fs_k, double order_cutoff, bool com,
          const std::optional<std::string>& log,
          const std::optional<std::string>& html) {
         std::string json;
@@ -34,6 +34,7 @@ void export_analysis(py::module_& m) {
           spec.options.k_max = k_max;
           spec.options.fs_k = fs_k;
           spec.options.bond_order.cutoff = order_cutoff;
+          spec.options.from_centre_of_mass = com;
           std::ostringstream out;
           write_analysis_json(out, analyze(spec));
           json = out.str();
@@ -42,7 +43,7 @@ void export_analysis(py::module_& m) {
       },
       py::arg("trajectory"), py::arg("equilibrate"), py::arg("bin_width"), py::arg("r_max"),
       py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("order_cutoff"),
-      py::arg("log"), py::arg("html"));
+      py::arg("com"), py::arg("log"), py::arg("html"));
 }
 
 }  // namespace carom::python

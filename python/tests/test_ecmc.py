@@ -197,6 +197,21 @@ def test_every_output_reads_back(cli, tmp_path):
         "--log", log, "--log-every", "2", "-q", "-o", tmp_path / "end.txt")
     report = json.loads(cli("analyze", frames, "-o", "-"))
     assert report["frames"]["count"] == 11
+    # Chains move the centre of mass along +x and +y (10 diameters in all over 20 units), which
+    # the MSD holds unless it is taken from the centre of mass (--com, com=True); either front end
+    # gives the same analysis.
+    assert report["msd"]["centre_of_mass_shift"] == pytest.approx(20 / np.sqrt(2), rel=0.01)
+    assert not report["msd"]["from_centre_of_mass"]
+    assert any("the centre of mass moved by" in w for w in report["warnings"])
+    relative = json.loads(cli("analyze", frames, "--com", "-o", "-"))
+    assert relative["msd"]["from_centre_of_mass"]
+    assert not any("the centre of mass moved by" in w for w in relative["warnings"])
+    assert relative["msd"]["msd"][-1] < report["msd"]["msd"][-1] / 2
+    assert relative["self_scattering"]["fs"] != report["self_scattering"]["fs"]
+    from_python = carom.analyze(frames, com=True)
+    assert_bitwise_equal(from_python["msd"]["msd"], np.array(relative["msd"]["msd"]), "MSD")
+    assert_bitwise_equal(from_python["self_scattering"]["fs"],
+                         np.array(relative["self_scattering"]["fs"]), "F_s")
     rows = log.read_text().splitlines()
     header = rows[0].split(",")
     last = dict(zip(header, rows[-1].split(",")))

@@ -249,9 +249,12 @@ std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int d
   return contact;
 }
 
-Msd mean_square_displacement(const std::vector<Frame>& frames) {
-  const DisplacementMoments moments = displacement_moments(unwrap(frames, "the MSD"));
-  return {moments.t, moments.r2};
+Msd mean_square_displacement(const std::vector<Frame>& frames, bool from_centre_of_mass) {
+  const UnwrappedTrajectory trajectory = unwrap(frames, "the MSD");
+  const double shift = std::sqrt(centre_of_mass_shift_squared(trajectory));
+  const DisplacementMoments moments = displacement_moments(
+      from_centre_of_mass ? unwrap(frames, "the MSD", true) : trajectory);
+  return {moments.t, moments.r2, shift};
 }
 
 std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension) {

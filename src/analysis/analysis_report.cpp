@@ -31,6 +31,24 @@ bool overlapping(const Rdf& rdf, double diameter) {
 // S(k) on a periodic box's k-grid, and F_s(k,t) and alpha2(t) at its main peak (or at
 // options.fs_k). A k the options ask for and the box cannot have is an error; the defaults'
 // S(k) too large to take is left out with a warning instead.
+// A trajectory whose centre of mass moved further than the particles' own scatter can move it
+// (the square of its shift above 10 / N of the MSD over the whole trajectory, and above 1 %): its
+// MSD and F_s(k,t) hold a flow, as event chains' do (they move it along +x and +y), unless the
+// analysis takes displacements from the centre of mass.
+void warn_of_flow(Analysis& analysis, const AnalysisOptions& options) {
+  const Msd& msd = *analysis.msd;
+  if (options.from_centre_of_mass || msd.msd.size() < 2) return;
+  const double shift = msd.centre_of_mass_shift, whole = msd.msd.back();
+  const double particles = static_cast<double>(analysis.shape.particles);
+  if (!(shift * shift > std::max(0.01, 10.0 / particles) * whole)) return;
+  analysis.warnings.push_back(fmt::format(
+      "the centre of mass moved by {:.3g} from the first frame to the last, {:.0f} % of the "
+      "particles' root mean square displacement: the MSD, self_diffusion, F_s(k,t) and tau_alpha "
+      "hold that flow (event chains move it along +x and +y); --com takes displacements from the "
+      "centre of mass",
+      shift, 100.0 * shift / std::sqrt(whole)));
+}
+
 void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
                     const AnalysisOptions& options) {
   const TrajectoryShape& shape = analysis.shape;
@@ -60,7 +78,7 @@ void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
     analysis.warnings.emplace_back(
         "no F_s(k,t): no S(k) to take k from its main peak (--fs-k gives k)");
   } else {
-    analysis.self_scattering = self_scattering(frames, k);
+    analysis.self_scattering = self_scattering(frames, k, options.from_centre_of_mass);
     if (!analysis.self_scattering->tau_alpha) {
       analysis.warnings.push_back(
           fmt::format("no tau_alpha: F_s(k,t) stays above 1/e up to t = {:g}",
@@ -130,7 +148,9 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
     }
   }
   try {
-    analysis.msd = mean_square_displacement(frames);
+    analysis.msd = mean_square_displacement(frames, options.from_centre_of_mass);
+    analysis.from_centre_of_mass = options.from_centre_of_mass;
+    warn_of_flow(analysis, options);
   } catch (const std::invalid_argument& e) {
     analysis.warnings.push_back(std::string("no MSD: ") + e.what());
   }
@@ -233,8 +253,11 @@ nlohmann::json to_json(const Analysis& a) {
   if (a.msd) {
     const std::optional<double> d =
         self_diffusion(*a.msd, static_cast<std::size_t>(a.snapshot.dimension));
-    out["msd"] = json{
-        {"t", a.msd->t}, {"msd", a.msd->msd}, {"self_diffusion", d ? json(*d) : json(nullptr)}};
+    out["msd"] = json{{"t", a.msd->t},
+                      {"msd", a.msd->msd},
+                      {"self_diffusion", d ? json(*d) : json(nullptr)},
+                      {"centre_of_mass_shift", a.msd->centre_of_mass_shift},
+                      {"from_centre_of_mass", a.from_centre_of_mass}};
   } else {
     out["msd"] = nullptr;
   }

@@ -9,7 +9,35 @@
 
 namespace carom {
 
-UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what) {
+namespace {
+
+// Each frame's centre of mass (every particle weighed alike).
+std::array<double, 3> centre_of_mass(const UnwrappedTrajectory& trajectory, std::size_t f) {
+  const std::size_t n = trajectory.particles, d = trajectory.dimension;
+  const double* const at = trajectory.frame(f);
+  std::array<double, 3> centre{};
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t k = 0; k < d; ++k) centre[k] += at[i * d + k];
+  }
+  for (std::size_t k = 0; k < d; ++k) centre[k] /= static_cast<double>(n);
+  return centre;
+}
+
+}  // namespace
+
+double centre_of_mass_shift_squared(const UnwrappedTrajectory& trajectory) {
+  if (trajectory.particles == 0 || trajectory.frames == 0) return 0.0;
+  const std::array<double, 3> first = centre_of_mass(trajectory, 0);
+  const std::array<double, 3> last = centre_of_mass(trajectory, trajectory.frames - 1);
+  double squared = 0.0;
+  for (std::size_t k = 0; k < trajectory.dimension; ++k) {
+    squared += (last[k] - first[k]) * (last[k] - first[k]);
+  }
+  return squared;
+}
+
+UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what,
+                           bool from_centre_of_mass) {
   if (frames.empty()) throw std::invalid_argument(fmt::format("{} needs at least one frame", what));
   const Frame& first = frames.front();
   UnwrappedTrajectory out;
@@ -55,6 +83,16 @@ UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view wh
           if (k == 0) x += frames[f].shear_shift * static_cast<double>(image[1]);
         }
         out.positions[(f * n + i) * d + k] = x;
+      }
+    }
+  }
+  if (from_centre_of_mass && n > 0) {
+    const std::array<double, 3> origin = centre_of_mass(out, 0);
+    for (std::size_t f = 1; f < count; ++f) {
+      const std::array<double, 3> centre = centre_of_mass(out, f);
+      double* const at = &out.positions[f * n * d];
+      for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t k = 0; k < d; ++k) at[i * d + k] -= centre[k] - origin[k];
       }
     }
   }

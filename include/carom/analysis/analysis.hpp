@@ -68,13 +68,15 @@ std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int d
 
 // The mean-square displacement of the unwrapped positions (position + image x box in a periodic
 // box), averaged over every particle and every time origin, at lags of whole frames: every lag
-// up to 200 frames, beyond that about 100 lags evenly spaced in log. No centre-of-mass drift is
-// removed (carom's runs conserve momentum). Throws std::invalid_argument when the frames are not
-// evenly spaced in time, or a periodic trajectory has no image flags.
+// up to 200 frames, beyond that about 100 lags evenly spaced in log. The centre of mass's motion
+// is in it unless `from_centre_of_mass` (dynamics keeps it still; event chains do not). Throws
+// std::invalid_argument when the frames are not evenly spaced in time, or a periodic trajectory
+// has no image flags.
 struct Msd {
   std::vector<double> t, msd;
+  double centre_of_mass_shift = 0.0;  // how far the centre of mass moved, first frame to last
 };
-Msd mean_square_displacement(const std::vector<Frame>& frames);
+Msd mean_square_displacement(const std::vector<Frame>& frames, bool from_centre_of_mass = false);
 
 // The self-diffusion coefficient an MSD shows in `dimension` dimensions: its growth rate between
 // the lags T / 4 and T / 2 (T the longest lag: every lag up to T / 2 has at least half the frames
@@ -100,6 +102,8 @@ struct AnalysisOptions {
   double k_max = 0.0;          // how far S(k) reaches; 0: 20 / the mean diameter
   double fs_k = 0.0;           // the wave number of F_s(k,t); 0: the main peak of S(k)
   BondOrderOptions bond_order;
+  // The MSD and F_s(k,t) from displacements relative to the centre of mass (--com).
+  bool from_centre_of_mass = false;
 };
 
 // Everything carom analyze computes, for its JSON and its report page. An analysis that does
@@ -115,6 +119,7 @@ struct Analysis {
   Rdf rdf;
   std::optional<ContactValue> contact;
   std::optional<Msd> msd;
+  bool from_centre_of_mass = false;  // the MSD's and F_s's displacements (--com)
   std::optional<Psi6Series> psi6;
   std::optional<StructureFactor> structure_factor;
   std::optional<SelfScattering> self_scattering;

@@ -21,9 +21,17 @@ struct UnwrappedTrajectory {
   const double* frame(std::size_t f) const { return &positions[f * particles * dimension]; }
 };
 
+// The frames' positions unwrapped through their image flags; with `from_centre_of_mass`, less
+// each frame's centre-of-mass displacement since the first (every particle weighed alike).
 // Throws std::invalid_argument, naming `what` needs it ("the MSD"), when there is no frame, when
 // the frames are not evenly spaced in time, or when a periodic trajectory has no image flags.
-UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what);
+UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what,
+                           bool from_centre_of_mass = false);
+
+// The square of how far the centre of mass (every particle weighed alike) moved from the first
+// frame of `trajectory` to its last: dynamics in a periodic box keeps it still (to rounding with
+// equal masses), event chains move it along +x, +y (+z) by about a mean diameter a unit of time.
+double centre_of_mass_shift_squared(const UnwrappedTrajectory& trajectory);
 
 // The lags (in frames) displacements are averaged over for `frames` frames: every lag up to 200
 // frames, beyond that about 100 lags evenly spaced in log up to the longest. Starts at lag 0.

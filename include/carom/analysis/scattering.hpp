@@ -67,7 +67,8 @@ struct SelfScattering {
   std::vector<double> t, fs, alpha2;
   std::optional<double> tau_alpha;
 };
-SelfScattering self_scattering(const std::vector<Frame>& frames, double k);
+SelfScattering self_scattering(const std::vector<Frame>& frames, double k,
+                               bool from_centre_of_mass = false);
 
 // The first time f falls below 1/e, linearly interpolated between the samples on either side.
 std::optional<double> relaxation_time(const std::vector<double>& t, const std::vector<double>& f);
