@@ -97,6 +97,12 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
              {"shear_viscosity", value(p, 1.0 / rate)},
              {"shear_viscosity_error", spread(error, 1.0 / rate)}};
   }
+  // What only dynamics has (the collision rule, the engine, the kinetic energy and momentum of
+  // velocities): null for event chains, whose one moving particle's speed is a unit of the
+  // sampler's clock.
+  const auto of_dynamics = [&](nlohmann::ordered_json value) {
+    return chain ? nlohmann::ordered_json(nullptr) : value;
+  };
   const nlohmann::ordered_json head = {
       {"carom_version", kVersion},
       {"input", report.input},
@@ -104,10 +110,10 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"n", system.size()},
       {"box", vector(system.box.size)},
       {"boundary", name_of(system.box.boundary)},
-      {"rule", name_of(rule.rule)},
-      {"restitution", rule.restitution},
-      {"tc", rule.elastic_within},
-      {"engine", name_of(simulation.settings().engine)},
+      {"rule", of_dynamics(name_of(rule.rule))},
+      {"restitution", of_dynamics(rule.restitution)},
+      {"tc", of_dynamics(rule.elastic_within)},
+      {"engine", of_dynamics(name_of(simulation.settings().engine))},
       {"sampler", name_of(sampler.kind)},
       // Event chains: the chain length in mean diameters (the default resolved) and the seed of
       // the chains' particles.
@@ -130,10 +136,10 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"window_wall_collisions", window.wall_collisions},
       {"window_elastic_by_tc", window.elastic_by_tc},
       {"packing_fraction", o.packing_fraction},
-      {"kinetic_energy_initial", o.kinetic_energy_initial},
-      {"kinetic_energy_final", o.kinetic_energy_final},
-      {"momentum_final", vector(o.momentum_final)},
-      {"degrees_of_freedom", o.degrees_of_freedom},
+      {"kinetic_energy_initial", of_dynamics(o.kinetic_energy_initial)},
+      {"kinetic_energy_final", of_dynamics(o.kinetic_energy_final)},
+      {"momentum_final", of_dynamics(vector(o.momentum_final))},
+      {"degrees_of_freedom", of_dynamics(o.degrees_of_freedom)},
       {"temperature", o.temperature},
       {"pressure", o.pressure},
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
