@@ -121,6 +121,12 @@ def test_init_and_arrays_give_the_command_lines_run(cli, tmp_path):
         for key in ("lifts", "compressibility_factor", "directional_compressibility_factor",
                     "pressure_tensor", "chain_length", "chain_seed", "sampler"):
             assert got[key] == expected[key], f"{name}: {key}"
+        # What only dynamics has is null: the one moving particle's speed is a unit of the
+        # sampler's clock, not a temperature (its kinetic energy is (N d)^2 / 2).
+        for key in ("rule", "restitution", "tc", "engine", "kinetic_energy_initial",
+                    "kinetic_energy_final", "momentum_final", "degrees_of_freedom"):
+            assert got[key] is None and expected[key] is None, f"{name}: {key}"
+        assert got["temperature"] == 1.0
     assert_bitwise_equal(by_init.positions, read.positions, "positions")
 
 

@@ -32,7 +32,11 @@ namespace carom {
 // 1.0) are still read, their stored times re-based at once to the latest of them.
 // Format 6 adds the particles' types ("types", the names, in the head and each row's last column
 // its index): written only for a system with types (has_types), so that a one-type checkpoint
-// stays format 5, which older carom reads.
+// stays format 5, which older carom reads. The drift verdict's record (formats 4 and up) holds
+// blocks that double (block_length, boundaries, totals, temperatures) since carom 1.9's
+// 2026-11-27 change, intervals of a twentieth of the window ("every") before: a carom that
+// knows only intervals refuses the new record for its missing "every"; this one reads the old
+// and measures the errors afresh from the resumed instant.
 inline constexpr int kCheckpointFormat = 6;
 
 // json, numbers in shortest round-trip form; written through AtomicFile by the caller.
