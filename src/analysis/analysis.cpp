@@ -250,10 +250,10 @@ std::optional<ContactValue> contact_value(const Rdf& rdf, double diameter, int d
 }
 
 Msd mean_square_displacement(const std::vector<Frame>& frames, bool from_centre_of_mass) {
-  const UnwrappedTrajectory trajectory = unwrap(frames, "the MSD");
+  UnwrappedTrajectory trajectory = unwrap(frames, "the MSD");
   const double shift = std::sqrt(centre_of_mass_shift_squared(trajectory));
-  const DisplacementMoments moments = displacement_moments(
-      from_centre_of_mass ? unwrap(frames, "the MSD", true) : trajectory);
+  if (from_centre_of_mass) remove_centre_of_mass_motion(trajectory);
+  const DisplacementMoments moments = displacement_moments(trajectory);
   return {moments.t, moments.r2, shift};
 }
 

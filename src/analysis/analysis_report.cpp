@@ -28,9 +28,6 @@ bool overlapping(const Rdf& rdf, double diameter) {
   return false;
 }
 
-// S(k) on a periodic box's k-grid, and F_s(k,t) and alpha2(t) at its main peak (or at
-// options.fs_k). A k the options ask for and the box cannot have is an error; the defaults'
-// S(k) too large to take is left out with a warning instead.
 // A trajectory whose centre of mass moved further than the particles' own scatter can move it
 // (the square of its shift above 10 / N of the MSD over the whole trajectory, and above 1 %): its
 // MSD and F_s(k,t) hold a flow, as event chains' do (they move it along +x and +y), unless the
@@ -49,6 +46,9 @@ void warn_of_flow(Analysis& analysis, const AnalysisOptions& options) {
       shift, 100.0 * shift / std::sqrt(whole)));
 }
 
+// S(k) on a periodic box's k-grid, and F_s(k,t) and alpha2(t) at its main peak (or at
+// options.fs_k). A k the options ask for and the box cannot have is an error; the defaults'
+// S(k) too large to take is left out with a warning instead.
 void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
                     const AnalysisOptions& options) {
   const TrajectoryShape& shape = analysis.shape;

@@ -36,8 +36,7 @@ double centre_of_mass_shift_squared(const UnwrappedTrajectory& trajectory) {
   return squared;
 }
 
-UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what,
-                           bool from_centre_of_mass) {
+UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what) {
   if (frames.empty()) throw std::invalid_argument(fmt::format("{} needs at least one frame", what));
   const Frame& first = frames.front();
   UnwrappedTrajectory out;
@@ -86,17 +85,20 @@ UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view wh
       }
     }
   }
-  if (from_centre_of_mass && n > 0) {
-    const std::array<double, 3> origin = centre_of_mass(out, 0);
-    for (std::size_t f = 1; f < count; ++f) {
-      const std::array<double, 3> centre = centre_of_mass(out, f);
-      double* const at = &out.positions[f * n * d];
-      for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t k = 0; k < d; ++k) at[i * d + k] -= centre[k] - origin[k];
-      }
+  return out;
+}
+
+void remove_centre_of_mass_motion(UnwrappedTrajectory& trajectory) {
+  const std::size_t n = trajectory.particles, d = trajectory.dimension;
+  if (n == 0 || trajectory.frames == 0) return;
+  const std::array<double, 3> origin = centre_of_mass(trajectory, 0);
+  for (std::size_t f = 1; f < trajectory.frames; ++f) {
+    const std::array<double, 3> centre = centre_of_mass(trajectory, f);
+    double* const at = &trajectory.positions[f * n * d];
+    for (std::size_t i = 0; i < n; ++i) {
+      for (std::size_t k = 0; k < d; ++k) at[i * d + k] -= centre[k] - origin[k];
     }
   }
-  return out;
 }
 
 std::vector<std::size_t> displacement_lags(std::size_t frames) {

@@ -271,7 +271,8 @@ StructureFactor structure_factor(const std::vector<Frame>& frames, double k_max)
 
 SelfScattering self_scattering(const std::vector<Frame>& frames, double k,
                                bool from_centre_of_mass) {
-  const UnwrappedTrajectory trajectory = unwrap(frames, "F_s(k,t)", from_centre_of_mass);
+  UnwrappedTrajectory trajectory = unwrap(frames, "F_s(k,t)");
+  if (from_centre_of_mass) remove_centre_of_mass_motion(trajectory);
   const Frame& first = frames.front();
   const double step = wave_number_step(first);
   const double shell = std::floor(k / step + 0.5);

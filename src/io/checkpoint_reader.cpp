@@ -213,15 +213,17 @@ Checkpoint<D> checkpoint_from(const nlohmann::json& j, int format, const Fail& f
         found != j.end() && !found->is_null() && !found->contains("every")) {
       const std::string where = "\"z_drift\"";
       DriftRecord drift;
-      drift.block_length = f.coordinate(f.at(*found, "block_length", where), "the drift's block_length");
+      drift.block_length =
+          f.coordinate(f.at(*found, "block_length", where), "the drift's block_length");
       if (!(drift.block_length > 0.0)) fail("the drift's \"block_length\" must be above 0");
       const auto& boundaries = f.at(*found, "boundaries", where);
       const auto& totals = f.at(*found, "totals", where);
       const auto& temperatures = f.at(*found, "temperatures", where);
       if (!boundaries.is_array() || !totals.is_array() || !temperatures.is_array() ||
           boundaries.size() != totals.size() || boundaries.size() != temperatures.size()) {
-        fail("the drift's \"boundaries\", \"totals\" and \"temperatures\" must be lists of one "
-             "length");
+        fail(
+            "the drift's \"boundaries\", \"totals\" and \"temperatures\" must be lists of one "
+            "length");
       }
       for (std::size_t b = 0; b < boundaries.size(); ++b) {
         drift.boundaries.push_back(f.coordinate(boundaries[b], "a drift block's boundary"));

@@ -203,7 +203,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
         TransportMeter<D>::spacing(simulation.state(), window_start, spec.end_time),
         records.transport_continued_by(window_start, spec.end_time) ? records.transport
-                                                                     : std::nullopt));
+                                                                    : std::nullopt));
   }
   const auto records_now = [&] {
     WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};

@@ -21,12 +21,13 @@ struct UnwrappedTrajectory {
   const double* frame(std::size_t f) const { return &positions[f * particles * dimension]; }
 };
 
-// The frames' positions unwrapped through their image flags; with `from_centre_of_mass`, less
-// each frame's centre-of-mass displacement since the first (every particle weighed alike).
 // Throws std::invalid_argument, naming `what` needs it ("the MSD"), when there is no frame, when
 // the frames are not evenly spaced in time, or when a periodic trajectory has no image flags.
-UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what,
-                           bool from_centre_of_mass = false);
+UnwrappedTrajectory unwrap(const std::vector<Frame>& frames, std::string_view what);
+
+// Moves every frame by its centre of mass's displacement since the first (every particle
+// weighed alike): displacements from the centre of mass.
+void remove_centre_of_mass_motion(UnwrappedTrajectory& trajectory);
 
 // The square of how far the centre of mass (every particle weighed alike) moved from the first
 // frame of `trajectory` to its last: dynamics in a periodic box keeps it still (to rounding with

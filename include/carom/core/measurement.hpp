@@ -81,9 +81,10 @@ struct Measurement {
 // checkpoint) holds the blocks of a run in one piece. A checkpoint keeps it.
 struct DriftRecord {
   double block_length = 0.0;
-  std::vector<double> boundaries;    // multiples of block_length, each the next but for gaps
-  std::vector<Counts> totals;        // the run's counts at each boundary
-  std::vector<double> temperatures;  // the kinetic temperature at each (a block's Z is at its end's)
+  std::vector<double> boundaries;  // multiples of block_length, each the next but for gaps
+  std::vector<Counts> totals;      // the run's counts at each boundary
+  // The kinetic temperature at each: a block's Z is measured at its end's.
+  std::vector<double> temperatures;
 
   friend bool operator==(const DriftRecord&, const DriftRecord&) = default;
 };
