@@ -42,8 +42,8 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     (default d / 50), r_max (5 d), contact_width (d / 10), k_max (20 / d), fs_k (the main peak of
     S(k)) and order_cutoff (1.5 d) are the command's --bin, --r-max, --contact-width, --k-max,
     --fs-k and --order-cutoff; com=True is its --com (the MSD and F_s(k,t) from displacements
-    relative to the centre of mass, which event chains move). `log` adds a `carom run --log` table to the result and
-    the page; `html` writes the report page there. A broken file raises carom.InputError, bad
+    relative to the centre of mass, which event chains move). `log` adds a `carom run --log`
+    table to the result and the page; `html` writes the report page there. A broken file raises carom.InputError, bad
     options ValueError.
     """
     result = _json.loads(_carom.analyze(

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <utility>
 
 #include "carom/core/statistics.hpp"
 
@@ -19,7 +20,6 @@ double first_block_length(double window_start) {
   return std::ldexp(1.0, std::ilogb(window_start) + 1 - 40);
 }
 
-template <std::size_t D>
 DriftRecord record_for(double window_start, const std::optional<DriftRecord>& earlier) {
   if (earlier && earlier->block_length > 0.0) return *earlier;
   return DriftRecord{first_block_length(window_start), {}, {}, {}};
@@ -29,8 +29,11 @@ DriftRecord record_for(double window_start, const std::optional<DriftRecord>& ea
 
 template <std::size_t D>
 ZDrift<D>::ZDrift(double window_start, const std::optional<DriftRecord>& earlier)
-    : Observer<D>(Trigger::every_time(record_for<D>(window_start, earlier).block_length)),
-      record_(record_for<D>(window_start, earlier)) {}
+    : ZDrift(record_for(window_start, earlier)) {}
+
+template <std::size_t D>
+ZDrift<D>::ZDrift(DriftRecord record)
+    : Observer<D>(Trigger::every_time(record.block_length)), record_(std::move(record)) {}
 
 template <std::size_t D>
 void ZDrift<D>::observe(const Simulation<D>& simulation) {

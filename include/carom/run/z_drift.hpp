@@ -33,6 +33,11 @@ struct BlockErrors {
   double block_length = 0.0;
 };
 
+// The verdict and errors from a record's blocks, measured in `simulation` (which gives N and the
+// volume, as for the window's own Z).
+template <std::size_t D>
+BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulation);
+
 // Cuts the measurement window into blocks between consecutive multiples of a length, 20 to 40 of
 // them: the length starts short (2^-20 time units, or 2^-40 of the window's start if longer)
 // and doubles whenever there are 40, two blocks becoming one. The blocks so depend on the
@@ -40,11 +45,6 @@ struct BlockErrors {
 // or resumed to a later end, has the blocks of one run to its last end, and reports the same
 // verdict and errors. (Data between the window's start and the first multiple of the length, and
 // after the last, is in no block: less than a block at either end.)
-// The verdict and errors from a record's blocks, measured in `simulation` (which gives N and the
-// volume, as for the window's own Z).
-template <std::size_t D>
-BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulation);
-
 template <std::size_t D>
 class ZDrift final : public Observer<D> {
  public:
@@ -58,6 +58,8 @@ class ZDrift final : public Observer<D> {
   const DriftRecord& record() const { return record_; }
 
  private:
+  // Looks at the run every record.block_length, adding to `record`.
+  explicit ZDrift(DriftRecord record);
   // Merges the blocks in pairs: the boundaries that are multiples of twice the length are kept.
   void coarsen();
   DriftRecord record_;
