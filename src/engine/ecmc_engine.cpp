@@ -629,10 +629,12 @@ template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
     for (std::uint32_t g = 0; g < kGroups; ++g) {
       const std::uint32_t lane = 4 * g;
       __m256d r[D];
-      for (std::size_t k = 0; k < D; ++k) r[k] = from[k] - load_lanes<Capacity>(b + k * Capacity + lane);
+      for (std::size_t k = 0; k < D; ++k)
+        r[k] = from[k] - load_lanes<Capacity>(b + k * Capacity + lane);
       __m256d norm = r[0] * r[0];
       for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
-      const __m256d sigma = Radii ? radius + load_lanes<Capacity>(b + D * Capacity + lane) : both_radii;
+      const __m256d sigma =
+          Radii ? radius + load_lanes<Capacity>(b + D * Capacity + lane) : both_radii;
       const __m256d c2 = norm - sigma * sigma;
       const __m256d along = r[Axis];
       const __m256d discriminant = along * along - c2;
