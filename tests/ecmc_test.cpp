@@ -343,6 +343,40 @@ TEST(Ecmc, CellsOfManySmallDisksMeetWhatTheReferenceEngineMeets) {
   EXPECT_FALSE(find_pair_overlap(chains.system(), chains.stored_time()).has_value());
 }
 
+// Four disks of one size in one cell (at its corners: a cell a little over a diameter wide holds
+// no more): the blocks take a fourth lane, not six, and the searches still read four lanes at a
+// time. The lifts are the reference engine's collisions of one mover.
+TEST(Ecmc, AFourthDiskInACellMakesFourLanes) {
+  System<2> start;
+  start.box = {{{10.5, 10.5}}, Boundary::periodic};  // cells 1.05 wide
+  const auto add = [&](double x, double y) {
+    Particle<2> disk;
+    disk.position = {{x, y}};
+    disk.radius = 0.5;
+    start.add(disk);
+  };
+  for (const double x : {0.01, 1.03}) {
+    for (const double y : {0.01, 1.03}) add(x + 4.2, y + 4.2);
+  }
+  for (double x = 0.6; x < 10.0; x += 2.1) {
+    for (double y = 0.6; y < 10.0; y += 2.1) {
+      if (std::abs(x - 4.7) > 1.6 || std::abs(y - 4.7) > 1.6) add(x, y);
+    }
+  }
+  ASSERT_FALSE(find_pair_overlap(start, 0.0).has_value());
+  EcmcEngine<2> chains(start, 1e9, pcg32(8));
+  EXPECT_EQ(chains.lanes_per_cell(), 4u);
+  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
+  for (int k = 0; k < 500; ++k) {
+    const std::optional<Event> lift = chains.step(kNever);
+    const std::optional<Event> collision = reference.step(kNever);
+    ASSERT_TRUE(lift && collision) << "event " << k;
+    ASSERT_EQ(lift->first, collision->first) << "event " << k;
+    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
+    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
+  }
+}
+
 // A box under three cells across along an axis holds two images of a particle in the columns a
 // search reads: chains refuse it, by name.
 TEST(Ecmc, ABoxUnderThreeDiametersAcrossIsRefused) {

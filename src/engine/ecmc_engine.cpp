@@ -132,7 +132,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   radii_kept_ = std::any_of(this->system_.particles.begin(), this->system_.particles.end(),
                             [&](const Particle<D>& p) { return p.radius != radius_; });
   std::uint32_t capacity = D == 2 && !radii_kept_ ? 3 : 4;
-  while (capacity < fullest) capacity *= 2;
+  while (capacity < fullest) capacity = more_lanes(capacity);
   lay_out(capacity);
   for (std::uint32_t i = 0; i < n; ++i) rest(i, cell_of[i]);
   plain_grid_ = true;
@@ -272,7 +272,7 @@ template <std::size_t D>
                                                        const Vec<D>& position, double radius) {
   std::uint32_t lanes = fill(cell);
   if (lanes == capacity_) [[unlikely]] {
-    lay_out(2 * capacity_);
+    lay_out(more_lanes(capacity_));
     lanes = fill(cell);
   }
   put(cell, lanes, position, radius, i);

@@ -73,6 +73,8 @@ class EcmcEngine final : public Engine<D> {
   void check_target(double t) const override;
   // The active particle's speed: N mean diameters per unit time.
   double speed() const { return speed_; }
+  // The lanes a cell's block has room for (see lanes_).
+  std::uint32_t lanes_per_cell() const { return capacity_; }
 
  private:
   // Only times move: the flight's start and the columns it crossed stay as they were (no stop is
@@ -196,6 +198,12 @@ class EcmcEngine final : public Engine<D> {
            std::uint32_t id);
   // Every cell's lanes laid out for `capacity` a cell, those in use kept.
   void lay_out(std::uint32_t capacity);
+  // The capacity after `capacity` when a cell is full: four after three (the fourth lane of
+  // equal disks' cells, whose searches then still read four lanes at a time), else twice as
+  // many (capacities the searches by pairs and fours of lanes take: 3, 4, 8, 16, ...).
+  static constexpr std::uint32_t more_lanes(std::uint32_t capacity) {
+    return capacity == 3 ? 4 : 2 * capacity;
+  }
   // The doubles a block of `capacity` lanes takes: coordinates, radii if kept, indices and the
   // count, in whole 64-byte lines.
   static constexpr std::size_t block_doubles(std::uint32_t capacity, bool radii) {
@@ -236,8 +244,8 @@ class EcmcEngine final : public Engine<D> {
   // indices and after them the count of lanes in use (uint32s, two in a double's room, read and
   // written through memcpy). Equal disks start with three lanes a cell, which fill one line
   // (cells a diameter wide hold four only at their corners), so that a search reads one line a
-  // cell; others with four (or as many as the fullest cell needs: lanes are added, doubling,
-  // when a cell is full). Lanes below the count (fill()) are in use; the others have a NaN
+  // cell; others with four (or as many as the fullest cell needs: lanes are added when a cell
+  // is full, more_lanes()). Lanes below the count (fill()) are in use; the others have a NaN
   // first coordinate, which touches nothing, so that a search tests lanes two at a time,
   // whether in use or not, and reads no count (it stops at a pair that begins with a NaN). The
   // active particle is in no block.
