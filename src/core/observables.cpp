@@ -87,8 +87,7 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
   if (o.elapsed > 0.0) {
     const double kinetic = n * o.temperature;
     o.pressure = pressure_over<D>(counts.virial, o.elapsed, kinetic, volume);
-    o.compressibility_factor =
-        kinetic > 0.0 ? o.pressure * volume / kinetic : std::numeric_limits<double>::quiet_NaN();
+    o.compressibility_factor = compressibility_factor_of(o.pressure, kinetic, volume);
     o.wall_pressure =
         system.box.periodic() ? 0.0 : counts.wall_momentum / (o.elapsed * wall_measure);
     o.collision_rate = 2.0 * static_cast<double>(counts.pair_collisions) / (n * o.elapsed);

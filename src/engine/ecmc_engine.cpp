@@ -903,13 +903,12 @@ template <std::size_t D>
 void EcmcEngine<D>::throw_ring(const Event& event) const {
   const char axis = "xyz"[chain_.axis];
   throw JamError(fmt::format(
-      "the {0} are jammed for event chains: {1} lifts at t = {2} without time advancing (particle "
-      "{3} and particle {4}): the chain goes round a ring of {0} in contact across the box along "
-      "{5}, which no move along {5} can open. A perfect lattice (carom init's) can close such a "
-      "ring in a small box; start the chains from a state dynamics has disordered, such as "
-      "`carom run START 1 --final START2 -o /dev/null` leaves (one unit of molecular dynamics)",
-      kParticlesName<D>, this->events_at_now_, this->system_.absolute(event.time), event.first,
-      event.partner, axis));
+      "the {0} are jammed for event chains: {1}: the chain goes round a ring of {0} in contact "
+      "across the box along {2}, which no move along {2} can open. A perfect lattice (carom "
+      "init's) can close such a ring in a small box; start the chains from a state dynamics has "
+      "disordered, such as `carom run START 1 --final START2 -o /dev/null` leaves (one unit of "
+      "molecular dynamics)",
+      kParticlesName<D>, this->describe_stall(event, "lifts"), axis));
 }
 
 template <std::size_t D>

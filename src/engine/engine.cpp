@@ -214,12 +214,16 @@ double Engine<D>::image_horizon(double speed) const {
 }
 
 template <std::size_t D>
-void Engine<D>::throw_stuck(const Event& event) const {
+std::string Engine<D>::describe_stall(const Event& event, std::string_view events) const {
   const std::string partner =
       event.is_wall() ? std::string("a wall") : fmt::format("particle {}", event.partner);
-  const std::string stuck =
-      fmt::format("{} collisions at t = {} without time advancing (particle {} and {})",
-                  events_at_now_, system_.absolute(event.time), event.first, partner);
+  return fmt::format("{} {} at t = {} without time advancing (particle {} and {})",
+                     events_at_now_, events, system_.absolute(event.time), event.first, partner);
+}
+
+template <std::size_t D>
+void Engine<D>::throw_stuck(const Event& event) const {
+  const std::string stuck = describe_stall(event, "collisions");
   // The message names only a cause this run can have: a collapse needs inelastic collisions, a
   // wedge needs walls.
   if (rule_.restitution < 1.0) {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <span>
 #include <utility>
 
@@ -95,10 +94,8 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     // Z as the window's is measured, but with the temperature at the block's end, not the run's
     // (a cooling gas's blocks would otherwise all be measured at its last temperature).
     const double kinetic = n * record.temperatures[i];
-    const double block_z =
-        kinetic > 0.0
-            ? pressure_over<D>(block.counts.virial, to - from, kinetic, volume) * volume / kinetic
-            : std::numeric_limits<double>::quiet_NaN();
+    const double block_z = compressibility_factor_of(
+        pressure_over<D>(block.counts.virial, to - from, kinetic, volume), kinetic, volume);
     if (std::isfinite(block_z)) z.push_back(block_z);
     // An event-chain block with no move along an axis has no pressure along it (NaN): it holds
     // less than a turn of chains, and the run gives no error from such blocks.

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <optional>
 
 #include "carom/core/measurement.hpp"
@@ -72,6 +73,12 @@ struct Observables {
 template <std::size_t D>
 double pressure_over(double virial, double elapsed, double kinetic, double volume) {
   return (kinetic + virial / (static_cast<double>(D) * elapsed)) / volume;
+}
+
+// Z = P V / (N kT) for the pressure `pressure` with `kinetic` = N kT, in a box of volume
+// `volume`: NaN without a temperature.
+inline double compressibility_factor_of(double pressure, double kinetic, double volume) {
+  return kinetic > 0.0 ? pressure * volume / kinetic : std::numeric_limits<double>::quiet_NaN();
 }
 
 // The observables of `system` at time `now` over the window `measurement` opened.

@@ -8,6 +8,8 @@
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "carom/core/event.hpp"
@@ -159,6 +161,9 @@ class Engine {
   // For collisions that keep coming at one instant (`event` the last): a JamError naming what
   // can cause it in this run (an inelastic collapse, a particle wedged between walls).
   [[noreturn]] void throw_stuck(const Event& event) const;
+  // What such a jam's error says first: "N `events` at t = ... without time advancing (particle
+  // i and ...)", `event` the last of them.
+  std::string describe_stall(const Event& event, std::string_view events) const;
 
   System<D> system_;
   CollisionRule rule_;
