@@ -217,8 +217,8 @@ template <std::size_t D>
 std::string Engine<D>::describe_stall(const Event& event, std::string_view events) const {
   const std::string partner =
       event.is_wall() ? std::string("a wall") : fmt::format("particle {}", event.partner);
-  return fmt::format("{} {} at t = {} without time advancing (particle {} and {})",
-                     events_at_now_, events, system_.absolute(event.time), event.first, partner);
+  return fmt::format("{} {} at t = {} without time advancing (particle {} and {})", events_at_now_,
+                     events, system_.absolute(event.time), event.first, partner);
 }
 
 template <std::size_t D>
