@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#if defined(__x86_64__)
-#include <immintrin.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 #include <algorithm>
@@ -16,7 +16,6 @@
 
 #include "carom/engine/initial.hpp"
 #include "carom/engine/simulation.hpp"
-#include "contact_batch.hpp"
 #include "large_pages.hpp"
 
 namespace carom {
@@ -156,7 +155,6 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
     }
   }
   prefer_large_pages(this->system_);
-  wide_ = cpu_has_avx2();
   stops_held_ = (sizeof(Particle<D>) + sizeof(ParticleRecord)) * n > kHeldAbove;
   if (stops_held_) stops_.reserve(kStopsHeld);
   set_moving(chain_.active);
@@ -386,18 +384,6 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
   } else {
     cells_ahead<Axis>(cells);
   }
-#if defined(__x86_64__)
-  if (plain && wide_) [[likely]] {
-    if (!radii_kept_) {
-      if (capacity_ == 3) return nearest_lift_wide<Axis, 3, false>(cells);
-      if (capacity_ == 4) return nearest_lift_wide<Axis, 4, false>(cells);
-      if (capacity_ == 8) return nearest_lift_wide<Axis, 8, false>(cells);
-    } else {
-      if (capacity_ == 4) return nearest_lift_wide<Axis, 4, true>(cells);
-      if (capacity_ == 8) return nearest_lift_wide<Axis, 8, true>(cells);
-    }
-  }
-#endif
 #if defined(__SSE2__)
   if (!radii_kept_) {
     if (capacity_ == 3) return nearest_lift_in_lanes<Axis, 3, false>(cells, ahead, !plain);
@@ -589,85 +575,6 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
           Approach<D, Axis>(r, flight_.radius + (Radii ? b[D * Capacity + lane] : radius_))
               .distance();
       best.keep_nearer({s, id_at(b, kIds, lane), lane, cell});
-    }
-  }
-  return best;
-}
-#endif
-
-#if defined(__x86_64__)
-namespace {
-// Four lanes of a run in a block from `at`; of a block of three, the fourth read is not one of
-// them (the next run's first, or indices) and becomes a NaN.
-template <std::uint32_t Capacity>
-[[gnu::target("avx2"), gnu::always_inline]] inline __m256d load_lanes(const double* at) {
-  const __m256d four = _mm256_loadu_pd(at);
-  if constexpr (Capacity != 3) return four;
-  return _mm256_blend_pd(four, _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN()), 0b1000);
-}
-}  // namespace
-
-template <std::size_t D>
-template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
-[[gnu::target("avx2")]] typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_wide(
-    const Cells& cells) const {
-  static_assert(Capacity % 4 == 0 || (Capacity == 3 && !Radii));
-  constexpr std::uint32_t kGroups = (Capacity + 3) / 4;
-  constexpr std::size_t kIds = (D + (Radii ? 1 : 0)) * Capacity;
-  constexpr std::size_t kBlock = block_doubles(Capacity, Radii);
-  constexpr std::size_t kVectors = kAhead * kGroups;
-  const double* const lanes = lanes_.data();
-  __m256d from[D];
-  for (std::size_t k = 0; k < D; ++k) from[k] = _mm256_set1_pd(flight_.from[k]);
-  const __m256d radius = _mm256_set1_pd(flight_.radius), zero = _mm256_setzero_pd();
-  const __m256d both_radii = _mm256_set1_pd(flight_.radius + radius_);
-  const __m256d never = _mm256_set1_pd(kNever);
-  __m256d distances[kVectors];
-  __m256d nearest = never;
-  for (std::size_t c = 0; c < kAhead; ++c) {
-    const double* const b = lanes + std::size_t{cells[c]} * kBlock;
-    for (std::uint32_t g = 0; g < kGroups; ++g) {
-      const std::uint32_t lane = 4 * g;
-      __m256d r[D];
-      for (std::size_t k = 0; k < D; ++k)
-        r[k] = from[k] - load_lanes<Capacity>(b + k * Capacity + lane);
-      __m256d norm = r[0] * r[0];
-      for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
-      const __m256d sigma =
-          Radii ? radius + load_lanes<Capacity>(b + D * Capacity + lane) : both_radii;
-      const __m256d c2 = norm - sigma * sigma;
-      const __m256d along = r[Axis];
-      const __m256d discriminant = along * along - c2;
-      const __m256d touches = _mm256_and_pd(_mm256_cmp_pd(along, zero, _CMP_LT_OQ),
-                                            _mm256_cmp_pd(discriminant, zero, _CMP_GE_OQ));
-      // Approach::distance(): 0 where they overlap (c2 <= 0), else c2 / (-along + sqrt(...)).
-      const __m256d apart = _mm256_andnot_pd(_mm256_cmp_pd(c2, zero, _CMP_LE_OQ),
-                                             c2 / (_mm256_sqrt_pd(discriminant) - along));
-      const __m256d distance = _mm256_blendv_pd(never, apart, touches);
-      distances[c * kGroups + g] = distance;
-      nearest = _mm256_min_pd(nearest, distance);
-    }
-  }
-  // The nearest distance in every lane, then the lanes at it: the lower index of any tie.
-  nearest = _mm256_min_pd(nearest, _mm256_permute2f128_pd(nearest, nearest, 1));
-  nearest = _mm256_min_pd(nearest, _mm256_permute_pd(nearest, 0b0101));
-  const double distance = _mm256_cvtsd_f64(nearest);
-  Lift best{kNever, chain_.active, 0, 0};
-  if (distance == kNever) return best;
-  std::array<std::uint64_t, (4 * kVectors + 63) / 64> at_nearest{};
-  for (std::size_t v = 0; v < kVectors; ++v) {
-    const auto bits = static_cast<std::uint64_t>(
-        _mm256_movemask_pd(_mm256_cmp_pd(distances[v], nearest, _CMP_EQ_OQ)));
-    at_nearest[4 * v / 64] |= bits << (4 * v % 64);
-  }
-  for (std::size_t word = 0; word < at_nearest.size(); ++word) {
-    for (std::uint64_t bits = at_nearest[word]; bits != 0; bits &= bits - 1) {
-      const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(bits));
-      const std::size_t v = at / 4;
-      const std::uint32_t cell = cells[v / kGroups];
-      const auto lane = static_cast<std::uint32_t>(4 * (v % kGroups) + at % 4);
-      const double* const b = lanes + std::size_t{cell} * kBlock;
-      best.keep_nearer({distance, id_at(b, kIds, lane), lane, cell});
     }
   }
   return best;

@@ -147,12 +147,6 @@ class EcmcEngine final : public Engine<D> {
   Lift nearest_lift_in_lanes(const Cells& cells, double ahead) const;
   template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
   Lift nearest_lift_in_lanes(const Cells& cells, double ahead, bool images) const;
-  // nearest_lift among `cells` where no separation needs an image, four lanes at a time with
-  // AVX2: every lane's distance (Approach's, term by term), the nearest kept, ties to the lower
-  // index. Blocks of Capacity 3 (disks of one size) are read four lanes wide, the fourth (the
-  // next run's first, or indices) set to a NaN, which touches nothing.
-  template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
-  Lift nearest_lift_wide(const Cells& cells) const;
   // nearest_lift among `cells` for any capacity: the lanes in use one by one.
   template <std::size_t Axis>
   Lift nearest_lift_one_by_one(const Cells& cells, double ahead) const;
@@ -271,7 +265,6 @@ class EcmcEngine final : public Engine<D> {
   // Blocks larger than this in all are fetched ahead of a search (see lift()).
   static constexpr std::size_t kCacheBytes = std::size_t{1} << 20;
   bool prefetch_cells_ = false;
-  bool wide_ = false;  // the CPU has AVX2: plain searches use nearest_lift_wide
   // Five cells or more along every axis: two cells either way are less than half a side.
   bool plain_grid_ = false;
   // The column along the axis the flight started in, and how many it has crossed since: after
