@@ -8,6 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -382,6 +383,28 @@ TEST(Checkpoint, CountsAreWholeNumbersThatAddUp) {
   std::string infinite = tampered(text, [](Json& j) { j["counts"]["virial"] = 12345.5; });
   infinite.replace(infinite.find("12345.5"), 7, "1e400");
   expect_refused(infinite, "number overflow parsing '1e400'");
+}
+
+// The transport measurement a checkpoint carries: its schedule is checked, and one written before
+// carom 1.8 (without lag_spacing) is read with none (so it continues to its own end only).
+TEST(Checkpoint, TheTransportsScheduleIsChecked) {
+  const std::string text = saved(Boundary::periodic);
+  const auto with_transport = [&](double spacing, std::optional<double> lag) {
+    return tampered(text, [&](Json& j) {
+      Json t = {{"spacing", spacing},      {"block_samples", 257}, {"samples", Json::array()},
+                {"origin", Json::array()}, {"half_msd", 0.0},      {"blocks", Json::array()}};
+      if (lag) t["lag_spacing"] = *lag;
+      j["transport"] = t;
+    });
+  };
+  const auto lag_read = [&](const std::string& checkpoint) {
+    return std::get<Checkpoint<2>>(read(checkpoint)).records.transport.value().lag_spacing;
+  };
+  EXPECT_EQ(lag_read(with_transport(0.125, 0.25)), 0.25);
+  EXPECT_EQ(lag_read(with_transport(0.125, std::nullopt)), 0.0);
+  expect_refused(with_transport(0.125, 0.0625),
+                 "the transport's lag_spacing (0.0625) is below its spacing (0.125)");
+  expect_refused(with_transport(-1.0, 0.25), "are not a schedule");
 }
 
 TEST(Checkpoint, TimesAreConsistent) {

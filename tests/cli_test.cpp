@@ -996,6 +996,37 @@ TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
   }
 }
 
+// A run with --transport stopped at one end and resumed to a later one reports the transport
+// coefficients of one run to the later end, where both windows hold ten blocks of the lag (a
+// resumed run once measured them over its own piece only).
+TEST_F(Cli, TransportContinuedToALaterEndIsTheRunInOne) {
+  const fs::path start = dir_ / "spheres.txt", checkpoint = dir_ / "run.ckpt";
+  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "200", "--phi", "0.3", "--boundary", "periodic",
+                   "-o", start})
+                .exit_code,
+            0);
+  const auto transport_of = [&](const fs::path& summary) {
+    return nlohmann::json::parse(read_file(summary))["transport"];
+  };
+  // Blocks of about 20 time units: 210 holds ten of them.
+  ASSERT_EQ(carom({"run", start, "230", "--transport", "--summary", dir_ / "one.json", "-o",
+                   dir_ / "one.txt"})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", start, "210", "--transport", "--checkpoint", checkpoint,
+                   "--checkpoint-every", "100", "-o", dir_ / "first.txt"})
+                .exit_code,
+            0);
+  ASSERT_EQ(carom({"run", "--resume", checkpoint, "230", "--transport", "--summary",
+                   dir_ / "two.json", "-o", dir_ / "two.txt"})
+                .exit_code,
+            0);
+  const auto one = transport_of(dir_ / "one.json");
+  ASSERT_TRUE(one.is_object());
+  EXPECT_EQ(one["blocks"], 11);
+  EXPECT_EQ(transport_of(dir_ / "two.json"), one);
+}
+
 TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
   const fs::path start = dir_ / "spheres.txt", summary = dir_ / "summary.json";
   ASSERT_EQ(carom({"init", "--dim", "3", "--n", "300", "--phi", "0.3", "--boundary", "periodic",

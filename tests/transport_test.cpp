@@ -68,10 +68,9 @@ System<D> fluid(std::uint64_t n, double phi) {
 // of one never stopped, bit for bit.
 template <std::size_t D>
 void expect_continued_measurement_equal(std::uint64_t n, double phi, double end) {
-  const double spacing = TransportMeter<D>::spacing(fluid<D>(n, phi), 0.0, end);
   Simulation<D> whole(fluid<D>(n, phi), {{Rule::elastic}});
   whole.keep_heat_flux();  // as a run with --transport does
-  auto whole_meter = std::make_shared<TransportMeter<D>>(spacing, std::nullopt);
+  auto whole_meter = std::make_shared<TransportMeter<D>>(whole.state(), 0.0, end, std::nullopt);
   whole.add_observer(whole_meter);
   whole.run_until(end);
   ASSERT_EQ(whole_meter->record().blocks.size(), TransportMeter<D>::kLeastBlocks);
@@ -83,7 +82,7 @@ void expect_continued_measurement_equal(std::uint64_t n, double phi, double end)
 
   Simulation<D> first(fluid<D>(n, phi), {{Rule::elastic}});
   first.keep_heat_flux();
-  auto first_meter = std::make_shared<TransportMeter<D>>(spacing, std::nullopt);
+  auto first_meter = std::make_shared<TransportMeter<D>>(first.state(), 0.0, end, std::nullopt);
   first.add_observer(first_meter);
   first.run_until(0.43 * end);
   Checkpoint<D> saved = first.checkpoint("test");
@@ -93,7 +92,8 @@ void expect_continued_measurement_equal(std::uint64_t n, double phi, double end)
   const auto read = std::get<Checkpoint<D>>(read_checkpoint(file, "saved"));
   ASSERT_EQ(read.records.transport, first_meter->record());
   Simulation<D> resumed(read);
-  auto resumed_meter = std::make_shared<TransportMeter<D>>(spacing, read.records.transport);
+  auto resumed_meter =
+      std::make_shared<TransportMeter<D>>(resumed.state(), 0.0, end, read.records.transport);
   resumed.add_observer(resumed_meter);
   resumed.run_until(end);
   EXPECT_EQ(resumed_meter->record(), whole_meter->record());
@@ -107,10 +107,20 @@ TEST(Transport, ALongWindowHasMoreBlocksOfTheSameLag) {
               1.0 / (4.0 * std::sqrt(std::numbers::pi) * (1.8 / std::numbers::pi) *
                      (0.85 / (0.7 * 0.7 * 0.7))),
               1e-12);
-  const double spacing = TransportMeter<3>::spacing(spheres, 0.0, 10000.0);
-  EXPECT_NEAR(spacing * 64.0, 50.0 * t_c, 0.05 * t_c);  // kT of the start: 1 within rounding
+  const double lag = TransportMeter<3>::lag_spacing(spheres);
+  EXPECT_NEAR(lag * 64.0, 50.0 * t_c, 0.05 * t_c);  // kT of the start: 1 within rounding
+  EXPECT_EQ(TransportMeter<3>::spacing(lag, 0.0, 10000.0), lag);
   // A short window: 10 blocks, shorter.
-  EXPECT_EQ(TransportMeter<3>::spacing(spheres, 0.0, 20.0), 20.0 / (10.0 * 256.0 + 1.0));
+  EXPECT_EQ(TransportMeter<3>::spacing(lag, 0.0, 20.0), 20.0 / (10.0 * 256.0 + 1.0));
+  // A record continues to another end that spaces it alike: from one long window to a longer
+  // one, not from a short window.
+  TransportRecord long_window{lag, lag, 257, {}, {}, 0.0, {}};
+  EXPECT_TRUE(TransportMeter<3>::continues(long_window, 0.0, 20000.0));
+  TransportRecord short_window{
+      TransportMeter<3>::spacing(lag, 0.0, 20.0), lag, 257, {}, {}, 0.0, {}};
+  EXPECT_FALSE(TransportMeter<3>::continues(short_window, 0.0, 10000.0));
+  EXPECT_FALSE(TransportMeter<3>::continues(TransportRecord{lag, 0.0, 257, {}, {}, 0.0, {}}, 0.0,
+                                            20000.0));  // an older carom's: no lag kept
   EXPECT_EQ(enskog_collision_time(2, 0.3, 1.0, 1.0, 0.0), std::numeric_limits<double>::infinity());
 }
 

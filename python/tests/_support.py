@@ -7,9 +7,10 @@ import numpy as np
 
 # The json fields that depend on the wall clock or on how the run was named, not on the physics.
 NOT_DETERMINISTIC = ("input", "wall_seconds", "events_per_second")
-# The transport coefficients' blocks are spaced by the run's end: runs cut into pieces that end
-# elsewhere measure each piece's part of the window. (Z's drift verdict and errors are not: their
-# blocks double as the window grows, whatever its end.)
+# The transport coefficients' blocks are spaced by the run's end in windows too short for ten
+# blocks of their lag (as these tests' are): runs cut into pieces that end elsewhere measure each
+# piece's part of the window. (Z's drift verdict and errors are not: their blocks double as the
+# window grows, whatever its end.)
 PIECE_DEPENDENT = ("transport",)
 
 

@@ -24,7 +24,7 @@ DUMPS = {2: "frames.xyz", 3: "frames.lammpstrj"}  # the continued trajectory for
 EVERY = 0.5
 FILES = ("series.csv", "events.csv", "run.ckpt", "summary.json")
 # Fields of the summary that depend on the wall clock, or (the transport coefficients, whose
-# blocks are spaced by the run's end) on where a run was cut. Z's drift verdict and errors are not
+# blocks are spaced by the run's end in windows as short as these tests') on where a run was cut. Z's drift verdict and errors are not
 # among them: their blocks double as the window grows, whatever its end.
 CLOCK = ("wall_seconds", "events_per_second")
 PIECEWISE = ("transport",)
@@ -209,3 +209,27 @@ def test_a_stopped_run_resumed_gives_the_files_of_one_run(cli, tmp_path, start):
                       "command line stopped and resumed")
     assert_same_files(files(whole_cli, dim, drop), files(stopped_python, dim, drop),
                       "Python stopped and resumed")
+
+
+def test_transport_continued_to_a_later_end_is_the_run_in_one(cli, tmp_path):
+    """The transport coefficients of windows ten blocks of their lag long or more (blocks of
+    about 20 time units for spheres at 0.3) do not depend on the end: one Python Simulation run
+    to 210 and then to 230, and the command line stopped at 210 and resumed to 230, report those
+    of one run to 230."""
+    start = tmp_path / "spheres.txt"
+    cli("init", "--dim", "3", "--n", "200", "--phi", "0.3", "--boundary", "periodic",
+        "-o", start)
+    whole = carom.read(str(start))
+    whole.run(230.0, transport=True)
+    one = whole.observables()["transport"]
+    assert one["blocks"] == 11
+    pieces = carom.read(str(start))
+    pieces.run(210.0, transport=True)
+    pieces.run(230.0, transport=True)
+    assert pieces.observables()["transport"] == one
+    checkpoint, summary = tmp_path / "run.ckpt", tmp_path / "summary.json"
+    cli("run", start, "210", "--transport", "--checkpoint", checkpoint, "-q", "-o",
+        tmp_path / "first.txt")
+    cli("run", "--resume", checkpoint, "230", "--transport", "--summary", summary, "-q", "-o",
+        tmp_path / "second.txt")
+    assert json.loads(summary.read_text())["transport"] == one

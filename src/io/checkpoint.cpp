@@ -69,8 +69,10 @@ Json transport_json(const TransportRecord& t) {
   for (const TransportBlock& b : t.blocks) {
     blocks.push_back({b.self_diffusion, b.shear_viscosity, b.thermal_conductivity});
   }
-  return {{"spacing", t.spacing}, {"block_samples", t.block_samples}, {"samples", t.samples},
-          {"origin", t.origin},   {"half_msd", t.half_msd},           {"blocks", blocks}};
+  return {
+      {"spacing", t.spacing}, {"lag_spacing", t.lag_spacing}, {"block_samples", t.block_samples},
+      {"samples", t.samples}, {"origin", t.origin},           {"half_msd", t.half_msd},
+      {"blocks", blocks}};
 }
 
 // A time that may be "never" (json null).

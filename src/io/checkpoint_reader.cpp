@@ -93,6 +93,13 @@ class CheckpointFields : public CheckedJson<Fail> {
       fail_(fmt::format("the transport's spacing ({}) and block_samples ({}) are not a schedule",
                         t.spacing, t.block_samples));
     }
+    if (object.contains("lag_spacing")) {  // absent before carom 1.8
+      t.lag_spacing = coordinate(object.at("lag_spacing"), "the transport's lag_spacing");
+      if (!(t.lag_spacing >= t.spacing)) {
+        fail_(fmt::format("the transport's lag_spacing ({}) is below its spacing ({})",
+                          t.lag_spacing, t.spacing));
+      }
+    }
     const auto& samples = at(object, "samples", where);
     if (!samples.is_array() || samples.size() >= t.block_samples) {
       fail_(fmt::format("\"samples\" in {} must be a list of fewer than {} samples", where,

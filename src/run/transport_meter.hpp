@@ -29,9 +29,9 @@ class TransportMeter final : public Observer<D> {
   // The fewest blocks a window is cut into: a shorter window gets shorter blocks.
   static constexpr std::size_t kLeastBlocks = 10;
 
-  // The spacing of samples for a window from `start` to `end` of the system as it is now: a lag
-  // of kLagCollisionTimes of Enskog's collision time, unless kLeastBlocks of those do not fit.
-  static double spacing(const System<D>& system, double start, double end) {
+  // The spacing of samples for a window long enough for kLeastBlocks blocks, of the system as
+  // it is now: a lag of kLagCollisionTimes of Enskog's collision time.
+  static double lag_spacing(const System<D>& system) {
     double diameters = 0.0, masses = 0.0;
     for (std::size_t i = 0; i < system.size(); ++i) {
       diameters += 2.0 * system.particles[i].radius;
@@ -40,16 +40,25 @@ class TransportMeter final : public Observer<D> {
     const auto n = static_cast<double>(system.size());
     const double collision_time = enskog_collision_time(D, packing_fraction(system), diameters / n,
                                                         masses / n, kinetic_temperature(system));
-    const double lag = kLagCollisionTimes * collision_time;
-    const double fitting = (end - start) / static_cast<double>(kLeastBlocks * kBlockIntervals + 1);
-    return std::min(lag / static_cast<double>(kBlockIntervals / 4), fitting);
+    return kLagCollisionTimes * collision_time / static_cast<double>(kBlockIntervals / 4);
+  }
+  // The spacing of samples for a window from `start` to `end`: `lag_spacing`, unless
+  // kLeastBlocks blocks of it do not fit.
+  static double spacing(double lag_spacing, double start, double end) {
+    return std::min(lag_spacing,
+                    (end - start) / static_cast<double>(kLeastBlocks * kBlockIntervals + 1));
   }
 
-  // Continues `earlier` (a checkpoint's, whose schedule it keeps), else samples `spacing` apart.
-  TransportMeter(double spacing, const std::optional<TransportRecord>& earlier)
-      : Observer<D>(Trigger::every_time(earlier ? earlier->spacing : spacing)),
-        record_(earlier ? *earlier
-                        : TransportRecord{spacing, kBlockIntervals + 1, {}, {}, 0.0, {}}) {}
+  // A measurement of the window from `start` to `end` of the system as it is now; or `earlier`'s
+  // continued (a checkpoint's, or a run's before), where it measured the same window to the same
+  // end or to one that gives its spacing too (both windows kLeastBlocks lags' blocks long or
+  // more, so that a run continued to a later end measures what one run to it would).
+  TransportMeter(const System<D>& system, double start, double end,
+                 const std::optional<TransportRecord>& earlier)
+      : TransportMeter(earlier ? *earlier : fresh(system, start, end)) {}
+  static bool continues(const TransportRecord& earlier, double start, double end) {
+    return earlier.lag_spacing > 0.0 && spacing(earlier.lag_spacing, start, end) == earlier.spacing;
+  }
 
   void observe(const Simulation<D>& simulation) override {
     if (simulation.pending_measurement() || !simulation.tracks_fluxes() ||
@@ -116,6 +125,13 @@ class TransportMeter final : public Observer<D> {
   }
 
  private:
+  explicit TransportMeter(TransportRecord record)
+      : Observer<D>(Trigger::every_time(record.spacing)), record_(std::move(record)) {}
+  static TransportRecord fresh(const System<D>& system, double start, double end) {
+    const double lag = lag_spacing(system);
+    return TransportRecord{spacing(lag, start, end), lag, kBlockIntervals + 1, {}, {}, 0.0, {}};
+  }
+
   std::vector<double> unwrapped_positions(const Simulation<D>& simulation) const {
     const System<D>& system = simulation.state();
     std::vector<double> x(system.size() * D);

@@ -102,11 +102,6 @@ struct WindowRecords {
   // window, to any end (not one with its window opened afresh: mixing them would report a
   // verdict on two windows).
   bool drift_continued_by(double start) const { return !window_start || *window_start == start; }
-  // The same for the transport's blocks, whose spacing follows from the end too: the same
-  // measurement to the same end.
-  bool transport_continued_by(double start, double end) const {
-    return !window_start || (*window_start == start && end_time == end);
-  }
   friend bool operator==(const WindowRecords&, const WindowRecords&) = default;
 };
 
