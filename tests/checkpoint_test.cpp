@@ -385,8 +385,8 @@ TEST(Checkpoint, CountsAreWholeNumbersThatAddUp) {
   expect_refused(infinite, "number overflow parsing '1e400'");
 }
 
-// The transport measurement a checkpoint carries: its schedule is checked, and one written before
-// carom 1.8 (without lag_spacing) is read with none (so it continues to its own end only).
+// The transport measurement a checkpoint carries: its schedule is checked, and one an older carom
+// wrote (without lag_spacing) is read with none (so it continues to its own end only).
 TEST(Checkpoint, TheTransportsScheduleIsChecked) {
   const std::string text = saved(Boundary::periodic);
   const auto with_transport = [&](double spacing, std::optional<double> lag) {

@@ -93,7 +93,7 @@ class CheckpointFields : public CheckedJson<Fail> {
       fail_(fmt::format("the transport's spacing ({}) and block_samples ({}) are not a schedule",
                         t.spacing, t.block_samples));
     }
-    if (object.contains("lag_spacing")) {  // absent before carom 1.8
+    if (object.contains("lag_spacing")) {  // absent from an older carom's
       t.lag_spacing = coordinate(object.at("lag_spacing"), "the transport's lag_spacing");
       if (!(t.lag_spacing >= t.spacing)) {
         fail_(fmt::format("the transport's lag_spacing ({}) is below its spacing ({})",

@@ -52,7 +52,7 @@ std::array<double, 2> block_viscosity_and_conductivity(std::span<const MomentSam
 struct TransportRecord {
   double spacing = 0.0;                // between samples
   // The spacing of a window long enough for TransportMeter's least blocks of its lag (0: not
-  // kept, a checkpoint of carom before 1.8): a run continued to another end keeps the record
+  // kept: a checkpoint of an older carom): a run continued to another end keeps the record
   // where that end gives `spacing` too.
   double lag_spacing = 0.0;
   std::size_t block_samples = 0;       // samples a block spans (its last is the next one's first)
