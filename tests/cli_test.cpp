@@ -70,6 +70,15 @@ class Cli : public ::testing::Test {
     }
   }
 
+  // `carom init`'s n spheres at packing 0.3 in a periodic box, written to dir_ / name.
+  fs::path spheres_at_0_3(std::uint64_t n, const std::string& name = "spheres.txt") {
+    const fs::path start = dir_ / name;
+    const Result r = carom({"init", "--dim", "3", "--n", std::to_string(n), "--phi", "0.3",
+                            "--boundary", "periodic", "-o", start});
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    return start;
+  }
+
   Result carom(const std::vector<std::string>& args, const std::string& stdin_text = "") {
     std::string command = quote(CAROM_EXE);
     for (const auto& a : args) command.append(" ").append(quote(a));
@@ -1000,11 +1009,7 @@ TEST_F(Cli, ARunResumedAtItsEndWritesTheSummaryOfTheRunNeverStopped) {
 // coefficients of one run to the later end, where both windows hold ten blocks of the lag (a
 // resumed run once measured them over its own piece only).
 TEST_F(Cli, TransportContinuedToALaterEndIsTheRunInOne) {
-  const fs::path start = dir_ / "spheres.txt", checkpoint = dir_ / "run.ckpt";
-  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "200", "--phi", "0.3", "--boundary", "periodic",
-                   "-o", start})
-                .exit_code,
-            0);
+  const fs::path start = spheres_at_0_3(200), checkpoint = dir_ / "run.ckpt";
   const auto transport_of = [&](const fs::path& summary) {
     return nlohmann::json::parse(read_file(summary))["transport"];
   };
@@ -1028,11 +1033,7 @@ TEST_F(Cli, TransportContinuedToALaterEndIsTheRunInOne) {
 }
 
 TEST_F(Cli, SummariesHaveThePressureTensorAndTransportCoefficientsWhenAsked) {
-  const fs::path start = dir_ / "spheres.txt", summary = dir_ / "summary.json";
-  ASSERT_EQ(carom({"init", "--dim", "3", "--n", "300", "--phi", "0.3", "--boundary", "periodic",
-                   "-o", start})
-                .exit_code,
-            0);
+  const fs::path start = spheres_at_0_3(300), summary = dir_ / "summary.json";
   ASSERT_EQ(carom({"run", start, "20", "--equilibrate", "5", "--transport", "--summary", summary,
                    "-o", dir_ / "out.txt"})
                 .exit_code,

@@ -312,6 +312,21 @@ TEST(Ecmc, FlightsOfAnyLengthMeetWhatTheReferenceEngineMeets) {
   EXPECT_GE(silent, 5);         // a flight in an empty lane, or nothing near
 }
 
+// `events` lifts of `chains` are the reference engine's collisions of one mover from the same
+// system (the same partners at the same times, to round-off), and leave no overlap.
+void expect_lifts_of_one_mover(EcmcEngine<2>& chains, int events) {
+  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
+  for (int k = 0; k < events; ++k) {
+    const std::optional<Event> lift = chains.step(kNever);
+    const std::optional<Event> collision = reference.step(kNever);
+    ASSERT_TRUE(lift && collision) << "event " << k;
+    ASSERT_EQ(lift->first, collision->first) << "event " << k;
+    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
+    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
+  }
+  EXPECT_FALSE(find_pair_overlap(chains.system(), chains.stored_time()).has_value());
+}
+
 // Small disks beside a large one: cells as wide as the large one's diameter hold dozens, more
 // than the eight lanes the searches by pairs of lanes take, and are searched one lane at a time.
 // The lifts are still the reference engine's collisions of one mover.
@@ -331,16 +346,7 @@ TEST(Ecmc, CellsOfManySmallDisksMeetWhatTheReferenceEngineMeets) {
     }
   }
   EcmcEngine<2> chains(start, 1e9, pcg32(3));
-  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
-  for (int k = 0; k < 500; ++k) {
-    const std::optional<Event> lift = chains.step(kNever);
-    const std::optional<Event> collision = reference.step(kNever);
-    ASSERT_TRUE(lift && collision) << "event " << k;
-    ASSERT_EQ(lift->first, collision->first) << "event " << k;
-    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
-    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
-  }
-  EXPECT_FALSE(find_pair_overlap(chains.system(), chains.stored_time()).has_value());
+  expect_lifts_of_one_mover(chains, 500);
 }
 
 // Four disks of one size in one cell (at its corners: a cell a little over a diameter wide holds
@@ -366,15 +372,7 @@ TEST(Ecmc, AFourthDiskInACellMakesFourLanes) {
   ASSERT_FALSE(find_pair_overlap(start, 0.0).has_value());
   EcmcEngine<2> chains(start, 1e9, pcg32(8));
   EXPECT_EQ(chains.lanes_per_cell(), 4u);
-  ReferenceEngine<2> reference(chains.system(), {Rule::swap, 1.0, 0.0});
-  for (int k = 0; k < 500; ++k) {
-    const std::optional<Event> lift = chains.step(kNever);
-    const std::optional<Event> collision = reference.step(kNever);
-    ASSERT_TRUE(lift && collision) << "event " << k;
-    ASSERT_EQ(lift->first, collision->first) << "event " << k;
-    ASSERT_EQ(lift->partner, collision->partner) << "event " << k;
-    ASSERT_NEAR(lift->time, collision->time, 1e-9 * (1.0 + collision->time)) << "event " << k;
-  }
+  expect_lifts_of_one_mover(chains, 500);
 }
 
 // A box under three cells across along an axis holds two images of a particle in the columns a
