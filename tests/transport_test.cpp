@@ -113,14 +113,20 @@ TEST(Transport, ALongWindowHasMoreBlocksOfTheSameLag) {
   // A short window: 10 blocks, shorter.
   EXPECT_EQ(TransportMeter<3>::spacing(lag, 0.0, 20.0), 20.0 / (10.0 * 256.0 + 1.0));
   // A record continues to another end that spaces it alike: from one long window to a longer
-  // one, not from a short window.
-  TransportRecord long_window{lag, lag, 257, {}, {}, 0.0, {}};
-  EXPECT_TRUE(TransportMeter<3>::continues(long_window, 0.0, 20000.0));
-  TransportRecord short_window{
+  // one, not from a short window (nor from another window); to its own end, always.
+  const auto records = [](double end, const TransportRecord& record) {
+    return WindowRecords{0.0, end, std::nullopt, record};
+  };
+  const TransportRecord long_window{lag, lag, 257, {}, {}, 0.0, {}};
+  EXPECT_TRUE(TransportMeter<3>::continued(records(10000.0, long_window), 0.0, 20000.0));
+  EXPECT_FALSE(TransportMeter<3>::continued(records(10000.0, long_window), 5.0, 20000.0));
+  const TransportRecord short_window{
       TransportMeter<3>::spacing(lag, 0.0, 20.0), lag, 257, {}, {}, 0.0, {}};
-  EXPECT_FALSE(TransportMeter<3>::continues(short_window, 0.0, 10000.0));
-  EXPECT_FALSE(TransportMeter<3>::continues(TransportRecord{lag, 0.0, 257, {}, {}, 0.0, {}}, 0.0,
-                                            20000.0));  // an older carom's: no lag kept
+  EXPECT_FALSE(TransportMeter<3>::continued(records(20.0, short_window), 0.0, 10000.0));
+  EXPECT_TRUE(TransportMeter<3>::continued(records(20.0, short_window), 0.0, 20.0));
+  const TransportRecord older{lag, 0.0, 257, {}, {}, 0.0, {}};  // an older carom's: no lag kept
+  EXPECT_FALSE(TransportMeter<3>::continued(records(10000.0, older), 0.0, 20000.0));
+  EXPECT_TRUE(TransportMeter<3>::continued(records(10000.0, older), 0.0, 10000.0));
   EXPECT_EQ(enskog_collision_time(2, 0.3, 1.0, 1.0, 0.0), std::numeric_limits<double>::infinity());
 }
 

@@ -185,7 +185,7 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   // Z over blocks of the measurement window, first half against second; a run continued (in
   // pieces, or resumed from a checkpoint) goes on with the blocks it holds when it measures the
   // same window, to any end, and with its transport blocks when to the same end or one that
-  // spaces them alike (TransportMeter::continues): one resumed at its end rebuilds its summary
+  // spaces them alike (TransportMeter::continued): one resumed at its end rebuilds its summary
   // from them.
   const double window_start =
       simulation.pending_measurement().value_or(simulation.measurement().start_time);
@@ -195,19 +195,15 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
     // where it opens), which a block continued to here holds already.
     z_drift = observers.add(
         std::make_shared<ZDrift<D>>(
-            window_start, records.drift_continued_by(window_start) ? records.drift : std::nullopt),
+            window_start, records.same_window(window_start) ? records.drift : std::nullopt),
         Simulation<D>::FirstLook::now);
   }
   std::shared_ptr<TransportMeter<D>> transport_meter;
   if (spec.transport && spec.end_time > window_start) {
     simulation.keep_heat_flux();
-    const bool continued =
-        records.transport && records.drift_continued_by(window_start) &&
-        (records.end_time == spec.end_time ||
-         TransportMeter<D>::continues(*records.transport, window_start, spec.end_time));
-    transport_meter = observers.add(
-        std::make_shared<TransportMeter<D>>(simulation.state(), window_start, spec.end_time,
-                                            continued ? records.transport : std::nullopt));
+    transport_meter = observers.add(std::make_shared<TransportMeter<D>>(
+        simulation.state(), window_start, spec.end_time,
+        TransportMeter<D>::continued(records, window_start, spec.end_time)));
   }
   const auto records_now = [&] {
     WindowRecords now{window_start, spec.end_time, std::nullopt, std::nullopt};

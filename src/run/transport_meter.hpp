@@ -56,8 +56,15 @@ class TransportMeter final : public Observer<D> {
   TransportMeter(const System<D>& system, double start, double end,
                  const std::optional<TransportRecord>& earlier)
       : TransportMeter(earlier ? *earlier : fresh(system, start, end)) {}
-  static bool continues(const TransportRecord& earlier, double start, double end) {
-    return earlier.lag_spacing > 0.0 && spacing(earlier.lag_spacing, start, end) == earlier.spacing;
+  // The record of `records` a measurement from `start` to `end` continues, if any (see above).
+  static std::optional<TransportRecord> continued(const WindowRecords& records, double start,
+                                                  double end) {
+    const std::optional<TransportRecord>& earlier = records.transport;
+    if (!earlier || !records.same_window(start)) return std::nullopt;
+    const bool same_spacing =
+        earlier->lag_spacing > 0.0 && spacing(earlier->lag_spacing, start, end) == earlier->spacing;
+    if (records.end_time == end || same_spacing) return earlier;
+    return std::nullopt;
   }
 
   void observe(const Simulation<D>& simulation) override {

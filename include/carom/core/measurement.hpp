@@ -98,10 +98,10 @@ struct WindowRecords {
   std::optional<double> window_start, end_time;
   std::optional<DriftRecord> drift;          // the drift verdict's (ZDrift)
   std::optional<TransportRecord> transport;  // the transport coefficients' (TransportMeter)
-  // Whether a run measuring from `start` goes on with the drift's blocks: one measuring the same
-  // window, to any end (not one with its window opened afresh: mixing them would report a
-  // verdict on two windows).
-  bool drift_continued_by(double start) const { return !window_start || *window_start == start; }
+  // Whether a run measuring from `start` measures the same window, so that it may go on with
+  // these records: the drift's blocks to any end, the transport's where TransportMeter::continued
+  // says (not a window opened afresh: mixing them would report on two windows).
+  bool same_window(double start) const { return !window_start || *window_start == start; }
   friend bool operator==(const WindowRecords&, const WindowRecords&) = default;
 };
 
