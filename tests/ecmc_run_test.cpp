@@ -222,5 +222,30 @@ TEST(EcmcRun, TheDefaultChainLengthIsResolvedAndKept) {
   EXPECT_THROW(Simulation<2>(gas, thermostat), std::invalid_argument);
 }
 
+// Simulation::kinetic_temperature() is kinetic_temperature(state()) at every instant, without the
+// sum over the particles under event chains (the drift blocks and the log rows take it often).
+template <std::size_t D>
+void the_kinetic_temperature_is_the_states(std::uint64_t n, double phi) {
+  Simulation<D> sim(periodic_gas<D>(n, phi), chains());
+  for (double t = 0.37; t < 4.0; t += 0.37) {
+    sim.run_until(t);
+    EXPECT_EQ(sim.kinetic_temperature(), kinetic_temperature(sim.state())) << "at " << t;
+  }
+  std::stringstream saved;
+  write_checkpoint(saved, sim.checkpoint("gas"));
+  Simulation<D> resumed(std::get<Checkpoint<D>>(read_checkpoint(saved, "saved")));
+  resumed.run_until(5.0);
+  EXPECT_EQ(resumed.kinetic_temperature(), kinetic_temperature(resumed.state()));
+  Simulation<D> dynamics(periodic_gas<D>(n, phi));
+  dynamics.run_until(1.0);
+  EXPECT_EQ(dynamics.kinetic_temperature(), kinetic_temperature(dynamics.state()));
+}
+TEST(EcmcRun, TheKineticTemperatureIsTheStates2D) {
+  the_kinetic_temperature_is_the_states<2>(200, 0.6);
+}
+TEST(EcmcRun, TheKineticTemperatureIsTheStates3D) {
+  the_kinetic_temperature_is_the_states<3>(216, 0.4);
+}
+
 }  // namespace
 }  // namespace carom

@@ -71,6 +71,7 @@ Simulation<D>::Simulation(System<D> system, const Settings& settings)
     : settings_(resolved(settings, system)),
       chains_(settings_.sampler.kind == SamplerKind::ecmc),
       engine_(checked_engine(std::move(system), settings_)),
+      chains_kinetic_temperature_(chains_ ? carom::kinetic_temperature(state()) : 0.0),
       time_(engine_->time()),
       slice_(engine_->slice_length()),
       rebase_period_(rebase_period(state().size())),
@@ -95,6 +96,7 @@ Simulation<D>::Simulation(const Checkpoint<D>& checkpoint)
     : settings_(checkpoint.settings),
       chains_(settings_.sampler.kind == SamplerKind::ecmc),
       engine_(make_run_engine(checkpoint.settings, checkpoint.system, checkpoint.chain)),
+      chains_kinetic_temperature_(chains_ ? carom::kinetic_temperature(state()) : 0.0),
       time_(checkpoint.time),
       settled_(checkpoint.settled),
       counts_(checkpoint.counts),
@@ -549,7 +551,12 @@ std::optional<ChainState> Simulation<D>::chain() const {
 
 template <std::size_t D>
 double Simulation<D>::temperature() const {
-  return chains_ ? 1.0 : kinetic_temperature(state());
+  return chains_ ? 1.0 : kinetic_temperature();
+}
+
+template <std::size_t D>
+double Simulation<D>::kinetic_temperature() const {
+  return chains_ ? chains_kinetic_temperature_ : carom::kinetic_temperature(state());
 }
 
 template <std::size_t D>

@@ -79,7 +79,8 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
           pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, box_volume(system.box));
       // Event chains' pressures are beta P, as at_unit_temperature gives the row's pressure.
       if (simulation.settings().sampler.kind == SamplerKind::ecmc) {
-        for (double& component : *tensor) component /= kinetic_temperature(system);
+        const double kinetic = simulation.kinetic_temperature();
+        for (double& component : *tensor) component /= kinetic;
       }
     }
   }

@@ -54,7 +54,7 @@ void ZDrift<D>::observe(const Simulation<D>& simulation) {
   if (!record_.boundaries.empty() && !(now > record_.boundaries.back())) return;
   record_.boundaries.push_back(now);
   record_.totals.push_back(simulation.current_counts());
-  record_.temperatures.push_back(kinetic_temperature(simulation.state()));
+  record_.temperatures.push_back(simulation.kinetic_temperature());
   if (record_.boundaries.size() > kMostBlocks) coarsen();
 }
 

@@ -191,6 +191,9 @@ class Simulation {
   Observables<D> observables_over(const Measurement& stretch, double now) const;
   // kT now: the kinetic temperature of dynamics; 1 for event chains, which sample at kT = 1.
   double temperature() const;
+  // kinetic_temperature(state()), without summing over the particles under event chains: their
+  // one moving particle, at the engine's speed, gives the same value at every instant.
+  double kinetic_temperature() const;
   // Opens the window now: counts from zero, the kinetic energy now.
   void reset_measurement();
   // Opens the window at time t (now if t is not ahead): equilibrate until then.
@@ -264,6 +267,7 @@ class Simulation {
   Settings settings_;  // the chain length resolved (default_chain_length for 0)
   bool chains_ = false;  // settings_.sampler.kind is event chains
   std::unique_ptr<Engine<D>> engine_;
+  double chains_kinetic_temperature_ = 0.0;  // kinetic_temperature() under event chains
   double time_ = 0.0;
   double stored_time_ = 0.0;  // see stored_time()
   // Every event up to time_ is processed and every time observer due then has been called (false
