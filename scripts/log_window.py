@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Z and beta P d^2 of hard disks over a window of a run's log, with a standard error from blocks.
+
+    /usr/bin/python3 scripts/log_window.py RUN/log.csv --phi 0.716 --from 12000 --to 18000
+
+A run's summary measures from its --equilibrate time to its end. A chain continued from its
+checkpoint past the time its start is forgotten keeps the earlier window; this measures any later
+one from the log instead (`carom run ... --log log.csv --log-every T`: each row's `Z` is the
+compressibility factor over the interval since the row before, so rows of equal intervals
+average to Z over the window). The window's rows are cut into --blocks contiguous blocks (6 by
+default); the error is the standard deviation of the block means over sqrt(blocks), as a run's
+block error is, and says nothing of slower changes than a block (compare two starts for those).
+beta P d^2 = Z 4 phi / pi for equal disks of diameter d. Several logs give one line each and, for
+more than one, their mean with the larger of their errors combined and their scatter's.
+"""
+import argparse
+import csv
+import math
+import statistics
+import sys
+
+
+def window_z(path, start, end, blocks):
+    """(Z over (start, end], its block error, rows) from a log's interval rows."""
+    rows = []
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            if not row.get("Z"):
+                continue
+            t = float(row["time"])
+            if start < t <= end:
+                rows.append(float(row["Z"]))
+    if len(rows) < 2 * blocks:
+        sys.exit(f"{path}: {len(rows)} rows in ({start}, {end}], fewer than two a block")
+    size = len(rows) // blocks
+    means = [statistics.fmean(rows[k * size:(k + 1) * size]) for k in range(blocks)]
+    return statistics.fmean(rows), statistics.stdev(means) / math.sqrt(blocks), len(rows)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("logs", nargs="+", help="run logs (log.csv) with a Z column")
+    ap.add_argument("--phi", type=float, required=True, help="the packing fraction, for beta P d^2")
+    ap.add_argument("--from", dest="start", type=float, required=True, help="window start (time)")
+    ap.add_argument("--to", dest="end", type=float, required=True, help="window end (time)")
+    ap.add_argument("--blocks", type=int, default=6, help="blocks for the error (default 6)")
+    args = ap.parse_args()
+    to_bp = 4.0 * args.phi / math.pi
+    values = []
+    for path in args.logs:
+        z, err, n = window_z(path, args.start, args.end, args.blocks)
+        values.append((z * to_bp, err * to_bp))
+        print(f"{path}: Z {z:.5f} +- {err:.5f}, beta P d^2 {z * to_bp:.5f} +- {err * to_bp:.5f} ({n} rows)")
+    if len(values) > 1:
+        k = len(values)
+        mean = sum(v for v, _ in values) / k
+        err = max(math.sqrt(sum(e * e for _, e in values)) / k,
+                  math.sqrt(sum((v - mean) ** 2 for v, _ in values) / (k - 1) / k))
+        print(f"mean of {k}: beta P d^2 {mean:.5f} +- {err:.5f}")
+
+
+if __name__ == "__main__":
+    main()
