@@ -11,13 +11,15 @@ average to Z over the window). The window's rows are cut into --blocks contiguou
 default); the error is the standard deviation of the block means over sqrt(blocks), as a run's
 block error is, and says nothing of slower changes than a block (compare two starts for those).
 beta P d^2 = Z 4 phi / pi for equal disks of diameter d. Several logs give one line each and, for
-more than one, their mean with the larger of their errors combined and their scatter's.
+more than one, their mean as scripts/plot_loop.py takes a packing's tasks' (mean_of_runs).
 """
 import argparse
 import csv
 import math
 import statistics
 import sys
+
+from plot_loop import mean_of_runs
 
 
 def window_z(path, start, end, blocks):
@@ -52,11 +54,8 @@ def main():
         values.append((z * to_bp, err * to_bp))
         print(f"{path}: Z {z:.5f} +- {err:.5f}, beta P d^2 {z * to_bp:.5f} +- {err * to_bp:.5f} ({n} rows)")
     if len(values) > 1:
-        k = len(values)
-        mean = sum(v for v, _ in values) / k
-        err = max(math.sqrt(sum(e * e for _, e in values)) / k,
-                  math.sqrt(sum((v - mean) ** 2 for v, _ in values) / (k - 1) / k))
-        print(f"mean of {k}: beta P d^2 {mean:.5f} +- {err:.5f}")
+        mean, err = mean_of_runs(values)
+        print(f"mean of {len(values)}: beta P d^2 {mean:.5f} +- {err:.5f}")
 
 
 if __name__ == "__main__":

@@ -49,15 +49,20 @@ def read_results(path):
             by_phi.setdefault(round(phi, 9), []).append((z * to_bp, z_err * to_bp))
     points = {}
     for phi, vals in sorted(by_phi.items()):
-        k = len(vals)
-        mean = sum(v for v, _ in vals) / k
-        # The larger of the runs' block errors combined and the scatter of their means: two
-        # runs can agree by chance far better than either is known.
-        err = math.sqrt(sum(e * e for _, e in vals)) / k
-        if k > 1:
-            err = max(err, math.sqrt(sum((v - mean) ** 2 for v, _ in vals) / (k - 1) / k))
-        points[phi] = (mean, err, k)
+        points[phi] = (*mean_of_runs(vals), len(vals))
     return points, not_done
+
+
+def mean_of_runs(values):
+    """(mean, error) of runs' (value, error) pairs: the error is the larger of the runs' errors
+    combined and the scatter of their means, since two runs can agree by chance far better than
+    either is known (one run: its own error)."""
+    k = len(values)
+    mean = sum(v for v, _ in values) / k
+    err = math.sqrt(sum(e * e for _, e in values)) / k
+    if k > 1:
+        err = max(err, math.sqrt(sum((v - mean) ** 2 for v, _ in values) / (k - 1) / k))
+    return mean, err
 
 
 def reference(file, sampling, n, data):
