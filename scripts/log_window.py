@@ -47,6 +47,8 @@ def main():
     ap.add_argument("--to", dest="end", type=float, required=True, help="window end (time)")
     ap.add_argument("--blocks", type=int, default=6, help="blocks for the error (default 6)")
     args = ap.parse_args()
+    if args.blocks < 2:
+        ap.error(f"--blocks must be 2 or more (an error needs two block means), got {args.blocks}")
     to_bp = 4.0 * args.phi / math.pi
     values = []
     for path in args.logs:

@@ -36,3 +36,6 @@ def test_a_logs_window_is_the_summarys_measurement(cli, tmp_path):
     # A window with too few rows for its blocks is refused by name.
     short = window(log, "--phi", "0.6", "--from", "11", "--to", "12", "--blocks", "6")
     assert short.returncode != 0 and "fewer than two a block" in short.stderr
+    # One block gives no error: refused as bad input (exit 2), not a traceback.
+    one = window(log, "--phi", "0.6", "--from", "4", "--to", "12", "--blocks", "1")
+    assert one.returncode == 2 and "--blocks must be 2 or more" in one.stderr
