@@ -209,21 +209,6 @@ template <std::size_t D>
   }
 }
 
-template <std::size_t D>
-[[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::position_in(std::uint32_t cell,
-                                                               std::uint32_t lane) const {
-  const double* const b = block(cell);
-  Vec<D> position;
-  for (std::size_t k = 0; k < D; ++k) position[k] = b[k * capacity_ + lane];
-  return position;
-}
-
-template <std::size_t D>
-[[gnu::always_inline]] inline double EcmcEngine<D>::radius_in(std::uint32_t cell,
-                                                             std::uint32_t lane) const {
-  return radii_kept_ ? block(cell)[D * capacity_ + lane] : radius_;
-}
-
 namespace {
 // The index in a lane of a block whose indices begin `offset` doubles in (see
 // EcmcEngine::lanes_).
@@ -237,44 +222,73 @@ namespace {
 }  // namespace
 
 template <std::size_t D>
-[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::id_in(std::uint32_t cell,
-                                                                std::uint32_t lane) const {
-  return id_at(block(cell), ids_offset(), lane);
+template <class S>
+[[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::position_in(const S& shape, const double* b,
+                                                               std::uint32_t lane) {
+  Vec<D> position;
+  for (std::size_t k = 0; k < D; ++k) position[k] = b[k * shape.capacity + lane];
+  return position;
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::fill(std::uint32_t cell) const {
-  return id_at(block(cell), ids_offset(), capacity_);
+template <class S>
+[[gnu::always_inline]] inline double EcmcEngine<D>::radius_in(const S& shape, const double* b,
+                                                             std::uint32_t lane) const {
+  return shape.radii ? b[D * shape.capacity + lane] : radius_;
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::set_fill(std::uint32_t cell,
+template <class S>
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::id_in(const S& shape, const double* b,
+                                                                std::uint32_t lane) {
+  return id_at(b, shape.ids, lane);
+}
+
+template <std::size_t D>
+template <class S>
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::fill(const S& shape, const double* b) {
+  return id_at(b, shape.ids, shape.capacity);
+}
+
+template <std::size_t D>
+template <class S>
+[[gnu::always_inline]] inline void EcmcEngine<D>::set_fill(const S& shape, double* b,
                                                            std::uint32_t lanes) {
-  auto* ids = reinterpret_cast<unsigned char*>(block(cell) + ids_offset());
-  std::memcpy(ids + sizeof(lanes) * capacity_, &lanes, sizeof(lanes));
+  auto* ids = reinterpret_cast<unsigned char*>(b + shape.ids);
+  std::memcpy(ids + sizeof(lanes) * shape.capacity, &lanes, sizeof(lanes));
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::put(std::uint32_t cell, std::uint32_t lane,
-                                                      const Vec<D>& position, double radius,
-                                                      std::uint32_t id) {
-  double* const b = block(cell);
-  for (std::size_t k = 0; k < D; ++k) b[k * capacity_ + lane] = position[k];
-  if (radii_kept_) b[D * capacity_ + lane] = radius;
-  auto* ids = reinterpret_cast<unsigned char*>(b + ids_offset());
+template <class S>
+[[gnu::always_inline]] inline void EcmcEngine<D>::put(const S& shape, double* b,
+                                                      std::uint32_t lane, const Vec<D>& position,
+                                                      double radius, std::uint32_t id) {
+  for (std::size_t k = 0; k < D; ++k) b[k * shape.capacity + lane] = position[k];
+  if (shape.radii) b[D * shape.capacity + lane] = radius;
+  auto* ids = reinterpret_cast<unsigned char*>(b + shape.ids);
   std::memcpy(ids + sizeof(id) * lane, &id, sizeof(id));
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell,
-                                                       const Vec<D>& position, double radius) {
-  std::uint32_t lanes = fill(cell);
-  if (lanes == capacity_) [[unlikely]] {
+template <class S>
+[[gnu::always_inline]] inline bool EcmcEngine<D>::rest_in(const S& shape, double* b,
+                                                          std::uint32_t i, const Vec<D>& position,
+                                                          double radius) {
+  const std::uint32_t lanes = fill(shape, b);
+  if (lanes == shape.capacity) [[unlikely]]
+    return false;
+  put(shape, b, lanes, position, radius, i);
+  set_fill(shape, b, lanes + 1);
+  return true;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell, const Vec<D>& position,
+                         double radius) {
+  if (!rest_in(shape(), block(cell), i, position, radius)) {
     lay_out(more_lanes(capacity_));
-    lanes = fill(cell);
+    rest_in(shape(), block(cell), i, position, radius);
   }
-  put(cell, lanes, position, radius, i);
-  set_fill(cell, lanes + 1);
 }
 
 template <std::size_t D>
@@ -284,14 +298,30 @@ void EcmcEngine<D>::rest(std::uint32_t i, std::uint32_t cell) {
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(std::uint32_t cell,
+template <class S>
+[[gnu::always_inline]] inline void EcmcEngine<D>::take_out(const S& shape, double* b,
                                                            std::uint32_t lane) {
-  const std::uint32_t last = fill(cell) - 1;
-  set_fill(cell, last);
-  put(cell, lane, position_in(cell, last), radius_in(cell, last), id_in(cell, last));
+  const std::uint32_t last = fill(shape, b) - 1;
+  set_fill(shape, b, last);
+  put(shape, b, lane, position_in(shape, b, last), radius_in(shape, b, last),
+      id_in(shape, b, last));
   // A NaN first coordinate is enough: the lane's distance, discriminant and every test on them
   // are NaN or false.
-  block(cell)[last] = std::numeric_limits<double>::quiet_NaN();
+  b[last] = std::numeric_limits<double>::quiet_NaN();
+}
+
+template <std::size_t D>
+template <class F>
+[[gnu::always_inline]] inline decltype(auto) EcmcEngine<D>::with_shape(F&& f) const {
+  if (!radii_kept_) {
+    if (capacity_ == 3) return f(FixedShape<3, false>{});
+    if (capacity_ == 4) return f(FixedShape<4, false>{});
+    if (capacity_ == 8) return f(FixedShape<8, false>{});
+  } else {
+    if (capacity_ == 4) return f(FixedShape<4, true>{});
+    if (capacity_ == 8) return f(FixedShape<8, true>{});
+  }
+  return f(shape());
 }
 
 template <std::size_t D>
@@ -319,9 +349,12 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
     std::uint32_t cell;
   };
   std::vector<Held> held;
+  const Shape before = shape();
   for (std::uint32_t cell = 0; cell < (lanes_.empty() ? 0 : cells_); ++cell) {
-    for (std::uint32_t lane = 0; lane < fill(cell); ++lane) {
-      held.push_back({position_in(cell, lane), radius_in(cell, lane), id_in(cell, lane), cell});
+    const double* const b = block(cell);
+    for (std::uint32_t lane = 0; lane < fill(before, b); ++lane) {
+      held.push_back(
+          {position_in(before, b, lane), radius_in(before, b, lane), id_in(before, b, lane), cell});
     }
   }
   capacity_ = capacity;
@@ -331,11 +364,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   for (std::uint32_t cell = 0; cell < cells_; ++cell) {  // every lane empty (take_out)
     std::fill_n(block(cell), capacity, std::numeric_limits<double>::quiet_NaN());
   }
-  for (const Held& h : held) {
-    const std::uint32_t lane = fill(h.cell);
-    put(h.cell, lane, h.position, h.radius, h.id);
-    set_fill(h.cell, lane + 1);
-  }
+  for (const Held& h : held) rest_in(shape(), block(h.cell), h.id, h.position, h.radius);
   prefetch_cells_ = lanes_.size() * sizeof(double) > kCacheBytes;
 }
 
@@ -345,9 +374,10 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   const Particle<D>& p = this->system_.particles[i];
   flight_ = {p.position, p.time, p.radius};
   const std::uint32_t cell = locate(p.position);
+  double* const b = block(cell);
   std::uint32_t lane = 0;
-  while (id_in(cell, lane) != i) ++lane;
-  take_out(cell, lane);
+  while (id_in(shape(), b, lane) != i) ++lane;
+  take_out(shape(), b, lane);
   cell_ = cell;
   at_ = grid_.coordinates_of(cell);
   start_flight();
@@ -366,8 +396,8 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-template <std::size_t Axis>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
+template <std::size_t Axis, class S>
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const S&, double ahead) const {
   bool inner = at_[Axis] + 1 < cells_along_[Axis];
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
@@ -385,13 +415,8 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
     cells_ahead<Axis>(cells);
   }
 #if defined(__SSE2__)
-  if (!radii_kept_) {
-    if (capacity_ == 3) return nearest_lift_in_lanes<Axis, 3, false>(cells, ahead, !plain);
-    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4, false>(cells, ahead, !plain);
-    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8, false>(cells, ahead, !plain);
-  } else {
-    if (capacity_ == 4) return nearest_lift_in_lanes<Axis, 4, true>(cells, ahead, !plain);
-    if (capacity_ == 8) return nearest_lift_in_lanes<Axis, 8, true>(cells, ahead, !plain);
+  if constexpr (!std::is_same_v<S, Shape>) {
+    return nearest_lift_in_lanes<Axis, S::capacity, S::radii>(cells, ahead, !plain);
   }
 #endif
   return nearest_lift_one_by_one<Axis>(cells, ahead);
@@ -586,24 +611,17 @@ template <std::size_t Axis>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_one_by_one(const Cells& cells,
                                                                     double ahead) const {
   Lift best{kNever, chain_.active, 0, 0};
+  const Shape now = shape();
   for (const std::uint32_t cell : cells) {
-    for (std::uint32_t lane = 0, lanes = fill(cell); lane < lanes; ++lane) {
-      const Approach<D, Axis> approach(separation<Axis>(position_in(cell, lane), ahead),
-                                       flight_.radius + radius_in(cell, lane));
+    const double* const b = block(cell);
+    for (std::uint32_t lane = 0, lanes = fill(now, b); lane < lanes; ++lane) {
+      const Approach<D, Axis> approach(separation<Axis>(position_in(now, b, lane), ahead),
+                                       flight_.radius + radius_in(now, b, lane));
       if (!approach.touches()) continue;
-      best.keep_nearer({approach.distance(), id_in(cell, lane), lane, cell});
+      best.keep_nearer({approach.distance(), id_in(now, b, lane), lane, cell});
     }
   }
   return best;
-}
-
-template <std::size_t D>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(double ahead) const {
-  static_assert(D == 2 || D == 3);
-  if constexpr (D == 3) {
-    if (chain_.axis == 2) return nearest_lift<2>(ahead);
-  }
-  return chain_.axis == 0 ? nearest_lift<0>(ahead) : nearest_lift<1>(ahead);
 }
 
 template <std::size_t D>
@@ -669,38 +687,61 @@ void EcmcEngine<D>::write_back() {
 template <std::size_t D>
 bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
   while (true) {
+    const FlightEnd end = with_axis([&]<std::size_t Axis>() {
+      return with_shape(
+          [&](const auto& shape) { return fly_to_next_lift<Axis>(shape, end_time, event); });
+    });
+    if (end != FlightEnd::turned) return end == FlightEnd::lifted;
+  }
+}
+
+template <std::size_t D>
+template <class F>
+[[gnu::always_inline]] inline decltype(auto) EcmcEngine<D>::with_axis(F&& f) const {
+  static_assert(D == 2 || D == 3);
+  if constexpr (D == 3) {
+    if (chain_.axis == 2) return f.template operator()<2>();
+  }
+  return chain_.axis == 0 ? f.template operator()<0>() : f.template operator()<1>();
+}
+
+template <std::size_t D>
+template <std::size_t Axis, class S>
+typename EcmcEngine<D>::FlightEnd EcmcEngine<D>::fly_to_next_lift(const S& shape,
+                                                                    double end_time,
+                                                                    Event& event) {
+  while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
-    if (columns_crossed_ > cells_along_[chain_.axis]) [[unlikely]] {
-      if (!this->due_by(chain_.chain_end, end_time)) return false;
+    if (columns_crossed_ > cells_along_[Axis]) [[unlikely]] {
+      if (!this->due_by(chain_.chain_end, end_time)) return FlightEnd::not_due;
       start_next_chain();
-      continue;
+      return FlightEnd::turned;
     }
     const double ahead = distance_to_next_column();
-    const Lift lift = nearest_lift(ahead);
+    const Lift lift = nearest_lift<Axis>(shape, ahead);
     // A lift no farther than the crossing comes no later (the flight's time + x / v rounds
     // monotonically in x): then only its time is needed.
     if (lift.distance <= ahead && lift.distance != kNever) [[likely]] {
       const double lift_time = flight_.time + lift.distance / speed_;
       if (chain_.chain_end <= lift_time) {
-        if (!this->due_by(chain_.chain_end, end_time)) return false;
+        if (!this->due_by(chain_.chain_end, end_time)) return FlightEnd::not_due;
         start_next_chain();
-        continue;
+        return FlightEnd::turned;
       }
-      if (!this->due_by(lift_time, end_time)) return false;
-      this->lift(lift, lift_time, event);
-      return true;
+      if (!this->due_by(lift_time, end_time)) return FlightEnd::not_due;
+      this->lift<Axis>(shape, lift, lift_time, event);
+      return FlightEnd::lifted;
     }
     const double crossing_time = flight_.time + std::max(ahead / speed_, 0.0);
     if (chain_.chain_end <= crossing_time) {
-      if (!this->due_by(chain_.chain_end, end_time)) return false;
+      if (!this->due_by(chain_.chain_end, end_time)) return FlightEnd::not_due;
       start_next_chain();
-      continue;
+      return FlightEnd::turned;
     }
-    if (!this->due_by(crossing_time, end_time)) return false;
-    const std::size_t axis = chain_.axis;
-    cell_ = grid_.adjacent(cell_, axis, true);
-    at_[axis] = at_[axis] + 1 == cells_along_[axis] ? 0 : at_[axis] + 1;
+    if (!this->due_by(crossing_time, end_time)) return FlightEnd::not_due;
+    cell_ = grid_.adjacent(cell_, Axis, true);
+    at_[Axis] = at_[Axis] + 1 == cells_along_[Axis] ? 0 : at_[Axis] + 1;
     ++columns_crossed_;
   }
 }
@@ -723,9 +764,10 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
 // through the nearest image, the velocities exchanged, r . dp, the mover wrapped into the box.
 // The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
-void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
+template <std::size_t Axis, class S>
+void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& event) {
   const std::uint32_t moving = chain_.active, target = lift.target;
-  const std::size_t axis = chain_.axis;
+  constexpr std::size_t axis = Axis;
   System<D>& system = this->system_;
   event.first = std::min(moving, target);
   event.partner = static_cast<std::int32_t>(std::max(moving, target));
@@ -765,7 +807,9 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
       __builtin_prefetch(system.records.data() + target, 1);
     }
   }
-  const Vec<D> struck = position_in(lift.cell, lift.lane);
+  double* const lanes = lanes_.data();
+  double* const struck_block = lanes + std::size_t{lift.cell} * shape.doubles;
+  const Vec<D> struck = position_in(shape, struck_block, lift.lane);
   Vec<D> xm = flight_.from;
   xm[axis] += speed_ * (t - flight_.time);
   const bool moving_first = moving < target;
@@ -796,10 +840,15 @@ void EcmcEngine<D>::lift(const Lift& lift, double t, Event& event) {
   }
   struck_unwritten_ = true;
   const double mover_radius = flight_.radius;
-  flight_ = {struck, t, radius_in(lift.cell, lift.lane)};
-  // The one that stopped rests where it is; the one struck moves on from its cell.
-  take_out(lift.cell, lift.lane);
-  rest(moving, locate_moved(xm), xm, mover_radius);
+  flight_ = {struck, t, radius_in(shape, struck_block, lift.lane)};
+  // The one that stopped rests where it is (in blocks laid out anew if its cell is full); the
+  // one struck moves on from its cell.
+  take_out(shape, struck_block, lift.lane);
+  const std::uint32_t rest_cell = locate_moved(xm);
+  if (!rest_in(shape, lanes + std::size_t{rest_cell} * shape.doubles, moving, xm, mover_radius))
+      [[unlikely]] {
+    rest(moving, rest_cell, xm, mover_radius);
+  }
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);

@@ -126,10 +126,9 @@ class EcmcEngine final : public Engine<D> {
   [[noreturn]] void throw_ring(const Event& event) const;
   // The nearest lift of the active particle among the particles around its cell (the cells
   // CellGrid::for_each_ahead visits), measured from its stored position: ties go to the lower
-  // index. `ahead` is distance_to_next_column().
-  Lift nearest_lift(double ahead) const;
-  template <std::size_t Axis>
-  Lift nearest_lift(double ahead) const;
+  // index. `ahead` is distance_to_next_column(); the blocks' layout is `shape`'s.
+  template <std::size_t Axis, class S>
+  Lift nearest_lift(const S& shape, double ahead) const;
   // The cells a search reads (CellGrid::for_each_ahead's), wrapping round the box.
   static constexpr std::size_t kAhead = D == 2 ? 6 : 18;
   using Cells = std::array<std::uint32_t, kAhead>;
@@ -153,9 +152,20 @@ class EcmcEngine final : public Engine<D> {
   // Engine::apply for the lift of the active particle onto lift.target at stored time t, bit for
   // bit; then the target moves on. Every field of `event` is written (a run that counts lifts
   // quietly reuses one).
-  void lift(const Lift& lift, double t, Event& event);
+  // The blocks' layout is `shape`'s (see with_shape()).
+  template <std::size_t Axis, class S>
+  void lift(const S& shape, const Lift& lift, double t, Event& event);
   // step() into `event`: false, and `event` as it was, if no lift is due by `end_time`.
   bool next_lift(double end_time, Event& event);
+  // How a flight along one axis ended: in a lift, in nothing due by the end time, or in a turn
+  // to the next chain (whose axis, and the blocks' layout, may differ).
+  enum class FlightEnd { lifted, not_due, turned };
+  // next_lift() while the chain's axis is Axis and the blocks' layout `shape`'s.
+  template <std::size_t Axis, class S>
+  FlightEnd fly_to_next_lift(const S& shape, double end_time, Event& event);
+  // f.template operator()<Axis>() for the chain's axis.
+  template <class F>
+  decltype(auto) with_axis(F&& f) const;
   // The System's entries of the particles lifts stopped (write_stops()), then those of the
   // particle struck last, as Engine::apply leaves them (moving at speed_ since its lift, which
   // counted): a lift writes them a lift later, with the struck particle's own stop, where they
@@ -173,23 +183,35 @@ class EcmcEngine final : public Engine<D> {
   // chain's axis from stored time t.
   void start_moving_at(double t);
   // Puts particle i at rest into cell `cell`'s block (its position and radius as given, or the
-  // System's), or takes the one in `lane` out of it.
+  // System's), the blocks laid out anew with more lanes if the cell is full.
   void rest(std::uint32_t i, std::uint32_t cell, const Vec<D>& position, double radius);
   void rest(std::uint32_t i, std::uint32_t cell);
-  void take_out(std::uint32_t cell, std::uint32_t lane);
-  // A cell's block, and what a lane of it holds (see lanes_).
+  // A cell's block, and what a lane of block b (of layout `shape`) holds.
   double* block(std::uint32_t cell) { return lanes_.data() + std::size_t{cell} * block_; }
   const double* block(std::uint32_t cell) const {
     return lanes_.data() + std::size_t{cell} * block_;
   }
-  Vec<D> position_in(std::uint32_t cell, std::uint32_t lane) const;
-  double radius_in(std::uint32_t cell, std::uint32_t lane) const;
-  std::uint32_t id_in(std::uint32_t cell, std::uint32_t lane) const;
-  // How many of a cell's lanes are in use (the first ones), and setting it.
-  std::uint32_t fill(std::uint32_t cell) const;
-  void set_fill(std::uint32_t cell, std::uint32_t lanes);
-  void put(std::uint32_t cell, std::uint32_t lane, const Vec<D>& position, double radius,
-           std::uint32_t id);
+  template <class S>
+  static Vec<D> position_in(const S& shape, const double* b, std::uint32_t lane);
+  template <class S>
+  double radius_in(const S& shape, const double* b, std::uint32_t lane) const;
+  template <class S>
+  static std::uint32_t id_in(const S& shape, const double* b, std::uint32_t lane);
+  // How many of a block's lanes are in use (the first ones), and setting it.
+  template <class S>
+  static std::uint32_t fill(const S& shape, const double* b);
+  template <class S>
+  static void set_fill(const S& shape, double* b, std::uint32_t lanes);
+  template <class S>
+  static void put(const S& shape, double* b, std::uint32_t lane, const Vec<D>& position,
+                  double radius, std::uint32_t id);
+  // Puts particle i at rest in block b: false, and nothing done, if every lane is in use.
+  template <class S>
+  static bool rest_in(const S& shape, double* b, std::uint32_t i, const Vec<D>& position,
+                      double radius);
+  // Takes the particle in `lane` out of block b (the last lane in use moves into it).
+  template <class S>
+  void take_out(const S& shape, double* b, std::uint32_t lane);
   // Every cell's lanes laid out for `capacity` a cell, those in use kept.
   void lay_out(std::uint32_t capacity);
   // The capacity after `capacity` when a cell is full: four after three (the fourth lane of
@@ -203,6 +225,28 @@ class EcmcEngine final : public Engine<D> {
   static constexpr std::size_t block_doubles(std::uint32_t capacity, bool radii) {
     return ((D + (radii ? 1 : 0)) * capacity + (capacity + 2) / 2 + 7) / 8 * 8;
   }
+  // The blocks' layout (see lanes_): how many lanes a block has, where its indices begin and how
+  // many doubles it takes, and whether it keeps radii. As the engine has it now (Shape), or fixed
+  // when compiled (FixedShape), so that a lift's stores into blocks make it read none of these
+  // again. Both have the same members.
+  struct Shape {
+    std::uint32_t capacity;
+    std::size_t ids;
+    std::size_t doubles;
+    bool radii;
+  };
+  template <std::uint32_t Capacity, bool Radii>
+  struct FixedShape {
+    static constexpr std::uint32_t capacity = Capacity;
+    static constexpr std::size_t ids = (D + (Radii ? 1 : 0)) * Capacity;
+    static constexpr std::size_t doubles = block_doubles(Capacity, Radii);
+    static constexpr bool radii = Radii;
+  };
+  Shape shape() const { return {capacity_, ids_offset_, block_, radii_kept_}; }
+  // f(the blocks' layout): a FixedShape where one is compiled (the capacities a search takes by
+  // pairs of lanes), else shape().
+  template <class F>
+  decltype(auto) with_shape(F&& f) const;
   // Where a block's indices begin, in doubles (after the coordinates, and the radii if kept).
   std::size_t ids_offset() const { return ids_offset_; }
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
