@@ -182,9 +182,8 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate_moved(
-    const Vec<D>& position) const {
-  const std::size_t axis = chain_.axis;
+[[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate_moved(const Vec<D>& position,
+                                                                    std::size_t axis) const {
   const double x = position[axis];
   if (!(x > 0.0 && x < this->system_.box.size[axis])) [[unlikely]]
     return grid_.locate(position);
@@ -380,12 +379,12 @@ void EcmcEngine<D>::set_moving(std::uint32_t i) {
   take_out(shape(), b, lane);
   cell_ = cell;
   at_ = grid_.coordinates_of(cell);
-  start_flight();
+  start_flight(chain_.axis);
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::start_flight() {
-  start_column_ = at_[chain_.axis];
+[[gnu::always_inline]] inline void EcmcEngine<D>::start_flight(std::size_t axis) {
+  start_column_ = at_[axis];
   columns_crossed_ = 0;
 }
 
@@ -655,16 +654,16 @@ void EcmcEngine<D>::write_stops() {
       __builtin_prefetch(system.particles.data() + later, 1);
       __builtin_prefetch(system.records.data() + later, 1);
     }
-    write_stop(stops_[s]);
+    write_stop(stops_[s], chain_.axis);
   }
   stops_.clear();
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::write_stop(const Stop& stop) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::write_stop(const Stop& stop, std::size_t axis) {
   Particle<D>& p = this->system_.particles[stop.id];
   p.position = stop.position;
-  p.velocity[chain_.axis] = 0.0;
+  p.velocity[axis] = 0.0;
   p.time = stop.time;
   ParticleRecord& r = this->system_.records[stop.id];
   r.pair_collisions += stop.counted;
@@ -750,10 +749,17 @@ template <std::size_t D>
 std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, Counts& run,
                                           Counts& window, Event& last) {
   std::uint64_t done = 0;
-  while (done < most && next_lift(end_time, last)) {
-    count_lift<D>(run, window, last);
-    ++done;
+  LiftTally<D> tally(run, window);
+  try {
+    while (done < most && next_lift(end_time, last)) {
+      tally.add(last);
+      ++done;
+    }
+  } catch (...) {  // a jam: the lifts made before it are counted, as one by one
+    tally.commit(run, window);
+    throw;
   }
+  tally.commit(run, window);
   write_back();
   return done;
 }
@@ -836,7 +842,7 @@ void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& even
       write_stops();
     stops_.push_back(stop);
   } else {
-    write_stop(stop);
+    write_stop(stop, axis);
   }
   struck_unwritten_ = true;
   const double mover_radius = flight_.radius;
@@ -844,7 +850,7 @@ void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& even
   // The one that stopped rests where it is (in blocks laid out anew if its cell is full); the
   // one struck moves on from its cell.
   take_out(shape, struck_block, lift.lane);
-  const std::uint32_t rest_cell = locate_moved(xm);
+  const std::uint32_t rest_cell = locate_moved(xm, axis);
   if (!rest_in(shape, lanes + std::size_t{rest_cell} * shape.doubles, moving, xm, mover_radius))
       [[unlikely]] {
     rest(moving, rest_cell, xm, mover_radius);
@@ -852,7 +858,7 @@ void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& even
   chain_.active = target;
   cell_ = lift.cell;
   at_ = grid_.coordinates_of(cell_);
-  start_flight();
+  start_flight(axis);
 }
 
 template <std::size_t D>
@@ -877,7 +883,7 @@ void EcmcEngine<D>::start_next_chain() {
   this->velocity_changes_.push_back({chain_.active, t, a.velocity, Vec<D>{}});
   a.velocity = Vec<D>{};
   wrap(a, this->system_.box, record.image);
-  rest(chain_.active, locate_moved(a.position));
+  rest(chain_.active, locate_moved(a.position, chain_.axis));
   chain_.axis = static_cast<std::uint8_t>((chain_.axis + 1) % D);
   start_moving_at(t);
   this->velocity_changes_.push_back({chain_.active, t, Vec<D>{}, along<D>(chain_.axis, speed_)});

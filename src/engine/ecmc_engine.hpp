@@ -178,7 +178,7 @@ class EcmcEngine final : public Engine<D> {
   // the two columns of cells a search reads.
   double distance_to_next_column() const;
   // The active particle's flight starts afresh from its stored state, in cell_.
-  void start_flight();
+  void start_flight(std::size_t axis);
   // Draws the next chain's active particle, at rest until now, and sets it moving along the
   // chain's axis from stored time t.
   void start_moving_at(double t);
@@ -263,7 +263,7 @@ class EcmcEngine final : public Engine<D> {
   std::uint32_t locate(const Vec<D>& position) const;
   // locate(position) for the active particle moved along the axis from where its flight began
   // (across the axis it is where cell_ is), bit for bit.
-  std::uint32_t locate_moved(const Vec<D>& position) const;
+  std::uint32_t locate_moved(const Vec<D>& position, std::size_t axis) const;
   // wrap(position, box, particle i's image flags), bit for bit, inline: its record is touched
   // only where a flag changes.
   void wrap_into_box(Vec<D>& position, std::uint32_t i);
@@ -325,7 +325,7 @@ class EcmcEngine final : public Engine<D> {
     std::uint32_t counted;
   };
   // Writes one into the System.
-  void write_stop(const Stop& stop);
+  void write_stop(const Stop& stop, std::size_t axis);
   // Where the System's entries are more than kHeldAbove bytes (stops_held_), the stops are held
   // in stops_ and written in bulk (write_stops(): each a line or two of its own, asked for a few
   // stops ahead) at a chain's end, when kStopsHeld are held, and before the engine returns:

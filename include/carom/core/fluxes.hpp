@@ -107,9 +107,10 @@ struct Fluxes {
   // with its velocity, so the kinetic rates stay as they were (exactly: add_event would add
   // zeros) and the kinetic integrals need not be brought to the event; only the collisional
   // stress sym(r dp) changes. The integrals stay at `stored` until the next velocity change
-  // (change_velocity), rebase or look (advanced).
+  // (change_velocity), rebase or look (advanced). Added to `collisional_stress`, the fluxes' own
+  // or a copy held over a batch of lifts (LiftTally).
   template <std::size_t D>
-  void add_lift(const Event& event) {
+  static void add_lift(SymmetricTensor& collisional_stress, const Event& event) {
     Vec<D> dp, r;
     for (std::size_t k = 0; k < D; ++k) {
       dp[k] = event.momentum[k];

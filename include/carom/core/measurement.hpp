@@ -38,13 +38,51 @@ struct Counts {
   }
 };
 
-// A lift of event chains as a run counts it: in the run's counts and its window's, and its
-// collisional stress in the run's fluxes (the kinetic part follows the chains' turns).
+// Lifts of event chains as a run counts them: in the run's counts and its window's, and their
+// collisional stress in the run's fluxes (the kinetic part follows the chains' turns). Held in
+// locals over a batch of lifts (where a compiler keeps them in registers, not read and written
+// back at every lift through counts that any store might change) and written back by commit():
+// the same sums, added in the same order.
+template <std::size_t D>
+class LiftTally {
+ public:
+  LiftTally(const Counts& run, const Counts& window)
+      : run_virial_(run.virial),
+        window_virial_(window.virial),
+        stressed_(run.fluxes.has_value()),
+        stress_(stressed_ ? run.fluxes->collisional_stress : SymmetricTensor{}) {}
+
+  void add(const Event& lift) {
+    ++lifts_;
+    run_virial_ += lift.impulse;
+    window_virial_ += lift.impulse;
+    if (stressed_) Fluxes::add_lift<D>(stress_, lift);
+  }
+
+  void commit(Counts& run, Counts& window) const {
+    for (Counts* counts : {&run, &window}) {
+      counts->events += lifts_;
+      counts->pair_collisions += lifts_;
+    }
+    run.virial = run_virial_;
+    window.virial = window_virial_;
+    if (stressed_) run.fluxes->collisional_stress = stress_;
+  }
+
+ private:
+  std::uint64_t lifts_ = 0;
+  double run_virial_;
+  double window_virial_;
+  bool stressed_;
+  SymmetricTensor stress_;
+};
+
+// One lift counted (LiftTally).
 template <std::size_t D>
 inline void count_lift(Counts& run, Counts& window, const Event& lift) {
-  run.add(lift);
-  window.add(lift);
-  if (run.fluxes) run.fluxes->add_lift<D>(lift);
+  LiftTally<D> tally(run, window);
+  tally.add(lift);
+  tally.commit(run, window);
 }
 
 // What was counted between two running totals (of a time-series row, of a drift interval).
