@@ -183,7 +183,7 @@ template <std::size_t D>
 
 template <std::size_t D>
 [[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::locate_moved(const Vec<D>& position,
-                                                                    std::size_t axis) const {
+                                                                        std::size_t axis) const {
   const double x = position[axis];
   if (!(x > 0.0 && x < this->system_.box.size[axis])) [[unlikely]]
     return grid_.locate(position);
@@ -196,8 +196,7 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(Vec<D>& position,
-                                                                std::uint32_t i) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::wrap_into_box(Vec<D>& position, std::uint32_t i) {
   for (std::size_t k = 0; k < D; ++k) {
     const double side = this->system_.box.size[k];
     if (position[k] > 0.0 && position[k] < side) [[likely]]
@@ -223,7 +222,7 @@ namespace {
 template <std::size_t D>
 template <class S>
 [[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::position_in(const S& shape, const double* b,
-                                                               std::uint32_t lane) {
+                                                                std::uint32_t lane) {
   Vec<D> position;
   for (std::size_t k = 0; k < D; ++k) position[k] = b[k * shape.capacity + lane];
   return position;
@@ -232,14 +231,14 @@ template <class S>
 template <std::size_t D>
 template <class S>
 [[gnu::always_inline]] inline double EcmcEngine<D>::radius_in(const S& shape, const double* b,
-                                                             std::uint32_t lane) const {
+                                                              std::uint32_t lane) const {
   return shape.radii ? b[D * shape.capacity + lane] : radius_;
 }
 
 template <std::size_t D>
 template <class S>
 [[gnu::always_inline]] inline std::uint32_t EcmcEngine<D>::id_in(const S& shape, const double* b,
-                                                                std::uint32_t lane) {
+                                                                 std::uint32_t lane) {
   return id_at(b, shape.ids, lane);
 }
 
@@ -259,9 +258,9 @@ template <class S>
 
 template <std::size_t D>
 template <class S>
-[[gnu::always_inline]] inline void EcmcEngine<D>::put(const S& shape, double* b,
-                                                      std::uint32_t lane, const Vec<D>& position,
-                                                      double radius, std::uint32_t id) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::put(const S& shape, double* b, std::uint32_t lane,
+                                                      const Vec<D>& position, double radius,
+                                                      std::uint32_t id) {
   for (std::size_t k = 0; k < D; ++k) b[k * shape.capacity + lane] = position[k];
   if (shape.radii) b[D * shape.capacity + lane] = radius;
   auto* ids = reinterpret_cast<unsigned char*>(b + shape.ids);
@@ -359,7 +358,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   capacity_ = capacity;
   ids_offset_ = (D + (radii_kept_ ? 1 : 0)) * capacity;
   block_ = block_doubles(capacity, radii_kept_);
-  lanes_.assign(std::size_t{cells_} * block_, 0.0);  // no lane in use
+  lanes_.assign(std::size_t{cells_} * block_, 0.0);      // no lane in use
   for (std::uint32_t cell = 0; cell < cells_; ++cell) {  // every lane empty (take_out)
     std::fill_n(block(cell), capacity, std::numeric_limits<double>::quiet_NaN());
   }
@@ -403,8 +402,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const S&, double ahead)
   }
   // Plain: no separation needs an image (cells that do not wrap, a flight that has not wrapped
   // round the box, a grid five cells across or more).
-  const bool plain =
-      inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis];
+  const bool plain = inner && plain_grid_ && start_column_ + columns_crossed_ < cells_along_[Axis];
   Cells cells;
   if (inner) [[likely]] {
     for (std::size_t c = 0; c < kAhead; ++c) {
@@ -457,8 +455,8 @@ void EcmcEngine<D>::cells_ahead(Cells& cells) const {
 // never cut).
 template <std::size_t D, std::size_t Axis>
 struct Approach {
-  double along;  // r's component along the axis (< 0: b is ahead)
-  double c2;     // |r|^2 - sigma^2
+  double along;         // r's component along the axis (< 0: b is ahead)
+  double c2;            // |r|^2 - sigma^2
   double discriminant;  // along^2 - c2, >= 0 where the lane meets b
   Approach(const Vec<D>& r, double sigma)
       : along(r[Axis]), c2(norm2(r) - sigma * sigma), discriminant(along * along - c2) {}
@@ -473,7 +471,7 @@ struct Approach {
 template <std::size_t D>
 template <std::size_t Axis>
 [[gnu::always_inline]] inline Vec<D> EcmcEngine<D>::separation(const Vec<D>& b,
-                                                              double ahead) const {
+                                                               double ahead) const {
   const Vec<D>& half = half_box_;
   const Vec<D>& side = this->system_.box.size;
   const double centre = -ahead;
@@ -513,9 +511,8 @@ inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
 // measured one by one, as nearest_lift_one_by_one measures them.
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
-                                                                   double ahead,
-                                                                   bool images) const {
+typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells, double ahead,
+                                                                  bool images) const {
   return images ? nearest_lift_in_lanes<Axis, Capacity, Radii, true>(cells, ahead)
                 : nearest_lift_in_lanes<Axis, Capacity, Radii, false>(cells, ahead);
 }
@@ -523,7 +520,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
-                                                                   double ahead) const {
+                                                                  double ahead) const {
   constexpr std::size_t kIds = (D + (Radii ? 1 : 0)) * Capacity;
   constexpr std::size_t kBlock = block_doubles(Capacity, Radii);
   const double* const lanes = lanes_.data();
@@ -539,8 +536,10 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
   const __m128d centre = _mm_set1_pd(-ahead);
   const __m128d low = centre - half[Axis], high = centre + half[Axis];
   const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
-  constexpr std::size_t kLanes = kAhead * Capacity;
-  std::array<std::uint64_t, (kLanes + 63) / 64> touching{};
+  // A bit for each lane that touches, kStride bits a cell (a power of two, so that a bit's cell
+  // and lane are a shift and a mask away).
+  constexpr std::size_t kStride = std::bit_ceil(Capacity);
+  std::array<std::uint64_t, (kAhead * kStride + 63) / 64> touching{};
   for (std::size_t c = 0; c < kAhead; ++c) {
     const double* const b = lanes + std::size_t{cells[c]} * kBlock;
     for (std::uint32_t lane = 0; lane < Capacity; lane += 2) {
@@ -563,8 +562,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
         if constexpr (Images) {
           if (k == Axis) {
             const __m128d inside = _mm_and_pd(_mm_cmpge_pd(r[k], low), _mm_cmple_pd(r[k], high));
-            r[k] = choose(inside, r[k],
-                          r[k] - side[k] * nearbyint2((r[k] - centre) * per_side[k]));
+            r[k] = choose(inside, r[k], r[k] - side[k] * nearbyint2((r[k] - centre) * per_side[k]));
           } else {
             const __m128d inside = _mm_cmple_pd(_mm_and_pd(r[k], magnitude), half[k]);
             r[k] = choose(inside, r[k], r[k] - side[k] * nearbyint2(r[k] * per_side[k]));
@@ -580,7 +578,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
       const auto hits = static_cast<std::uint64_t>(_mm_movemask_pd(_mm_and_pd(
                             _mm_cmplt_pd(along, zero), _mm_cmpge_pd(discriminant, zero)))) &
                         (single ? 1u : 3u);
-      const std::size_t at = c * Capacity + lane;
+      const std::size_t at = c * kStride + lane;
       touching[at / 64] |= hits << (at % 64);
     }
   }
@@ -588,8 +586,8 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& c
   for (std::size_t word = 0; word < touching.size(); ++word) {
     for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
       const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
-      const std::uint32_t cell = cells[at / Capacity];
-      const auto lane = static_cast<std::uint32_t>(at % Capacity);
+      const std::uint32_t cell = cells[at / kStride];
+      const auto lane = static_cast<std::uint32_t>(at % kStride);
       const double* const b = lanes + std::size_t{cell} * kBlock;
       Vec<D> position;
       for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
@@ -706,9 +704,8 @@ template <class F>
 
 template <std::size_t D>
 template <std::size_t Axis, class S>
-typename EcmcEngine<D>::FlightEnd EcmcEngine<D>::fly_to_next_lift(const S& shape,
-                                                                    double end_time,
-                                                                    Event& event) {
+typename EcmcEngine<D>::FlightEnd EcmcEngine<D>::fly_to_next_lift(const S& shape, double end_time,
+                                                                  Event& event) {
   while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
@@ -751,9 +748,20 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
   std::uint64_t done = 0;
   LiftTally<D> tally(run, window);
   try {
-    while (done < most && next_lift(end_time, last)) {
-      tally.add(last);
-      ++done;
+    // Lifts along one axis in blocks of one layout, in a loop compiled for them, until the chain
+    // turns or the blocks are laid out anew (a full cell): then the next axis and layout.
+    bool due = true;
+    while (due && done < most) {
+      due = with_axis([&]<std::size_t Axis>() {
+        return with_shape([&](const auto& shape) {
+          while (true) {
+            const FlightEnd end = fly_to_next_lift<Axis>(shape, end_time, last);
+            if (end != FlightEnd::lifted) return end == FlightEnd::turned;
+            tally.add(last);
+            if (++done == most || capacity_ != shape.capacity) return true;
+          }
+        });
+      });
     }
   } catch (...) {  // a jam: the lifts made before it are counted, as one by one
     tally.commit(run, window);
@@ -771,7 +779,8 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
 // The terms that are zeros in apply() add nothing, signed zeros included.
 template <std::size_t D>
 template <std::size_t Axis, class S>
-void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& event) {
+[[gnu::always_inline]] inline void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t,
+                                                       Event& event) {
   const std::uint32_t moving = chain_.active, target = lift.target;
   constexpr std::size_t axis = Axis;
   System<D>& system = this->system_;
@@ -802,7 +811,8 @@ void EcmcEngine<D>::lift(const S& shape, const Lift& lift, double t, Event& even
     for (const std::int64_t offset : lead_offsets_[axis]) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < cells_) {
-        const auto* const b = reinterpret_cast<const char*>(block(static_cast<std::uint32_t>(cell)));
+        const auto* const b =
+            reinterpret_cast<const char*>(block(static_cast<std::uint32_t>(cell)));
         for (std::size_t line = 0; line < read; line += 64) {
           __builtin_prefetch(b + line);
         }

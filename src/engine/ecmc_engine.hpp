@@ -255,7 +255,7 @@ class EcmcEngine final : public Engine<D> {
   // System's copy is written at every lift but read by none (a lift's next search starts from
   // what the last one read, without waiting for the struck particle's state in the System).
   struct Flight {
-    Vec<D> from;  // stored position
+    Vec<D> from;        // stored position
     double time = 0.0;  // stored time
     double radius = 0.0;
   };
@@ -293,7 +293,7 @@ class EcmcEngine final : public Engine<D> {
   std::uint32_t capacity_ = 0;
   std::size_t block_ = 0;
   std::size_t ids_offset_ = 0;  // (D + radii_kept_) x capacity_
-  bool radii_kept_ = true;  // in the blocks; else every particle's radius is radius_
+  bool radii_kept_ = true;      // in the blocks; else every particle's radius is radius_
   double radius_ = 0.0;
   std::uint32_t cell_ = 0;             // the cell the active particle is in now
   std::array<std::uint32_t, D> at_{};  // cell_'s place along each axis
