@@ -521,8 +521,8 @@ template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
 typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
                                                                   double ahead) const {
-  constexpr std::size_t kIds = (D + (Radii ? 1 : 0)) * Capacity;
-  constexpr std::size_t kBlock = block_doubles(Capacity, Radii);
+  constexpr std::size_t kIds = FixedShape<Capacity, Radii>::ids;
+  constexpr std::size_t kBlock = FixedShape<Capacity, Radii>::doubles;
   const double* const lanes = lanes_.data();
   __m128d from[D], half[D], side[D], per_side[D];
   for (std::size_t k = 0; k < D; ++k) {

@@ -247,8 +247,6 @@ class EcmcEngine final : public Engine<D> {
   // pairs of lanes), else shape().
   template <class F>
   decltype(auto) with_shape(F&& f) const;
-  // Where a block's indices begin, in doubles (after the coordinates, and the radii if kept).
-  std::size_t ids_offset() const { return ids_offset_; }
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
   void set_moving(std::uint32_t i);
   // The active particle's stored state, as the System has it, kept here for the next search: the
