@@ -683,13 +683,30 @@ void EcmcEngine<D>::write_back() {
 
 template <std::size_t D>
 bool EcmcEngine<D>::next_lift(double end_time, Event& event) {
-  while (true) {
-    const FlightEnd end = with_axis([&]<std::size_t Axis>() {
-      return with_shape(
-          [&](const auto& shape) { return fly_to_next_lift<Axis>(shape, end_time, event); });
+  return lifts(end_time, 1, event, [](const Event&) {}) == 1;
+}
+
+template <std::size_t D>
+template <class OnLift>
+std::uint64_t EcmcEngine<D>::lifts(double end_time, std::uint64_t most, Event& last,
+                                   OnLift&& on_lift) {
+  std::uint64_t done = 0;
+  // Lifts along one axis in blocks of one layout, in a loop compiled for them, until the chain
+  // turns or the blocks are laid out anew (a full cell): then the next axis and layout.
+  bool due = true;
+  while (due && done < most) {
+    due = with_axis([&]<std::size_t Axis>() {
+      return with_shape([&](const auto& shape) {
+        while (true) {
+          const FlightEnd end = fly_to_next_lift<Axis>(shape, end_time, last);
+          if (end != FlightEnd::lifted) return end == FlightEnd::turned;
+          on_lift(last);
+          if (++done == most || capacity_ != shape.capacity) return true;
+        }
+      });
     });
-    if (end != FlightEnd::turned) return end == FlightEnd::lifted;
   }
+  return done;
 }
 
 template <std::size_t D>
@@ -748,21 +765,7 @@ std::uint64_t EcmcEngine<D>::lift_quietly(double end_time, std::uint64_t most, C
   std::uint64_t done = 0;
   LiftTally<D> tally(run, window);
   try {
-    // Lifts along one axis in blocks of one layout, in a loop compiled for them, until the chain
-    // turns or the blocks are laid out anew (a full cell): then the next axis and layout.
-    bool due = true;
-    while (due && done < most) {
-      due = with_axis([&]<std::size_t Axis>() {
-        return with_shape([&](const auto& shape) {
-          while (true) {
-            const FlightEnd end = fly_to_next_lift<Axis>(shape, end_time, last);
-            if (end != FlightEnd::lifted) return end == FlightEnd::turned;
-            tally.add(last);
-            if (++done == most || capacity_ != shape.capacity) return true;
-          }
-        });
-      });
-    }
+    done = lifts(end_time, most, last, [&](const Event& lift) { tally.add(lift); });
   } catch (...) {  // a jam: the lifts made before it are counted, as one by one
     tally.commit(run, window);
     throw;

@@ -157,6 +157,10 @@ class EcmcEngine final : public Engine<D> {
   void lift(const S& shape, const Lift& lift, double t, Event& event);
   // step() into `event`: false, and `event` as it was, if no lift is due by `end_time`.
   bool next_lift(double end_time, Event& event);
+  // The lifts due by `end_time`, at most `most`, each left in `last` and handed to on_lift:
+  // how many. next_lift() and lift_quietly() are this loop.
+  template <class OnLift>
+  std::uint64_t lifts(double end_time, std::uint64_t most, Event& last, OnLift&& on_lift);
   // How a flight along one axis ended: in a lift, in nothing due by the end time, or in a turn
   // to the next chain (whose axis, and the blocks' layout, may differ).
   enum class FlightEnd { lifted, not_due, turned };
