@@ -163,8 +163,9 @@ System<D> golden_start(std::uint64_t n, double phi, double polydispersity, doubl
 
 // `lifts` lifts in one go; the hash of every event and of the end state.
 template <std::size_t D>
-std::uint64_t golden_run(System<D> start, double chain_length, std::uint64_t seed, int lifts) {
-  EcmcEngine<D> engine(std::move(start), chain_length, pcg32(seed));
+std::uint64_t golden_run(System<D> start, double chain_length, std::uint64_t seed, int lifts,
+                         ContactKernel kernel) {
+  EcmcEngine<D> engine(std::move(start), chain_length, pcg32(seed), kernel);
   RunHash hash;
   try {
     for (int k = 0; k < lifts; ++k) {
@@ -184,8 +185,9 @@ std::uint64_t golden_run(System<D> start, double chain_length, std::uint64_t see
 // from the chain state: what a Simulation and a checkpoint do with it.
 template <std::size_t D>
 std::uint64_t golden_pieces(System<D> start, double chain_length, std::uint64_t seed, double piece,
-                            int pieces) {
-  auto engine = std::make_unique<EcmcEngine<D>>(std::move(start), chain_length, pcg32(seed));
+                            int pieces, ContactKernel kernel) {
+  auto engine =
+      std::make_unique<EcmcEngine<D>>(std::move(start), chain_length, pcg32(seed), kernel);
   RunHash hash;
   int events = 0;
   for (int k = 1; k <= pieces; ++k) {
@@ -196,7 +198,7 @@ std::uint64_t golden_pieces(System<D> start, double chain_length, std::uint64_t 
     if (k == pieces / 2) {
       hash.add(*engine);
       const ChainState chain = engine->chain();
-      engine = std::make_unique<EcmcEngine<D>>(engine->system(), chain_length, chain);
+      engine = std::make_unique<EcmcEngine<D>>(engine->system(), chain_length, chain, kernel);
     }
   }
   EXPECT_GT(events, 1000);
@@ -213,40 +215,52 @@ std::string hex(std::uint64_t value) {
 // Today's lifts, bit for bit: every event's fields and the state left behind hash to what the
 // first engine (generic cell lists, the engines' apply()) gave. A faster engine must give them
 // too: the same events at the same times, the same impulses, the same final system. Chains stay
-// shorter than half a box side where lifts are rare: a flight that long never ends.
-TEST(Ecmc, GoldenRunsAreBitForBitTheSame) {
+// shorter than half a box side where lifts are rare: a flight that long never ends. Both the
+// baseline's instructions and the widest this CPU has (AVX2's) give them.
+class EcmcGolden : public testing::TestWithParam<ContactKernel> {};
+
+INSTANTIATE_TEST_SUITE_P(Kernels, EcmcGolden,
+                         testing::Values(ContactKernel::scalar, widest_contact_kernel()),
+                         [](const testing::TestParamInfo<ContactKernel>& info) {
+                           return info.index == 0 ? std::string("baseline") : std::string("widest");
+                         });
+
+TEST_P(EcmcGolden, RunsAreBitForBitTheSame) {
+  const ContactKernel kernel = GetParam();
   const auto expect = [](std::uint64_t got, std::uint64_t want, const char* what) {
     EXPECT_EQ(hex(got), hex(want)) << what;
   };
   const Placement random = Placement::random, lattice = Placement::lattice;
-  expect(golden_run(golden_start<2>(300, 0.5, 0.0, 1.0, random, 1), 5.0, 11, 100000),
+  expect(golden_run(golden_start<2>(300, 0.5, 0.0, 1.0, random, 1), 5.0, 11, 100000, kernel),
          0x1ab55ece1c20497a, "disks 0.5");
-  expect(golden_run(golden_start<2>(300, 0.7, 0.0, 1.0, lattice, 2), 12.0, 3, 100000),
+  expect(golden_run(golden_start<2>(300, 0.7, 0.0, 1.0, lattice, 2), 12.0, 3, 100000, kernel),
          0xf5f3e3bfd293fce7, "disks 0.7");
-  expect(golden_run(golden_start<2>(300, 0.45, 0.25, 1.0, random, 3), 8.0, 5, 100000),
+  expect(golden_run(golden_start<2>(300, 0.45, 0.25, 1.0, random, 3), 8.0, 5, 100000, kernel),
          0x8f06cf847ef32977, "polydisperse disks 0.45");
-  expect(golden_run(golden_start<2>(256, 0.7, 0.05, 1.0, lattice, 4), 8.0, 7, 100000),
+  expect(golden_run(golden_start<2>(256, 0.7, 0.05, 1.0, lattice, 4), 8.0, 7, 100000, kernel),
          0x58f8930c62a3a5ae, "polydisperse disks 0.7");
-  expect(golden_run(golden_start<2>(200, 0.05, 0.0, 1.0, random, 5), 20.0, 9, 50000),
+  expect(golden_run(golden_start<2>(200, 0.05, 0.0, 1.0, random, 5), 20.0, 9, 50000, kernel),
          0xce2337692aa9f15c, "sparse disks");
-  expect(golden_run(golden_start<2>(32, 0.7, 0.0, 3.0, lattice, 2), 6.0, 2, 50000),
+  expect(golden_run(golden_start<2>(32, 0.7, 0.0, 3.0, lattice, 2), 6.0, 2, 50000, kernel),
          0x54aef21e520b9aa2, "disks in a box three cells high");
-  expect(golden_run(golden_start<3>(300, 0.3, 0.0, 1.0, random, 7), 5.0, 15, 100000),
+  expect(golden_run(golden_start<3>(300, 0.3, 0.0, 1.0, random, 7), 5.0, 15, 100000, kernel),
          0x545768e7de56de99, "spheres 0.3");
-  expect(golden_run(golden_start<3>(256, 0.45, 0.0, 1.0, lattice, 8), 12.0, 17, 100000),
+  expect(golden_run(golden_start<3>(256, 0.45, 0.0, 1.0, lattice, 8), 12.0, 17, 100000, kernel),
          0x3ccd6444b18b7695, "spheres 0.45");
-  expect(golden_run(golden_start<3>(300, 0.25, 0.2, 1.0, random, 9), 3.0, 19, 100000),
+  expect(golden_run(golden_start<3>(300, 0.25, 0.2, 1.0, random, 9), 3.0, 19, 100000, kernel),
          0x813a45a3aaeb08ea, "polydisperse spheres 0.25");
-  expect(golden_run(golden_start<3>(200, 0.02, 0.0, 1.0, random, 10), 6.0, 21, 50000),
+  expect(golden_run(golden_start<3>(200, 0.02, 0.0, 1.0, random, 10), 6.0, 21, 50000, kernel),
          0x7a493ffa498b8567, "sparse spheres");
-  expect(golden_run(golden_start<3>(64, 0.45, 0.0, 2.0, lattice, 1), 6.0, 1, 50000),
+  expect(golden_run(golden_start<3>(64, 0.45, 0.0, 2.0, lattice, 1), 6.0, 1, 50000, kernel),
          0x30e9f82fe9828a18, "spheres in a box three cells across");
-  expect(golden_run(golden_start<3>(64, 0.45, 0.0, 2.0, lattice, 3), 6.0, 3, 50000),
+  expect(golden_run(golden_start<3>(64, 0.45, 0.0, 2.0, lattice, 3), 6.0, 3, 50000, kernel),
          0xc6ec40318aa9cd4d, "spheres jammed in a ring");
-  expect(golden_pieces(golden_start<2>(300, 0.7, 0.0, 1.0, lattice, 12), 10.0, 25, 0.37, 40),
-         0x9cf67b5d139452ae, "disks 0.7 in pieces");
-  expect(golden_pieces(golden_start<3>(256, 0.45, 0.05, 1.0, lattice, 13), 10.0, 27, 0.37, 40),
-         0x08df2cc5d0221274, "spheres 0.45 in pieces");
+  expect(
+      golden_pieces(golden_start<2>(300, 0.7, 0.0, 1.0, lattice, 12), 10.0, 25, 0.37, 40, kernel),
+      0x9cf67b5d139452ae, "disks 0.7 in pieces");
+  expect(
+      golden_pieces(golden_start<3>(256, 0.45, 0.05, 1.0, lattice, 13), 10.0, 27, 0.37, 40, kernel),
+      0x08df2cc5d0221274, "spheres 0.45 in pieces");
 }
 
 // Flights of any length, in boxes down to three cells across and in sparse ones where a flight

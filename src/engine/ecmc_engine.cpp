@@ -95,7 +95,8 @@ void check_chain_start(const System<D>& system) {
 }
 
 template <std::size_t D>
-EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainState& chain)
+EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainState& chain,
+                          ContactKernel kernel)
     : Engine<D>(std::move(system), {Rule::swap, 1.0, 0.0}, {}),
       chain_(chain),
       grid_(chain_grid(this->system_)) {
@@ -158,11 +159,16 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   stops_held_ = (sizeof(Particle<D>) + sizeof(ParticleRecord)) * n > kHeldAbove;
   if (stops_held_) stops_.reserve(kStopsHeld);
   set_moving(chain_.active);
+#ifdef CAROM_HAVE_AVX2_KERNEL
+  avx2_ = kernel != ContactKernel::scalar && cpu_has_avx2();
+#else
+  static_cast<void>(kernel);
+#endif
 }
 
 template <std::size_t D>
-EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng)
-    : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}) {
+EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, pcg32 rng, ContactKernel kernel)
+    : EcmcEngine(at_rest(std::move(system)), chain_length, ChainState{0, 0, 0.0, rng}, kernel) {
   rest(0, locate(this->system_.particles[0].position));
   start_moving_at(this->now_);
 }
@@ -395,7 +401,8 @@ template <std::size_t D>
 
 template <std::size_t D>
 template <std::size_t Axis, class S>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(const S&, double ahead) const {
+[[gnu::always_inline]] inline typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift(
+    const S&, double ahead) const {
   bool inner = at_[Axis] + 1 < cells_along_[Axis];
   for (std::size_t k = 0; k < D; ++k) {
     if (k != Axis) inner = inner && at_[k] - 1 < cells_along_[k] - 2;  // 1 <= at <= n - 2
@@ -511,16 +518,16 @@ inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
 // measured one by one, as nearest_lift_one_by_one measures them.
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells, double ahead,
-                                                                  bool images) const {
+[[gnu::always_inline]] inline typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(
+    const Cells& cells, double ahead, bool images) const {
   return images ? nearest_lift_in_lanes<Axis, Capacity, Radii, true>(cells, ahead)
                 : nearest_lift_in_lanes<Axis, Capacity, Radii, false>(cells, ahead);
 }
 
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
-typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(const Cells& cells,
-                                                                  double ahead) const {
+[[gnu::always_inline]] inline typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(
+    const Cells& cells, double ahead) const {
   constexpr std::size_t kIds = FixedShape<Capacity, Radii>::ids;
   constexpr std::size_t kBlock = FixedShape<Capacity, Radii>::doubles;
   const double* const lanes = lanes_.data();
@@ -622,7 +629,7 @@ typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_one_by_one(const Cells&
 }
 
 template <std::size_t D>
-double EcmcEngine<D>::distance_to_next_column() const {
+[[gnu::always_inline]] inline double EcmcEngine<D>::distance_to_next_column() const {
   const std::size_t k = chain_.axis;
   // The box sides the flight has wrapped round since it started (in the box, at column
   // start_column_).
@@ -690,13 +697,35 @@ template <std::size_t D>
 template <class OnLift>
 std::uint64_t EcmcEngine<D>::lifts(double end_time, std::uint64_t most, Event& last,
                                    OnLift&& on_lift) {
+#ifdef CAROM_HAVE_AVX2_KERNEL
+  if (avx2_) return lifts_avx2(end_time, most, last, on_lift);
+#endif
+  return lifts_loop(end_time, most, last, on_lift);
+}
+
+#ifdef CAROM_HAVE_AVX2_KERNEL
+template <std::size_t D>
+template <class OnLift>
+[[gnu::target("avx2")]] std::uint64_t EcmcEngine<D>::lifts_avx2(double end_time, std::uint64_t most,
+                                                                Event& last, OnLift&& on_lift) {
+  return lifts_loop(end_time, most, last, on_lift);
+}
+#endif
+
+// Everything a lift runs is inlined here (always_inline), so that lifts_avx2 compiles it anew.
+template <std::size_t D>
+template <class OnLift>
+[[gnu::always_inline]] inline std::uint64_t EcmcEngine<D>::lifts_loop(double end_time,
+                                                                      std::uint64_t most,
+                                                                      Event& last,
+                                                                      OnLift&& on_lift) {
   std::uint64_t done = 0;
   // Lifts along one axis in blocks of one layout, in a loop compiled for them, until the chain
   // turns or the blocks are laid out anew (a full cell): then the next axis and layout.
   bool due = true;
   while (due && done < most) {
-    due = with_axis([&]<std::size_t Axis>() {
-      return with_shape([&](const auto& shape) {
+    due = with_axis([&]<std::size_t Axis>() __attribute__((always_inline)) {
+      return with_shape([&](const auto& shape) __attribute__((always_inline)) {
         while (true) {
           const FlightEnd end = fly_to_next_lift<Axis>(shape, end_time, last);
           if (end != FlightEnd::lifted) return end == FlightEnd::turned;
@@ -721,8 +750,8 @@ template <class F>
 
 template <std::size_t D>
 template <std::size_t Axis, class S>
-typename EcmcEngine<D>::FlightEnd EcmcEngine<D>::fly_to_next_lift(const S& shape, double end_time,
-                                                                  Event& event) {
+[[gnu::always_inline]] inline typename EcmcEngine<D>::FlightEnd EcmcEngine<D>::fly_to_next_lift(
+    const S& shape, double end_time, Event& event) {
   while (true) {
     // A whole lap without a lift (from the start column's cells through to their next image,
     // where the lap ends): nothing lies in the lane, and the flight goes on to the chain's end.
