@@ -154,6 +154,15 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
             inner_offsets_[axis][c] + static_cast<std::int64_t>((kLead - 1) * strides_[axis]);
       }
     }
+    std::size_t wide = 0;
+    for (std::size_t across = 0; across < D; ++across) {
+      if (across == axis) continue;
+      for (const std::int64_t columns : {kLead - 1, kLead}) {
+        for (const std::int64_t rows : {-2, 2}) {
+          wide_offsets_[axis][wide++] = columns * strides_[axis] + rows * strides_[across];
+        }
+      }
+    }
   }
   prefer_large_pages(this->system_);
   stops_held_ = (sizeof(Particle<D>) + sizeof(ParticleRecord)) * n > kHeldAbove;
@@ -370,6 +379,7 @@ void EcmcEngine<D>::lay_out(std::uint32_t capacity) {
   }
   for (const Held& h : held) rest_in(shape(), block(h.cell), h.id, h.position, h.radius);
   prefetch_cells_ = lanes_.size() * sizeof(double) > kCacheBytes;
+  prefetch_wide_ = lanes_.size() * sizeof(double) > kWideAbove;
 }
 
 template <std::size_t D>
@@ -836,11 +846,12 @@ template <std::size_t Axis, class S>
   // cells kLead ahead of the target's is asked for now, a lift or two before a search reads it,
   // where the blocks do not fit in a core's cache (at an edge of the grid some of these are other
   // cells: no harm): the lines of their coordinates (and radii), which every search reads (not
-  // the indices' beyond them: 3D spheres at N = 32768 were 5 % slower with them). So are the
-  // target's System entries where a lift writes its stop itself (not stops_held_).
+  // the indices' beyond them: 3D spheres at N = 32768 were 5 % slower with them), and where
+  // they fit in no cache at all the cells two rows aside (wide_offsets_). So are the target's
+  // System entries where a lift writes its stop itself (not stops_held_).
   if (prefetch_cells_) {
     const std::size_t read = ids_offset_ * sizeof(double);
-    for (const std::int64_t offset : lead_offsets_[axis]) {
+    const auto fetch = [&](const std::int64_t offset) __attribute__((always_inline)) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < cells_) {
         const auto* const b =
@@ -849,6 +860,10 @@ template <std::size_t Axis, class S>
           __builtin_prefetch(b + line);
         }
       }
+    };
+    for (const std::int64_t offset : lead_offsets_[axis]) fetch(offset);
+    if (prefetch_wide_) {
+      for (const std::int64_t offset : wide_offsets_[axis]) fetch(offset);
     }
     if (!stops_held_) {
       __builtin_prefetch(system.particles.data() + target, 1);
