@@ -478,8 +478,11 @@ struct Approach {
   Approach(const Vec<D>& r, double sigma)
       : along(r[Axis]), c2(norm2(r) - sigma * sigma), discriminant(along * along - c2) {}
   bool touches() const { return along < 0.0 && discriminant >= 0.0; }
-  // How far the active particle moves to touch b, given touches().
-  double distance() const { return c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant)); }
+  // How far the active particle moves to touch b, given touches(), from the terms.
+  static double distance(double c2, double along, double discriminant) {
+    return c2 <= 0.0 ? 0.0 : c2 / (-along + std::sqrt(discriminant));
+  }
+  double distance() const { return distance(c2, along, discriminant); }
 };
 
 // The image of b the search sees: the one in the two columns of cells being searched. They lie
@@ -508,24 +511,42 @@ template <std::size_t Axis>
 
 #if defined(__SSE2__)
 namespace {
-// std::nearbyint, two at a time, in the default rounding mode, for |x| < 2^51: x plus 1.5 x 2^52
-// is rounded to a whole number (ties to even) and the addend taken off exactly. (Only the sign
-// of a zero may differ, and x - side * n is the same for either.)
-inline __m128d nearbyint2(__m128d x) {
-  const __m128d shift = _mm_set1_pd(0x1.8p52);
-  return (x + shift) - shift;
+// Four doubles (or their comparisons) at a time, through GCC's vector extensions: compiled into
+// lifts_avx2 they are one AVX register each, into the baseline loop two SSE2 registers. (Passed
+// by value only to and from functions that are always inlined, so the calling convention GCC
+// warns of, which differs with and without AVX, is never used; GCC reports it at the file's end,
+// so it is silenced from here on.)
+#pragma GCC diagnostic ignored "-Wpsabi"
+using Quad = double __attribute__((vector_size(32)));
+using QuadMask = std::int64_t __attribute__((vector_size(32)));
+
+[[gnu::always_inline]] inline Quad load_quad(const double* at) {
+  Quad q;
+  std::memcpy(&q, at, sizeof(q));
+  return q;
 }
-// mask ? a : b, lane by lane.
-inline __m128d choose(__m128d mask, __m128d a, __m128d b) {
-  return _mm_or_pd(_mm_and_pd(mask, a), _mm_andnot_pd(mask, b));
+[[gnu::always_inline]] inline Quad broadcast(double x) { return Quad{x, x, x, x}; }
+// A bit for each element of `mask` that is set.
+[[gnu::always_inline]] inline unsigned bits_of(QuadMask mask) {
+  const auto low = reinterpret_cast<__m128d>(__builtin_shufflevector(mask, mask, 0, 1));
+  const auto high = reinterpret_cast<__m128d>(__builtin_shufflevector(mask, mask, 2, 3));
+  return static_cast<unsigned>(_mm_movemask_pd(low) | _mm_movemask_pd(high) << 2);
+}
+// std::nearbyint, element by element, in the default rounding mode, for |x| < 2^51: x plus
+// 1.5 x 2^52 is rounded to a whole number (ties to even) and the addend taken off exactly. (Only
+// the sign of a zero may differ, and x - side * n is the same for either.)
+[[gnu::always_inline]] inline Quad nearbyint4(Quad x) {
+  const Quad shift = broadcast(0x1.8p52);
+  return (x + shift) - shift;
 }
 }  // namespace
 
-// The lanes of the cells' blocks are tested two at a time, without a branch, for whether the
+// The lanes of the cells' blocks are tested four at a time, without a branch, for whether the
 // active particle touches the particle in each (Approach::touches(), term by term, through the
-// image separation() takes where Images: a lane not in use has a NaN first coordinate, so a
-// NaN squared distance, and every comparison with NaN is false); then the few that do are
-// measured one by one, as nearest_lift_one_by_one measures them.
+// image separation() takes where Images: a lane not in use has a NaN first coordinate, so a NaN
+// squared distance, and every comparison with NaN is false), and the terms of Approach kept;
+// then the few lanes that touch are measured one by one from those terms, as
+// nearest_lift_one_by_one measures them (where Images, through separation() again).
 template <std::size_t D>
 template <std::size_t Axis, std::uint32_t Capacity, bool Radii>
 [[gnu::always_inline]] inline typename EcmcEngine<D>::Lift EcmcEngine<D>::nearest_lift_in_lanes(
@@ -541,82 +562,118 @@ template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
   constexpr std::size_t kIds = FixedShape<Capacity, Radii>::ids;
   constexpr std::size_t kBlock = FixedShape<Capacity, Radii>::doubles;
   const double* const lanes = lanes_.data();
-  __m128d from[D], half[D], side[D], per_side[D];
+  Quad from[D], half[D], side[D], per_side[D];
   for (std::size_t k = 0; k < D; ++k) {
-    from[k] = _mm_set1_pd(flight_.from[k]);
-    half[k] = _mm_set1_pd(half_box_[k]);
-    side[k] = _mm_set1_pd(this->system_.box.size[k]);
-    per_side[k] = _mm_set1_pd(1.0 / this->system_.box.size[k]);
+    from[k] = broadcast(flight_.from[k]);
+    half[k] = broadcast(half_box_[k]);
+    side[k] = broadcast(this->system_.box.size[k]);
+    per_side[k] = broadcast(1.0 / this->system_.box.size[k]);
   }
-  const __m128d radius = _mm_set1_pd(flight_.radius), zero = _mm_setzero_pd();
-  const __m128d both_radii = _mm_set1_pd(flight_.radius + radius_);
-  const __m128d centre = _mm_set1_pd(-ahead);
-  const __m128d low = centre - half[Axis], high = centre + half[Axis];
-  const __m128d magnitude = _mm_castsi128_pd(_mm_set1_epi64x(0x7fffffffffffffff));
-  // A bit for each lane that touches, kStride bits a cell (a power of two, so that a bit's cell
-  // and lane are a shift and a mask away).
-  constexpr std::size_t kStride = std::bit_ceil(Capacity);
-  std::array<std::uint64_t, (kAhead * kStride + 63) / 64> touching{};
+  const Quad radius = broadcast(flight_.radius), zero{};
+  const Quad both_radii = broadcast(flight_.radius + radius_);
+  const Quad centre = broadcast(-ahead);
+  const Quad low = centre - half[Axis], high = centre + half[Axis];
+  const QuadMask magnitude = QuadMask{} + 0x7fffffffffffffff;
+  // A slot for each lane, kStride a cell (a power of two, four or more, so that a slot's cell
+  // and lane are a shift and a mask away): a bit in `touching` for each lane that touches, and
+  // its Approach's terms.
+  constexpr std::size_t kStride = std::bit_ceil(std::max<std::size_t>(Capacity, 4));
+  constexpr std::size_t kSlots = kAhead * kStride;
+  std::array<std::uint64_t, (kSlots + 63) / 64> touching{};
+  alignas(32) double alongs[kSlots], c2s[kSlots], discriminants[kSlots];
   for (std::size_t c = 0; c < kAhead; ++c) {
     const double* const b = lanes + std::size_t{cells[c]} * kBlock;
-    for (std::uint32_t lane = 0; lane < Capacity; lane += 2) {
-      // Lanes are used from the first on: a NaN here is the end of those in use (most cells
-      // have two or fewer).
+    for (std::uint32_t lane = 0; lane < Capacity; lane += 4) {
+      // Lanes are used from the first on: a NaN here is the end of those in use.
       if (lane > 0 && std::isnan(b[lane])) break;
-      // Of an odd number, the last lane is read alone (beside a zero, whose hit is dropped): the
-      // double after it is the next run's, or indices.
-      const bool single = Capacity % 2 == 1 && lane + 1 == Capacity;
-      const auto load = [&](const double* at) {
-        return single ? _mm_load_sd(at) : _mm_loadu_pd(at);
-      };
-      __m128d r[D];
+      Quad r[D];
       for (std::size_t k = 0; k < D; ++k) {
-        r[k] = from[k] - load(b + k * Capacity + lane);
+        r[k] = from[k] - load_quad(b + k * Capacity + lane);
         // separation(), term by term, but for whole sides counted with 1 / side for / side:
         // the two differ only for a quotient within a rounding of a half, a particle half a side
         // from the columns searched, which touches through neither image (a lane that touches
         // is measured again through separation()).
         if constexpr (Images) {
           if (k == Axis) {
-            const __m128d inside = _mm_and_pd(_mm_cmpge_pd(r[k], low), _mm_cmple_pd(r[k], high));
-            r[k] = choose(inside, r[k], r[k] - side[k] * nearbyint2((r[k] - centre) * per_side[k]));
+            const QuadMask inside = r[k] >= low && r[k] <= high;
+            r[k] = inside ? r[k] : r[k] - side[k] * nearbyint4((r[k] - centre) * per_side[k]);
           } else {
-            const __m128d inside = _mm_cmple_pd(_mm_and_pd(r[k], magnitude), half[k]);
-            r[k] = choose(inside, r[k], r[k] - side[k] * nearbyint2(r[k] * per_side[k]));
+            const QuadMask inside = reinterpret_cast<Quad>(reinterpret_cast<QuadMask>(r[k]) &
+                                                           magnitude) <= half[k];
+            r[k] = inside ? r[k] : r[k] - side[k] * nearbyint4(r[k] * per_side[k]);
           }
         }
       }
-      __m128d norm = r[0] * r[0];
+      Quad norm = r[0] * r[0];
       for (std::size_t k = 1; k < D; ++k) norm += r[k] * r[k];
-      const __m128d sigma = Radii ? radius + load(b + D * Capacity + lane) : both_radii;
-      const __m128d c2 = norm - sigma * sigma;
-      const __m128d along = r[Axis];
-      const __m128d discriminant = along * along - c2;
-      const auto hits = static_cast<std::uint64_t>(_mm_movemask_pd(_mm_and_pd(
-                            _mm_cmplt_pd(along, zero), _mm_cmpge_pd(discriminant, zero)))) &
-                        (single ? 1u : 3u);
+      const Quad sigma = Radii ? radius + load_quad(b + D * Capacity + lane) : both_radii;
+      const Quad c2 = norm - sigma * sigma;
+      const Quad along = r[Axis];
+      const Quad discriminant = along * along - c2;
+      // Of fewer than four lanes left, the doubles after the last are the next run's, or
+      // indices: their bits are dropped.
+      constexpr unsigned kInUse = Capacity < 4 ? (1u << Capacity) - 1 : 15u;
+      const std::uint64_t hits = bits_of(along < zero && discriminant >= zero) & kInUse;
       const std::size_t at = c * kStride + lane;
       touching[at / 64] |= hits << (at % 64);
+      if constexpr (!Images) {
+        std::memcpy(alongs + at, &along, sizeof(along));
+        std::memcpy(c2s + at, &c2, sizeof(c2));
+        std::memcpy(discriminants + at, &discriminant, sizeof(discriminant));
+      }
     }
   }
-  Lift best{kNever, chain_.active, 0, 0};
+  // The nearest, ties to the lower index (keep_nearer). The distances are independent of each
+  // other, and which is the nearest is a coin toss: chosen without a branch, they are measured
+  // side by side, not one after another behind a mispredicted branch that waits on a square
+  // root and a division. The indices are read only where two lie at the same distance (tied),
+  // and then every lane that touches is taken again, one by one.
+  const auto id_of = [&](std::size_t at) __attribute__((always_inline)) {
+    return id_at(lanes + std::size_t{cells[at / kStride]} * kBlock, kIds,
+                 static_cast<std::uint32_t>(at % kStride));
+  };
+  const auto distance_at = [&](std::size_t at) __attribute__((always_inline)) {
+    if constexpr (Images) {
+      const std::uint32_t lane = at % kStride;
+      const double* const b = lanes + std::size_t{cells[at / kStride]} * kBlock;
+      Vec<D> position;
+      for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
+      return Approach<D, Axis>(separation<Axis>(position, ahead),
+                               flight_.radius + (Radii ? b[D * Capacity + lane] : radius_))
+          .distance();
+    } else {
+      return Approach<D, Axis>::distance(c2s[at], alongs[at], discriminants[at]);
+    }
+  };
+  double nearest = kNever;
+  std::size_t nearest_at = 0;
+  bool tied = false;
   for (std::size_t word = 0; word < touching.size(); ++word) {
     for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
       const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
-      const std::uint32_t cell = cells[at / kStride];
-      const auto lane = static_cast<std::uint32_t>(at % kStride);
-      const double* const b = lanes + std::size_t{cell} * kBlock;
-      Vec<D> position;
-      for (std::size_t k = 0; k < D; ++k) position[k] = b[k * Capacity + lane];
-      Vec<D> r = flight_.from - position;
-      if constexpr (Images) r = separation<Axis>(position, ahead);
-      const double s =
-          Approach<D, Axis>(r, flight_.radius + (Radii ? b[D * Capacity + lane] : radius_))
-              .distance();
-      best.keep_nearer({s, id_at(b, kIds, lane), lane, cell});
+      const double s = distance_at(at);
+      tied |= s == nearest;
+      const bool nearer = s < nearest;
+      nearest_at = nearer ? at : nearest_at;
+      nearest = nearer ? s : nearest;
     }
   }
-  return best;
+  if (tied) [[unlikely]] {
+    nearest = kNever;
+    for (std::size_t word = 0; word < touching.size(); ++word) {
+      for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
+        const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
+        const double s = distance_at(at);
+        if (s < nearest || (s == nearest && id_of(at) < id_of(nearest_at))) {
+          nearest = s;
+          nearest_at = at;
+        }
+      }
+    }
+  }
+  if (nearest == kNever) return {kNever, chain_.active, 0, 0};
+  return {nearest, id_of(nearest_at), static_cast<std::uint32_t>(nearest_at % kStride),
+          cells[nearest_at / kStride]};
 }
 #endif
 
@@ -661,17 +718,25 @@ std::optional<Event> EcmcEngine<D>::step(double end_time) {
 
 template <std::size_t D>
 void EcmcEngine<D>::write_stops() {
-  System<D>& system = this->system_;
   constexpr std::size_t kAheadOfWrite = 8;
   for (std::size_t s = 0; s < stops_.size(); ++s) {
     if (s + kAheadOfWrite < stops_.size()) {
-      const std::uint32_t later = stops_[s + kAheadOfWrite].id;
-      __builtin_prefetch(system.particles.data() + later, 1);
-      __builtin_prefetch(system.records.data() + later, 1);
+      prefetch_entries(stops_[s + kAheadOfWrite].id);
     }
     write_stop(stops_[s], chain_.axis);
   }
   stops_.clear();
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::prefetch_entries(std::uint32_t i) const {
+  const auto whole = [](const auto* entry) __attribute__((always_inline)) {
+    const auto* const first = reinterpret_cast<const char*>(entry);
+    __builtin_prefetch(first, 1);
+    __builtin_prefetch(first + sizeof(*entry) - 1, 1);
+  };
+  whole(this->system_.particles.data() + i);
+  whole(this->system_.records.data() + i);
 }
 
 template <std::size_t D>
@@ -850,7 +915,7 @@ template <std::size_t Axis, class S>
   // they fit in no cache at all the cells two rows aside (wide_offsets_). So are the target's
   // System entries where a lift writes its stop itself (not stops_held_).
   if (prefetch_cells_) {
-    const std::size_t read = ids_offset_ * sizeof(double);
+    const std::size_t read = shape.ids * sizeof(double);
     const auto fetch = [&](const std::int64_t offset) __attribute__((always_inline)) {
       const auto cell = static_cast<std::uint64_t>(lift.cell + offset);
       if (cell < cells_) {
@@ -866,8 +931,7 @@ template <std::size_t Axis, class S>
       for (const std::int64_t offset : wide_offsets_[axis]) fetch(offset);
     }
     if (!stops_held_) {
-      __builtin_prefetch(system.particles.data() + target, 1);
-      __builtin_prefetch(system.records.data() + target, 1);
+      prefetch_entries(target);
     }
   }
   double* const lanes = lanes_.data();

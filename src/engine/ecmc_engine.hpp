@@ -20,7 +20,7 @@
 // otherwise the cell changes and the cells are searched again. No calendar: the next event is
 // always the active particle's. The particles at rest are kept in a block per cell, coordinate by
 // coordinate in lanes, so that a search reads a few runs of contiguous memory, never the System,
-// and tests two particles at a time without a branch on which it touches; the System's stored
+// and tests four particles at a time without a branch on which it touches; the System's stored
 // states are brought up to date as Engine::apply would (the lifts are its swap-rule collisions
 // bit for bit), at every lift or, in large systems, a chain's stops in bulk, before the engine
 // returns.
@@ -144,7 +144,7 @@ class EcmcEngine final : public Engine<D> {
   template <std::size_t Axis>
   Vec<D> separation(const Vec<D>& b, double ahead) const;
   // nearest_lift among `cells`, for blocks of Capacity lanes with the radii in them where Radii
-  // (else every radius is radius_): the lanes two at a time, through images where Images (else
+  // (else every radius is radius_): the lanes four at a time, through images where Images (else
   // the plain differences, which nearest_lift has checked are theirs).
   template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
   Lift nearest_lift_in_lanes(const Cells& cells, double ahead) const;
@@ -236,7 +236,7 @@ class EcmcEngine final : public Engine<D> {
   void lay_out(std::uint32_t capacity);
   // The capacity after `capacity` when a cell is full: four after three (the fourth lane of
   // equal disks' cells, whose searches then still read four lanes at a time), else twice as
-  // many (capacities the searches by pairs and fours of lanes take: 3, 4, 8, 16, ...).
+  // many (capacities the searches by fours of lanes take: 3, 4, 8, 16, ...).
   static constexpr std::uint32_t more_lanes(std::uint32_t capacity) {
     return capacity == 3 ? 4 : 2 * capacity;
   }
@@ -264,7 +264,7 @@ class EcmcEngine final : public Engine<D> {
   };
   Shape shape() const { return {capacity_, ids_offset_, block_, radii_kept_}; }
   // f(the blocks' layout): a FixedShape where one is compiled (the capacities a search takes by
-  // pairs of lanes), else shape().
+  // fours of lanes), else shape().
   template <class F>
   decltype(auto) with_shape(F&& f) const;
   // Takes the particle i, at rest, out of its cell's block to move: the active one.
@@ -303,8 +303,8 @@ class EcmcEngine final : public Engine<D> {
   // (cells a diameter wide hold four only at their corners), so that a search reads one line a
   // cell; others with four (or as many as the fullest cell needs: lanes are added when a cell
   // is full, more_lanes()). Lanes below the count (fill()) are in use; the others have a NaN
-  // first coordinate, which touches nothing, so that a search tests lanes two at a time,
-  // whether in use or not, and reads no count (it stops at a pair that begins with a NaN). The
+  // first coordinate, which touches nothing, so that a search tests lanes four at a time,
+  // whether in use or not, and reads no count (it stops at a four that begins with a NaN). The
   // active particle is in no block.
   CellGrid<D> grid_;
   std::vector<double, LargePages<double>> lanes_;
@@ -354,6 +354,9 @@ class EcmcEngine final : public Engine<D> {
   };
   // Writes one into the System.
   void write_stop(const Stop& stop, std::size_t axis);
+  // Asks for the lines of particle i's System entries (its Particle and its ParticleRecord, each
+  // of which may straddle two lines), to be written.
+  void prefetch_entries(std::uint32_t i) const;
   // Where the System's entries are more than kHeldAbove bytes (stops_held_), the stops are held
   // in stops_ and written in bulk (write_stops(): each a line or two of its own, asked for a few
   // stops ahead) at a chain's end, when kStopsHeld are held, and before the engine returns:
