@@ -658,22 +658,22 @@ template <std::size_t Axis, std::uint32_t Capacity, bool Radii, bool Images>
       nearest = nearer ? s : nearest;
     }
   }
+  const auto lift_at = [&](std::size_t at, double distance) __attribute__((always_inline)) {
+    return Lift{distance, id_of(at), static_cast<std::uint32_t>(at % kStride),
+                cells[at / kStride]};
+  };
   if (tied) [[unlikely]] {
-    nearest = kNever;
+    Lift best{kNever, chain_.active, 0, 0};
     for (std::size_t word = 0; word < touching.size(); ++word) {
       for (std::uint64_t hits = touching[word]; hits != 0; hits &= hits - 1) {
         const std::size_t at = 64 * word + static_cast<std::size_t>(std::countr_zero(hits));
-        const double s = distance_at(at);
-        if (s < nearest || (s == nearest && id_of(at) < id_of(nearest_at))) {
-          nearest = s;
-          nearest_at = at;
-        }
+        best.keep_nearer(lift_at(at, distance_at(at)));
       }
     }
+    return best;
   }
   if (nearest == kNever) return {kNever, chain_.active, 0, 0};
-  return {nearest, id_of(nearest_at), static_cast<std::uint32_t>(nearest_at % kStride),
-          cells[nearest_at / kStride]};
+  return lift_at(nearest_at, nearest);
 }
 #endif
 
