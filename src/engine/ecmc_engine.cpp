@@ -724,6 +724,7 @@ void EcmcEngine<D>::write_stops() {
       prefetch_entries(stops_[s + kAheadOfWrite].id);
     }
     write_stop(stops_[s], chain_.axis);
+    add_counts(stops_[s].id, stops_[s].counted);
   }
   stops_.clear();
 }
@@ -745,15 +746,35 @@ template <std::size_t D>
   p.position = stop.position;
   p.velocity[axis] = 0.0;
   p.time = stop.time;
-  ParticleRecord& r = this->system_.records[stop.id];
-  r.pair_collisions += stop.counted;
-  r.changes += stop.counted;
-  r.last_collision = stop.time;
+  this->system_.records[stop.id].last_collision = stop.time;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::add_counts(std::uint32_t i,
+                                                             std::uint32_t lifts) {
+  ParticleRecord& r = this->system_.records[i];
+  r.pair_collisions += lifts;
+  r.changes += lifts;
+}
+
+template <std::size_t D>
+[[gnu::always_inline]] inline void EcmcEngine<D>::count_lifts(std::uint32_t i,
+                                                              std::uint32_t lifts) {
+  Count& oldest = counts_lagging_[next_count_];
+  add_counts(oldest.id, oldest.lifts);  // {0, 0} where none lags
+  oldest = {i, lifts};
+  next_count_ = (next_count_ + 1) % kCountsLag;
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::write_counts() {
+  for (std::size_t c = 0; c < kCountsLag; ++c) count_lifts(0, 0);
 }
 
 template <std::size_t D>
 void EcmcEngine<D>::write_back() {
   write_stops();
+  write_counts();
   if (!struck_unwritten_) return;
   struck_unwritten_ = false;
   const std::uint32_t i = chain_.active;
@@ -964,6 +985,7 @@ template <std::size_t Axis, class S>
     stops_.push_back(stop);
   } else {
     write_stop(stop, axis);
+    count_lifts(moving, stop.counted);
   }
   struck_unwritten_ = true;
   const double mover_radius = flight_.radius;
