@@ -724,7 +724,7 @@ void EcmcEngine<D>::write_stops() {
       prefetch_entries(stops_[s + kAheadOfWrite].id);
     }
     write_stop(stops_[s], chain_.axis);
-    add_counts(stops_[s].id, stops_[s].counted);
+    this->system_.records[stops_[s].id].add_pair_collisions(stops_[s].counted);
   }
   stops_.clear();
 }
@@ -750,18 +750,10 @@ template <std::size_t D>
 }
 
 template <std::size_t D>
-[[gnu::always_inline]] inline void EcmcEngine<D>::add_counts(std::uint32_t i,
-                                                             std::uint32_t lifts) {
-  ParticleRecord& r = this->system_.records[i];
-  r.pair_collisions += lifts;
-  r.changes += lifts;
-}
-
-template <std::size_t D>
 [[gnu::always_inline]] inline void EcmcEngine<D>::count_lifts(std::uint32_t i,
                                                               std::uint32_t lifts) {
   Count& oldest = counts_lagging_[next_count_];
-  add_counts(oldest.id, oldest.lifts);  // {0, 0} where none lags
+  this->system_.records[oldest.id].add_pair_collisions(oldest.lifts);  // {0, 0} where none lags
   oldest = {i, lifts};
   next_count_ = (next_count_ + 1) % kCountsLag;
 }

@@ -352,10 +352,9 @@ class EcmcEngine final : public Engine<D> {
     std::uint32_t id;
     std::uint32_t counted;
   };
-  // Writes one into the System, but for its counts: add_counts() where stops are held, else
-  // count_lifts().
+  // Writes one into the System, but for its counts: added with the held stop
+  // (write_stops()), else by count_lifts().
   void write_stop(const Stop& stop, std::size_t axis);
-  void add_counts(std::uint32_t i, std::uint32_t lifts);
   // Where a lift writes its own stop (not stops_held_), the lifts it counted are added to the
   // mover's ParticleRecord kCountsLag lifts later (counts_lagging_, the oldest at next_count_),
   // and those still lagging when the engine returns by write_counts(). Its record is asked for

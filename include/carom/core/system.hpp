@@ -71,9 +71,14 @@ struct ParticleRecord {
   // A pair collision (or lift) at stored time t changed its velocity: counted, and the TC model's
   // time and the version moved on.
   void count_pair_collision(double t) {
-    ++pair_collisions;
-    ++changes;
+    add_pair_collisions(1);
     last_collision = t;
+  }
+  // n pair collisions (or lifts) counted at once, where the time is written elsewhere: an event
+  // chain's lifts, added to the mover's record after its stop.
+  void add_pair_collisions(std::uint32_t n) {
+    pair_collisions += n;
+    changes += n;
   }
   friend bool operator==(const ParticleRecord& a, const ParticleRecord& b) {
     return a.mass == b.mass && a.wall_collisions == b.wall_collisions &&
