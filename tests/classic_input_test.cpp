@@ -127,6 +127,10 @@ TEST(ClassicInput, TouchingIsAllowed) {
 TEST(ClassicInput, ErrorsNameTheFileAndLine) {
   EXPECT_EQ(error_of(""), "test.txt: the file is empty (expected N on line 1)");
   EXPECT_EQ(error_of("2 3\n"), "test.txt:1: expected 1 number (the particle count N), found 2");
+  EXPECT_EQ(error_of("particle id: (xpos, ypos) (xvel, yvel): last_update : (cwall, cpart)\n"
+                     "particle 0: (1.000000, 1.000000) (0.000000, 0.000000): 0.000000 : (0, 0)\n"),
+            "test.txt:1: this is a run's result table (`carom run -o`), not a start; write the state "
+            "a run ends in with `--final FILE` and start from that");
   EXPECT_EQ(error_of("1e3\n"),
             "test.txt:1: the particle count N must be a whole number, found '1e3'");
   EXPECT_EQ(error_of("99999999999\n1\n1 1\n"),

@@ -197,6 +197,12 @@ class Reader {
     if (!lines_.next(tokens_)) {
       throw InputError(name_, 0, "the file is empty (expected N on line 1)");
     }
+    if (tokens_.size() >= 2 && tokens_[0] == "particle" && tokens_[1] == "id:") {
+      // A result table names no box and no radius, so it cannot start a run.
+      throw InputError(name_, lines_.number(),
+                       "this is a run's result table (`carom run -o`), not a start; write the "
+                       "state a run ends in with `--final FILE` and start from that");
+    }
     if (tokens_.size() != 1) {
       throw InputError(
           name_, lines_.number(),
