@@ -7,8 +7,9 @@ A run's summary measures from its --equilibrate time to its end. A chain continu
 checkpoint past the time its start is forgotten keeps the earlier window; this measures any later
 one from the log instead (`carom run ... --log log.csv --log-every T`: each row's `Z` is the
 compressibility factor over the interval since the row before, so rows of equal intervals
-average to Z over the window). The window's rows are cut into --blocks contiguous blocks (6 by
-default); the error is the standard deviation of the block means over sqrt(blocks), as a run's
+average to Z over the window), with the window's mean pressure tensor (pxx, pyy, pxy, as the
+log has them: in a solid that a periodic box strains, it tells one state from another). The
+window's rows are cut into --blocks contiguous blocks (6 by default); the error is the standard deviation of the block means over sqrt(blocks), as a run's
 block error is, and says nothing of slower changes than a block (compare two starts for those).
 beta P d^2 = Z 4 phi / pi for equal disks of diameter d. Several logs give one line each and, for
 more than one, their mean as scripts/plot_loop.py takes a packing's tasks' (mean_of_runs).
@@ -22,21 +23,25 @@ import sys
 from plot_loop import mean_of_runs
 
 
-def window_z(path, start, end, blocks):
-    """(Z over (start, end], its block error, rows) from a log's interval rows."""
-    rows = []
+def window_rows(path, start, end):
+    """The log's interval rows with a Z in (start, end]."""
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
-            if not row.get("Z"):
-                continue
-            t = float(row["time"])
-            if start < t <= end:
-                rows.append(float(row["Z"]))
-    if len(rows) < 2 * blocks:
-        sys.exit(f"{path}: {len(rows)} rows in ({start}, {end}], fewer than two a block")
-    size = len(rows) // blocks
-    means = [statistics.fmean(rows[k * size:(k + 1) * size]) for k in range(blocks)]
-    return statistics.fmean(rows), statistics.stdev(means) / math.sqrt(blocks), len(rows)
+        return [row for row in csv.DictReader(f) if row.get("Z") and start < float(row["time"]) <= end]
+
+
+def window_z(rows, blocks):
+    """(Z over the rows, its block error)."""
+    z = [float(row["Z"]) for row in rows]
+    size = len(z) // blocks
+    means = [statistics.fmean(z[k * size:(k + 1) * size]) for k in range(blocks)]
+    return statistics.fmean(z), statistics.stdev(means) / math.sqrt(blocks)
+
+
+def window_stress(rows):
+    """The window's mean pressure tensor in 2D (pxx, pyy, pxy as the log has them), or None."""
+    if not all(row.get(key) for row in rows for key in ("pxx", "pyy", "pxy")):
+        return None
+    return tuple(statistics.fmean(float(row[key]) for row in rows) for key in ("pxx", "pyy", "pxy"))
 
 
 def main():
@@ -52,9 +57,16 @@ def main():
     to_bp = 4.0 * args.phi / math.pi
     values = []
     for path in args.logs:
-        z, err, n = window_z(path, args.start, args.end, args.blocks)
+        rows = window_rows(path, args.start, args.end)
+        if len(rows) < 2 * args.blocks:
+            sys.exit(f"{path}: {len(rows)} rows in ({args.start}, {args.end}], fewer than two a block")
+        z, err = window_z(rows, args.blocks)
         values.append((z * to_bp, err * to_bp))
-        print(f"{path}: Z {z:.5f} +- {err:.5f}, beta P d^2 {z * to_bp:.5f} +- {err * to_bp:.5f} ({n} rows)")
+        line = f"{path}: Z {z:.5f} +- {err:.5f}, beta P d^2 {z * to_bp:.5f} +- {err * to_bp:.5f} ({len(rows)} rows)"
+        stress = window_stress(rows)
+        if stress:
+            line += ", pxx {:.4f} pyy {:.4f} pxy {:.4f}".format(*stress)
+        print(line)
     if len(values) > 1:
         mean, err = mean_of_runs(values)
         print(f"mean of {len(values)}: beta P d^2 {mean:.5f} +- {err:.5f}")
