@@ -7,10 +7,12 @@ A run's summary measures from its --equilibrate time to its end. A chain continu
 checkpoint past the time its start is forgotten keeps the earlier window; this measures any later
 one from the log instead (`carom run ... --log log.csv --log-every T`: each row's `Z` is the
 compressibility factor over the interval since the row before, so rows of equal intervals
-average to Z over the window), with the window's mean pressure tensor (pxx, pyy, pxy, as the
-log has them: in a solid that a periodic box strains, it tells one state from another). The
-window's rows are cut into --blocks contiguous blocks (6 by default); the error is the standard deviation of the block means over sqrt(blocks), as a run's
-block error is, and says nothing of slower changes than a block (compare two starts for those).
+average to Z over the window), with the mean of the rows' pressure tensors (pxx, pyy, pxy: in
+a solid that a periodic box strains, it tells one state from another; for event chains, whose
+rows hold unequal shares of each axis's chains, it is close to the run's own tensor, not equal).
+The window's rows are cut into --blocks contiguous blocks (6 by default); the error is the
+standard deviation of the block means over sqrt(blocks), as a run's block error is, and says
+nothing of slower changes than a block (compare two starts for those).
 beta P d^2 = Z 4 phi / pi for equal disks of diameter d. Several logs give one line each and, for
 more than one, their mean as scripts/plot_loop.py takes a packing's tasks' (mean_of_runs).
 """
@@ -38,7 +40,7 @@ def window_z(rows, blocks):
 
 
 def window_stress(rows):
-    """The window's mean pressure tensor in 2D (pxx, pyy, pxy as the log has them), or None."""
+    """The mean of the rows' pressure tensors in 2D (pxx, pyy, pxy), or None."""
     if not all(row.get(key) for row in rows for key in ("pxx", "pyy", "pxy")):
         return None
     return tuple(statistics.fmean(float(row[key]) for row in rows) for key in ("pxx", "pyy", "pxy"))
