@@ -33,12 +33,22 @@ REFERENCES = [
 
 
 def read_results(path):
-    """{phi: (beta P d^2, error, tasks)} over the done tasks, and the count of tasks not done."""
+    """{phi: (beta P d^2, error, runs, windows)} over the done runs, and the count not done.
+
+    Reads a sweep's results.csv (or its folder), one row a task (`phi` or `packing_fraction`,
+    `status`, `Z`, `Z_error`), or a table of chains (docs/data/hard_disk_loop_runs.csv: `phi`,
+    `from`, `to`, `beta_p`, `error`, with `#` comment lines), one row a chain measured over the
+    window [from, to]."""
     if os.path.isdir(path):
         path = os.path.join(path, "results.csv")
-    by_phi, not_done = {}, 0
+    by_phi, windows, not_done = {}, {}, 0
     with open(path, newline="") as f:
-        for row in csv.DictReader(f):
+        for row in csv.DictReader(line for line in f if not line.startswith("#")):
+            if "beta_p" in row:
+                phi = round(float(row["phi"]), 9)
+                by_phi.setdefault(phi, []).append((float(row["beta_p"]), float(row["error"])))
+                windows.setdefault(phi, set()).add(f"{row['from']}-{row['to']}")
+                continue
             if row.get("status", "done") != "done" or not row.get("Z"):
                 not_done += 1
                 continue
@@ -49,7 +59,8 @@ def read_results(path):
             by_phi.setdefault(round(phi, 9), []).append((z * to_bp, z_err * to_bp))
     points = {}
     for phi, vals in sorted(by_phi.items()):
-        points[phi] = (*mean_of_runs(vals), len(vals))
+        window = ", ".join(sorted(windows.get(phi, ()), key=lambda w: int(w.split("-")[0])))
+        points[phi] = (*mean_of_runs(vals), len(vals), window)
     return points, not_done
 
 
@@ -117,22 +128,32 @@ def main():
     fig.savefig(args.output, metadata={"Date": None} if args.output.endswith(".svg") else None)
 
     names = [label for label, _, _ in refs]
-    print("| packing | carom beta P d^2 | tasks | " + " | ".join(names) + " |")
-    print("|---|---|---|" + "---|" * len(names))
+    windows = any(points[x][3] for x in xs)
+    print("| packing | carom beta P d^2 | " + ("chains | window |" if windows else "tasks |") + " "
+          + " | ".join(names) + " |")
+    print("|---|---|---|" + ("---|" if windows else "") + "---|" * len(names))
+    within = 0
     for x in xs:
-        m, e, k = points[x]
+        m, e, k, window = points[x]
         cells = []
-        for _, _, data in refs:
-            if x in data:
-                y, ye = data[x]
-                comb = math.hypot(e, ye)
-                dev = (m - y) / comb if comb > 0 and not math.isnan(comb) else float("nan")
-                cells.append(f"{y:.5f} +- {ye:.5f} ({dev:+.1f})")
-            else:
+        for i, (_, _, data) in enumerate(refs):
+            if x not in data:
                 cells.append("-")
-        print(f"| {x:.3f} | {m:.5f} +- {e:.5f} | {k} | " + " | ".join(cells) + " |")
-    print(f"\n{len(xs)} packings done, {not_done} tasks not done; figure: {args.output}")
+                continue
+            y, ye = data[x]
+            dev = difference(m, e, y, ye)
+            within += i == 0 and abs(dev) <= 2.0
+            cells.append(f"{y:.5f} +- {ye:.5f} ({dev:+.1f})")
+        runs = f"{k} | {window}" if windows else f"{k}"
+        print(f"| {x:.3f} | {m:.5f} +- {e:.5f} | {runs} | " + " | ".join(cells) + " |")
+    print(f"\n{len(xs)} packings done, {not_done} tasks not done; {within} of {len(xs)} within two "
+          f"combined errors of {names[0]}; figure: {args.output}")
 
+
+def difference(value, error, reference_value, reference_error):
+    """value - reference in combined standard errors (nan when neither has an error)."""
+    combined = math.hypot(error, reference_error)
+    return (value - reference_value) / combined if combined > 0 else float("nan")
 
 if __name__ == "__main__":
     main()
