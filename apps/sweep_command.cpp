@@ -22,9 +22,11 @@ constexpr const char* kPlanHelp = R"(A plan is a TOML file:
   [start]     carom init's options (n, phi, dim, boundary, seed, ...), or file = "START"
   [run]       carom run's options: end_time, equilibrate, rule, log_every, dump, every, ...
   or [compress]  carom compress's: phi or jam = true, rate, ...
+  or both     each run from its start compressed (init, compress, run: a fluid start)
   [sweep]     axes: lists of values of any of those keys; every combination is a task
 Option names lose their dashes and write '-' as '_' (--log-every is log_every). A swept key that
-is an option of carom init goes to the start, else to the run. A task's seed also seeds carom
+is an option of carom init goes to the start, else to the run; with [compress] and [run], a swept
+phi (and rate, jam_pressure, unit_diameter) is the compression's. A task's seed also seeds carom
 run's draws (kT, Andersen's) when [run] has no seed of its own; a plan whose swept seed would
 leave its replicas one run is refused. Each task runs in DIR/<task>/ (its
 name is its swept values: phi=0.3,seed=1), exactly as the commands of --dry-run would alone, and

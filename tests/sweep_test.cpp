@@ -136,6 +136,101 @@ rate = [0.1, 0.01]
             "d/summary.json -q");
 }
 
+// [compress] and [run] together: each task is carom init's gas, compressed to the swept packing,
+// then run there; phi swept is the compression's, seed carom init's (and the chains').
+constexpr const char* kFluidStartPlan = R"([start]
+n = 64
+phi = 0.3
+boundary = "periodic"
+[compress]
+unit_diameter = true
+[run]
+sampler = "ecmc"
+end_time = 4
+equilibrate = 1
+[sweep]
+phi = [0.6, 0.65]
+rate = [0.1]
+seed = [1, 2]
+)";
+
+TEST(SweepPlan, ARunFromACompressedStartIsInitCompressAndRun) {
+  const SweepPlan plan = parse(kFluidStartPlan);
+  EXPECT_EQ(plan.kind(), TaskKind::run);
+  EXPECT_TRUE(plan.compresses_start());
+  EXPECT_FALSE(parse(kPlan).compresses_start());
+  ASSERT_EQ(plan.tasks().size(), 4u);
+  EXPECT_EQ(plan.tasks()[3].name, "phi=0.65,rate=0.1,seed=2");
+  const std::vector<std::string> commands = task_commands(plan, 3, "d");
+  ASSERT_EQ(commands.size(), 3u);
+  EXPECT_EQ(commands[0], "carom init --n 64 --phi 0.3 --boundary periodic --seed 2 -o d/start.txt");
+  EXPECT_EQ(commands[1],
+            "carom compress d/start.txt --unit-diameter --phi 0.65 --rate 0.1 -o d/packing.txt -q");
+  EXPECT_EQ(commands[2],
+            "carom run d/packing.txt 4 --sampler ecmc --equilibrate 1 --seed 2 --log d/log.csv "
+            "--log-every 0.015 --summary d/summary.json --checkpoint d/checkpoint.ckpt "
+            "--checkpoint-every 600s -q -o /dev/null");
+}
+
+// A task stopped while it compresses keeps no packing and compresses again; stopped in its run,
+// it goes on from the packing and its checkpoint: the same files as a task run whole.
+TEST(SweepTask, ARunFromACompressedStartStoppedAnywhereEndsTheSame) {
+  const Folder folder;
+  const SweepPlan plan = parse(kFluidStartPlan);
+  ASSERT_EQ(run_task(plan, 2, folder / "whole").status, TaskStatus::done);
+  const fs::path whole = fs::path(folder / "whole") / plan.tasks()[2].name;
+  const fs::path piece = fs::path(folder / "pieces") / plan.tasks()[2].name;
+  const std::atomic<int> stop{15};
+  EXPECT_EQ(run_task(plan, 2, folder / "pieces", {&stop, nullptr}).status, TaskStatus::stopped);
+  EXPECT_TRUE(fs::exists(piece / "start.txt"));
+  EXPECT_FALSE(fs::exists(piece / "packing.txt"));
+  EXPECT_FALSE(fs::exists(piece / "checkpoint.ckpt"));
+  ASSERT_EQ(run_task(plan, 2, folder / "pieces").status, TaskStatus::done);
+  for (const char* name : {"start.txt", "packing.txt", "log.csv"}) {  // (a checkpoint names its folder)
+    EXPECT_EQ(read(piece / name), read(whole / name)) << name;
+  }
+  // Stopped after its compression, before its run's first checkpoint: the run starts from the
+  // packing kept.
+  fs::remove(piece / "summary.json");
+  fs::remove(piece / "checkpoint.ckpt");
+  fs::remove(piece / "log.csv");
+  fs::remove(piece / "start.txt");
+  ASSERT_EQ(run_task(plan, 2, folder / "pieces").status, TaskStatus::done);
+  EXPECT_FALSE(fs::exists(piece / "start.txt"));
+  EXPECT_EQ(read(piece / "log.csv"), read(whole / "log.csv"));
+  EXPECT_EQ(read_task_results(plan, folder / "pieces")[2].measures,
+            read_task_results(plan, folder / "whole")[2].measures);
+  EXPECT_NEAR(read_task_results(plan, folder / "whole")[2].measure("packing_fraction"), 0.65,
+              1e-12);
+}
+
+// A compression that jams short of the run's packing fails the task, as carom compress fails,
+// and leaves no packing for a run to start from.
+TEST(SweepTask, ARunWhoseCompressionJamsShortFailsWithoutAPacking) {
+  const Folder folder;
+  const SweepPlan plan = parse(R"([start]
+n = 64
+phi = 0.3
+polydispersity = 0.2
+boundary = "periodic"
+[compress]
+phi = 0.8
+rate = 1000
+[run]
+end_time = 2
+)");
+  const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
+  ASSERT_EQ(results[0].status, TaskStatus::failed);
+  EXPECT_TRUE(results[0].error.starts_with("the disks jammed at packing fraction "))
+      << results[0].error;
+  EXPECT_TRUE(results[0].error.ends_with(" before reaching 0.8: no run starts from it"))
+      << results[0].error;
+  const fs::path task = fs::path(folder / "out") / plan.tasks()[0].name;
+  EXPECT_FALSE(fs::exists(task / "packing.txt"));
+  EXPECT_FALSE(fs::exists(task / "summary.json"));
+  EXPECT_EQ(read(task / "error.txt"), results[0].error + "\n");
+}
+
 TEST(SweepPlan, AStartFromAFileIsReadFromThePlansFolder) {
   const Folder folder;
   const std::string text = "[start]\nfile = \"gas.txt\"\n[run]\nend_time = 5\nkT = 2\n";
@@ -178,8 +273,21 @@ TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
        "plan.toml:6: [run] dump: takes a file name, without a folder"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[runs]\n",
        "plan.toml:6: unknown section [runs]"},
+      {"[start]\nn = 64\nphi = 0.3\n", "plan.toml:1: a plan has [run] (carom run's options), "
+                                          "[compress] (carom compress's), or both"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\njam = true\n",
-       "plan.toml:1: a plan has one of [run]"},
+       "plan.toml:7: [compress] jam: a run starts from its compression's packing"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nrate = 0.1\n",
+       "plan.toml:6: [compress] needs phi (the packing fraction each run starts at)"},
+      {"[start]\nn = 64\n[run]\nend_time = 5\n[compress]\n[sweep]\nphi = [0.6]\n",
+       "plan.toml:1: [start] needs phi (carom init --phi: the gas each run's start is compressed "
+       "from), set; a swept phi is the compression's"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nphi = 0.6\n[sweep]\n"
+       "jam_presure = [1e6]\n",
+       "plan.toml:9: [sweep] jam_presure: not an option of [start], [compress] or [run]"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nphi = 0.6\n[sweep]\n"
+       "phi = [0.5]\n",
+       "plan.toml:9: [sweep] phi: also set on line 7"},
       {"[start]\nfile = \"a.txt\"\nn = 3\n[run]\nend_time = 5\n",
        "plan.toml:3: [start] n: a start read from a file takes no carom init options"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = = 5\n", "plan.toml:5: "},

@@ -80,7 +80,8 @@ def sweep(plan, out_dir, client=None):
     files, byte for byte, and its results.csv as a table.
 
     plan: a plan file (TOML), as `carom sweep` reads it (`carom sweep --help` describes it): a
-    [start], a [run] or a [compress], and the [sweep] axes whose every combination is a task. A
+    [start], a [run] or a [compress] (or both: each run from its start compressed), and the
+    [sweep] axes whose every combination is a task. A
     bad plan raises ValueError naming the file, line and key, before anything runs; so does an
     out_dir whose task folders hold another plan's tasks, an out_dir that cannot be a folder (a
     file), an out_dir whose files would overwrite the plan or a start file, and an out_dir

@@ -170,6 +170,7 @@ void export_sweep(py::module_& m) {
       .def_property_readonly("folder", [](const SweepPlan& p) { return py::bytes(p.folder()); })
       .def_property_readonly(
           "kind", [](const SweepPlan& p) { return p.kind() == TaskKind::run ? "run" : "compress"; })
+      .def_property_readonly("compresses_start", &SweepPlan::compresses_start)
       .def_property_readonly("axes", &SweepPlan::axes)
       .def_property_readonly("tasks",
                              [](const SweepPlan& p) {

@@ -223,6 +223,66 @@ def test_each_task_is_its_commands_run_alone(cli, tmp_path, sampler):
     assert len(distinct) == len(TASKS)
 
 
+FLUID_PLAN = """\
+[start]
+n = 64
+phi = 0.2
+boundary = "periodic"
+
+[compress]
+unit_diameter = true
+
+[run]
+sampler = "ecmc"
+end_time = 20
+equilibrate = 5
+
+[sweep]
+phi = [0.3, 0.5]
+seed = [1, 2]
+"""
+
+
+def test_runs_from_compressed_starts_are_their_commands_alone_on_every_runner(cli, tmp_path,
+                                                                               client):
+    """[compress] and [run]: each task is carom init's gas, carom compress to the swept phi and
+    carom run from the packing; the commands run alone, mpirun and Dask write the same files."""
+    (tmp_path / "sweep").mkdir()
+    plan = write_plan(tmp_path / "sweep", FLUID_PLAN)
+    cli("sweep", plan, "-o", "out", "-q", cwd=tmp_path / "sweep")
+    out = tmp_path / "sweep" / "out"
+    swept = contents(out)
+    alone = tmp_path / "alone"
+    env = dict(os.environ, PATH=f"{Path(cli.exe).parent}{os.pathsep}{os.environ['PATH']}")
+    for task in TASKS:
+        (alone / "out" / task).mkdir(parents=True)
+        commands = (out / task / "task.txt").read_text()
+        assert [line.split()[1] for line in commands.splitlines()] == ["init", "compress", "run"]
+        proc = subprocess.run(["bash", "-e", str(out / task / "task.txt")], cwd=alone, env=env,
+                              capture_output=True, timeout=60)
+        assert proc.returncode == 0, proc.stderr.decode()
+        for name in TASK_FILES + ("packing.txt",):
+            assert (alone / "out" / task / name).read_bytes() == (out / task / name).read_bytes(), \
+                f"{task}/{name}"
+        summary = json.loads((alone / "out" / task / "summary.json").read_text())
+        assert {k: v for k, v in summary.items() if k not in CLOCK} == swept[f"{task}/summary.json"]
+        assert summary["packing_fraction"] == pytest.approx(float(task[4:7]), abs=1e-12)
+    # The runners, each into the same absolute folder (the files name it).
+    set_aside(out, "alone_reference")
+    cli("sweep", plan, "-o", out, "-q")
+    reference = contents(set_aside(out, "cli"))
+    ways = {}
+    if has_mpi(cli):
+        proc = mpi_sweep(cli, plan, "-o", out, "-q")
+        assert proc.returncode == 0, proc.stderr.decode()
+        ways["mpirun -n 3"] = contents(set_aside(out, "mpi"))
+    carom.sweep(plan, out, client=client)
+    ways["carom.sweep"] = contents(out)
+    for way, files in ways.items():
+        assert_same_contents(files, reference, way)
+    assert carom._carom.SweepPlan.read(os.fsencode(plan)).compresses_start
+
+
 @pytest.mark.parametrize("how", [signal.SIGKILL, signal.SIGTERM], ids=["SIGKILL", "SIGTERM"])
 def test_a_sweep_killed_or_stopped_goes_on_to_the_same_files(cli, long_sweep, how):
     plan, out, reference = long_sweep

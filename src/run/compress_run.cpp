@@ -84,13 +84,17 @@ void write_json(std::ostream& out, const CompressionSummary& s) {
   out << dump_json(json, 2) << '\n';
 }
 
-std::optional<std::string> shortfall(const CompressionSummary& s, const std::string& packing) {
+std::optional<std::string> jammed_short(const CompressionSummary& s) {
   if (!s.target || s.status != "jammed") return std::nullopt;
-  return fmt::format(
-      "the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}; the jammed "
-      "packing is in {}",
-      s.dimension == 2 ? "disks" : "spheres", s.packing_fraction, s.compressibility_factor,
-      *s.target, packing);
+  return fmt::format("the {} jammed at packing fraction {:.6f} (Z = {:.3g}) before reaching {}",
+                     s.dimension == 2 ? "disks" : "spheres", s.packing_fraction,
+                     s.compressibility_factor, *s.target);
+}
+
+std::optional<std::string> shortfall(const CompressionSummary& s, const std::string& packing) {
+  const std::optional<std::string> jammed = jammed_short(s);
+  if (!jammed) return std::nullopt;
+  return fmt::format("{}; the jammed packing is in {}", *jammed, packing);
 }
 
 CompressionResult compress(AnySystem start, const CompressionSpec& spec,

@@ -300,9 +300,13 @@ std::string folder_name(const std::vector<std::pair<std::string, std::string>>& 
   return name.substr(0, kLongestFolderName - hash.size()) + hash;
 }
 
+// Where a swept key goes: carom init's start, the run or compression, or the compression of a
+// run's start.
+enum class Goes { start, action, compression };
+
 struct Axis {
   std::string key;
-  bool in_start = false;  // else the run's or the compression's
+  Goes goes = Goes::action;
   int line = 0;
   std::vector<PlanValue> values;
 };
@@ -347,19 +351,20 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   const toml::table* run = root["run"].as_table();
   const toml::table* compress = root["compress"].as_table();
   if (start == nullptr) reader.fail(1, "no [start]: carom init's options, or file = \"START\"");
-  if ((run == nullptr) == (compress == nullptr)) {
+  if (run == nullptr && compress == nullptr) {
     reader.fail(1,
-                "a plan has one of [run] (carom run's options) and [compress] (carom "
-                "compress's)");
+                "a plan has [run] (carom run's options), [compress] (carom compress's), or both "
+                "(each run from its start compressed)");
   }
   plan.kind_ = run != nullptr ? TaskKind::run : TaskKind::compress;
+  plan.compresses_start_ = run != nullptr && compress != nullptr;
   const toml::table& action = run != nullptr ? *run : *compress;
   const Section action_section = run != nullptr ? Section::run : Section::compress;
   const std::string_view action_name = sweep::section_name(action_section);
   const Section start_section = start->contains("file") ? Section::start_file : Section::init;
 
   // The settings every task shares.
-  std::vector<PlanSetting> fixed_start, fixed_action;
+  std::vector<PlanSetting> fixed_start, fixed_action, fixed_compression;
   for (const auto& [key, node] : in_order(*start)) {
     const std::optional<KeyInfo> info = find_key(start_section, key);
     if (!info) {
@@ -386,31 +391,54 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
       reader.fail(line_of(*file), fmt::format("[start] file: {}", e.what()));
     }
   }
-  for (const auto& [key, node] : in_order(action)) {
-    const std::optional<KeyInfo> info = find_key(action_section, key);
-    if (!info) {
-      const auto why = action_section == Section::run ? sweep::refused_run_key(key) : std::nullopt;
-      reader.fail(line_of(*node), why ? fmt::format("[run] {}: {}", key, *why)
-                                      : fmt::format("[{}] {}: not an option of carom {}",
-                                                    action_name, key, action_name));
+  const auto read_section = [&](const toml::table& table, Section section,
+                                std::vector<PlanSetting>& fixed) {
+    const std::string_view name = sweep::section_name(section);
+    for (const auto& [key, node] : in_order(table)) {
+      const std::optional<KeyInfo> info = find_key(section, key);
+      if (!info) {
+        const auto why = section == Section::run ? sweep::refused_run_key(key) : std::nullopt;
+        reader.fail(line_of(*node), why ? fmt::format("[run] {}: {}", key, *why)
+                                        : fmt::format("[{}] {}: not an option of carom {}", name,
+                                                      key, name));
+      }
+      fixed.push_back({key, reader.value(*info, *node, name), line_of(*node)});
     }
-    fixed_action.push_back({key, reader.value(*info, *node, action_name), line_of(*node)});
-  }
+  };
+  read_section(action, action_section, fixed_action);
+  if (plan.compresses_start_) read_section(*compress, Section::compress, fixed_compression);
+  const auto fixed_of = [&](Goes goes) -> std::vector<PlanSetting>& {
+    return goes == Goes::start ? fixed_start
+                               : goes == Goes::action ? fixed_action : fixed_compression;
+  };
 
   std::vector<Axis> axes;
   if (const toml::table* swept = root["sweep"].as_table()) {
     for (const auto& [key, node] : in_order(*swept)) {
-      Axis axis{key, false, line_of(*node), {}};
+      Axis axis{key, Goes::action, line_of(*node), {}};
+      // A key of carom init's goes to the start; of a run from a compressed start, `phi` is the
+      // compression's (the packing the run is at; [start]'s is the gas's), and a key of carom
+      // compress's alone (rate, jam_pressure, unit_diameter) is too.
       std::optional<KeyInfo> info;
-      if (start_section == Section::init) info = find_key(Section::init, key);
-      axis.in_start = info.has_value();
-      if (!info) info = find_key(action_section, key);
+      const bool compression_phi = plan.compresses_start_ && key == "phi";
+      if (start_section == Section::init && !compression_phi) {
+        info = find_key(Section::init, key);
+        if (info) axis.goes = Goes::start;
+      }
+      if (!info && !compression_phi) info = find_key(action_section, key);
+      if (!info && plan.compresses_start_) {
+        info = find_key(Section::compress, key);
+        axis.goes = Goes::compression;
+      }
       if (!info) {
         reader.fail(axis.line,
-                    fmt::format("[sweep] {}: not an option of [start] or [{}]", key, action_name));
+                    plan.compresses_start_
+                        ? fmt::format("[sweep] {}: not an option of [start], [compress] or [run]",
+                                      key)
+                        : fmt::format("[sweep] {}: not an option of [start] or [{}]", key,
+                                      action_name));
       }
-      const std::vector<PlanSetting>& fixed = axis.in_start ? fixed_start : fixed_action;
-      for (const PlanSetting& s : fixed) {
+      for (const PlanSetting& s : fixed_of(axis.goes)) {
         if (s.key == key) {
           reader.fail(axis.line, fmt::format("[sweep] {}: also set on line {}; a key is set or "
                                              "swept, not both",
@@ -436,27 +464,48 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     }
   }
 
-  const auto has = [&](const std::vector<PlanSetting>& fixed, bool in_start, std::string_view key) {
-    return std::any_of(fixed.begin(), fixed.end(), [&](const auto& s) { return s.key == key; }) ||
-           std::any_of(axes.begin(), axes.end(),
-                       [&](const Axis& a) { return a.in_start == in_start && a.key == key; });
+  // The plan line that sets or sweeps `key` for `goes`, or 0.
+  const auto line_setting = [&](Goes goes, std::string_view key) {
+    for (const PlanSetting& s : fixed_of(goes)) {
+      if (s.key == key) return s.line;
+    }
+    for (const Axis& a : axes) {
+      if (a.goes == goes && a.key == key) return a.line;
+    }
+    return 0;
   };
+  const auto has = [&](Goes goes, std::string_view key) { return line_setting(goes, key) != 0; };
   if (start_section == Section::init) {
     for (const char* needed : {"n", "phi"}) {
-      if (!has(fixed_start, true, needed)) {
-        reader.fail(line_of(*start), fmt::format("[start] needs {} (carom init --{}), set or swept",
-                                                 needed, needed));
+      if (!has(Goes::start, needed)) {
+        reader.fail(line_of(*start),
+                    plan.compresses_start_ && std::string_view(needed) == "phi"
+                        ? "[start] needs phi (carom init --phi: the gas each run's start is "
+                          "compressed from), set; a swept phi is the compression's"
+                        : fmt::format("[start] needs {} (carom init --{}), set or swept", needed,
+                                      needed));
       }
     }
   }
-  if (plan.kind_ == TaskKind::run && !has(fixed_action, false, "end_time")) {
+  if (plan.kind_ == TaskKind::run && !has(Goes::action, "end_time")) {
     reader.fail(line_of(action), "[run] needs end_time, set or swept");
   }
-  if (plan.kind_ == TaskKind::compress && !has(fixed_action, false, "phi") &&
-      !has(fixed_action, false, "jam")) {
+  if (plan.kind_ == TaskKind::compress && !has(Goes::action, "phi") &&
+      !has(Goes::action, "jam")) {
     reader.fail(line_of(action),
                 "[compress] needs phi (the packing fraction to stop at) or "
                 "jam = true");
+  }
+  if (plan.compresses_start_) {
+    if (const int jam = line_setting(Goes::compression, "jam"); jam != 0) {
+      reader.fail(jam,
+                  "[compress] jam: a run starts from its compression's packing, which must be a "
+                  "packing fraction to stop at (phi), not a jammed packing");
+    }
+    if (!has(Goes::compression, "phi")) {
+      reader.fail(line_of(*compress),
+                  "[compress] needs phi (the packing fraction each run starts at), set or swept");
+    }
   }
 
   // A product too large to list is refused before it is made (a plan that asks for it is a
@@ -478,12 +527,15 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   std::vector<std::size_t> at(axes.size(), 0);
   std::unordered_map<std::string, std::size_t> task_of_folder;
   while (true) {
-    SweepTask task{"", {}, fixed_start, fixed_action};
+    SweepTask task{"", {}, fixed_start, fixed_action, fixed_compression};
     std::vector<const PlanValue*> values;
     for (std::size_t a = 0; a < axes.size(); ++a) {
       const PlanValue& value = axes[a].values[at[a]];
       const PlanSetting setting{axes[a].key, value, axes[a].line, true};
-      (axes[a].in_start ? task.start : task.action).push_back(setting);
+      (axes[a].goes == Goes::start    ? task.start
+       : axes[a].goes == Goes::action ? task.action
+                                      : task.compression)
+          .push_back(setting);
       task.point.emplace_back(axes[a].key, sweep::value_text(value));
       values.push_back(&value);
     }

@@ -97,18 +97,21 @@ bool holds_task(const std::string& written, const SweepPlan& plan, const SweepTa
   std::string last_line = written.substr(0, written.empty() ? 0 : written.size() - 1);
   last_line = last_line.substr(last_line.rfind('\n') + 1);
   const std::vector<std::string> words = shell_words(last_line);
-  // Every task's last command names its summary, FOLDER/summary.json, after --summary; a start
-  // file's task reads it as its first argument: carom run FILE ... or carom compress FILE ....
+  // Every task's last command names its folder's summary, FOLDER/summary.json, after --summary; a
+  // start file's task reads it as its first command's first argument: carom run FILE ... or carom
+  // compress FILE ....
   const auto summary = std::find(words.begin(), words.end(), "--summary");
-  if (summary == words.end() || summary + 1 == words.end() || words.size() < 3) return false;
+  if (summary == words.end() || summary + 1 == words.end()) return false;
   const fs::path folder = fs::path(*(summary + 1)).parent_path();
+  const std::vector<std::string> first_words = shell_words(written.substr(0, written.find('\n')));
+  if (first_words.size() < 3) return false;
   const bool from_file = std::any_of(task.start.begin(), task.start.end(),
                                      [](const PlanSetting& s) { return s.key == "file"; });
   try {
     std::optional<std::string> start_file;
     if (from_file) {
       const std::string planned = *sweep::task_spec(plan, task, folder.string()).start_file;
-      const std::string& stored = words[2];
+      const std::string& stored = first_words[2];
       const bool same = fs::exists(stored)
                             ? same_file(stored, planned)
                             : fs::path(stored).filename() == fs::path(planned).filename();
@@ -220,18 +223,53 @@ void write_initial(const InitialOptions& options, const fs::path& path) {
 void make_start(const sweep::TaskSpec& spec) {
   if (spec.start_file) return;
   if (spec.dimension == 3) {
-    write_initial<3>(spec.initial, spec.start.path);
+    write_initial<3>(spec.initial, spec.start_path);
   } else {
-    write_initial<2>(spec.initial, spec.start.path);
+    write_initial<2>(spec.initial, spec.start_path);
   }
+}
+
+// The task's start compressed into packing.txt (carom init's made first): its result, or nullopt
+// when stopped before the end (nothing written; the next attempt compresses again).
+std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec, const TaskHooks& hooks,
+                                                bool report_progress) {
+  make_start(spec);
+  CompressionHooks compression_hooks;
+  compression_hooks.stop = hooks.stop;
+  if (report_progress && hooks.progress && spec.compress.settings.target) {
+    compression_hooks.progress = [&](const CompressionProgress& p) {
+      hooks.progress(p.packing_fraction / *spec.compress.settings.target);
+    };
+  }
+  CompressionResult result = carom::compress(
+      read_start_system(spec.compress.input, spec.compress_boundary), spec.compress,
+      compression_hooks);
+  if (result.summary.status == "interrupted") return std::nullopt;
+  return result;
+}
+
+void write_packing(const CompressionResult& result, const std::string& path) {
+  AtomicFile packing(path);
+  write_start(packing.stream(), result.packing, Rule::elastic);
+  packing.commit();
 }
 
 TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
   const fs::path checkpoint = folder / task_files::kCheckpoint;
   const bool resumed = fs::exists(checkpoint);
+  if (!resumed && spec.compresses_start && !fs::exists(spec.start.path)) {
+    const std::optional<CompressionResult> compressed = compress_start(spec, hooks, false);
+    if (!compressed) return TaskStatus::stopped;
+    // Jammed short of its packing, the run would be at another state point: the task fails, as
+    // carom compress does, and no packing is kept for a run to start from.
+    if (const std::optional<std::string> jammed = jammed_short(compressed->summary)) {
+      throw RequestError(*jammed + ": no run starts from it");
+    }
+    write_packing(*compressed, spec.start.path);
+  }
   const auto begin = [&] {
     if (resumed) return resume_start(checkpoint.string());
-    make_start(spec);
+    if (!spec.compresses_start) make_start(spec);
     return load_start(spec.start);
   };
   Runner runner(begin());
@@ -251,30 +289,17 @@ TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHo
 }
 
 TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
-  make_start(spec);
-  CompressionHooks compression_hooks;
-  compression_hooks.stop = hooks.stop;
-  if (hooks.progress && spec.compress.settings.target) {
-    compression_hooks.progress = [&](const CompressionProgress& p) {
-      hooks.progress(p.packing_fraction / *spec.compress.settings.target);
-    };
-  }
-  const CompressionResult result = carom::compress(
-      read_start_system(spec.start.path, spec.compress_boundary), spec.compress, compression_hooks);
-  if (result.summary.status == "interrupted") return TaskStatus::stopped;
+  const std::optional<CompressionResult> result = compress_start(spec, hooks, true);
+  if (!result) return TaskStatus::stopped;
   const std::string packing_path = (folder / task_files::kPacking).string();
-  {
-    AtomicFile packing(packing_path);
-    write_start(packing.stream(), result.packing, Rule::elastic);
-    packing.commit();
-  }
+  write_packing(*result, packing_path);
   // Jammed short of its target, the task failed as its carom compress does, its packing and
   // summary kept: the summary, written last, is what says so; error.txt, before it, tells why.
-  if (const std::optional<std::string> why = shortfall(result.summary, packing_path)) {
+  if (const std::optional<std::string> why = shortfall(result->summary, packing_path)) {
     write_text(folder / task_files::kError, *why + '\n');
   }
   AtomicFile summary((folder / task_files::kSummary).string());
-  write_json(summary.stream(), result.summary);
+  write_json(summary.stream(), result->summary);
   summary.commit();
   return TaskStatus::done;
 }
@@ -343,10 +368,10 @@ std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask&
   std::vector<std::string> names = {task_files::kCommands, task_files::kSummary, task_files::kError,
                                     task_files::kLock};
   if (!reads_a_start_file) names.emplace_back(task_files::kStart);
-  if (plan.kind() == TaskKind::compress) {
+  if (plan.kind() == TaskKind::compress || plan.compresses_start()) {
     names.emplace_back(task_files::kPacking);
-    return names;
   }
+  if (plan.kind() == TaskKind::compress) return names;
   names.emplace_back(task_files::kLog);
   names.emplace_back(task_files::kCheckpoint);
   for (const PlanSetting& s : task.action) {

@@ -285,23 +285,27 @@ std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTas
 // The commands, with the sweep's own files added as carom run's options.
 void write_commands(TaskSpec& spec, const SweepTask& task, const std::vector<PlanSetting>& action,
                     const std::string& folder) {
-  const std::string start_path =
-      spec.start_file ? *spec.start_file : in_folder(folder, task_files::kStart);
+  const std::string& start_path = spec.start_path;
   if (!spec.start_file) {
     std::string init = "carom init";
     for (const PlanSetting& s : task.start) append_option(init, s);
     spec.commands.push_back(init + " -o " + shell_word(start_path));
   }
-  if (spec.kind == TaskKind::compress) {
+  if (spec.kind == TaskKind::compress || spec.compresses_start) {
     std::string compress = "carom compress " + shell_word(start_path);
-    for (const PlanSetting& s : action) append_option(compress, s);
-    spec.commands.push_back(compress + " -o " +
-                            shell_word(in_folder(folder, task_files::kPacking)) + " --summary " +
-                            shell_word(in_folder(folder, task_files::kSummary)) + " -q");
-    return;
+    for (const PlanSetting& s : spec.kind == TaskKind::compress ? action : task.compression) {
+      append_option(compress, s);
+    }
+    compress += " -o " + shell_word(in_folder(folder, task_files::kPacking));
+    // A compression's own summary is the task's; before a run, the run's is.
+    if (spec.kind == TaskKind::compress) {
+      compress += " --summary " + shell_word(in_folder(folder, task_files::kSummary));
+    }
+    spec.commands.push_back(compress + " -q");
+    if (spec.kind == TaskKind::compress) return;
   }
   const RunSpec& run = spec.run;
-  std::string command = "carom run " + shell_word(start_path) + " " + value_text(run.end_time);
+  std::string command = "carom run " + shell_word(spec.start.path) + " " + value_text(run.end_time);
   for (const PlanSetting& s : action) {
     if (names_a_task_file(s.key)) {
       // Named as the task's commands reach it from where they run, as its own files are.
@@ -361,6 +365,14 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
       throw setting_error(plan, &task, named_in(task.start, e.what()), "start", e.what());
     }
   }
+  spec.compresses_start = plan.compresses_start();
+  if (spec.compresses_start) {
+    try {
+      compress_options(spec, task.compression);
+    } catch (const std::invalid_argument& e) {
+      throw setting_error(plan, &task, named_in(task.compression, e.what()), "compress", e.what());
+    }
+  }
   const std::vector<PlanSetting> action = action_settings(plan, task);
   try {
     if (spec.kind == TaskKind::compress) {
@@ -373,10 +385,15 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
            s.engine});
       check_run_spec(spec.run);
       // What the run checks of its start's box, before any particle is made: the boundary and
-      // rule are the run's, else what the start records (carom init's: its boundary, elastic).
-      const StartRecord record = spec.start_file
-                                     ? plan.start_file_record()
-                                     : StartRecord{spec.initial.boundary, Rule::elastic, {}};
+      // rule are the run's, else what the start records (carom init's: its boundary, elastic; a
+      // compression's: the boundary it compressed in, elastic).
+      StartRecord record = spec.start_file
+                               ? plan.start_file_record()
+                               : StartRecord{spec.initial.boundary, Rule::elastic, {}};
+      if (spec.compresses_start) {
+        record = {spec.compress_boundary ? spec.compress_boundary : record.boundary,
+                  Rule::elastic, {}};
+      }
       const Boundary boundary = s.boundary.value_or(record.boundary.value_or(Boundary::walls));
       const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));
       const bool periodic = boundary == Boundary::periodic;
@@ -392,8 +409,10 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
     throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());
   }
   spec.idle_seed = why_seed_is_idle(spec, task);
-  spec.start.path = spec.start_file.value_or(in_folder(folder, task_files::kStart));
-  spec.compress.input = spec.start.path;
+  spec.start_path = spec.start_file.value_or(in_folder(folder, task_files::kStart));
+  spec.compress.input = spec.start_path;
+  spec.start.path =
+      spec.compresses_start ? in_folder(folder, task_files::kPacking) : spec.start_path;
   write_commands(spec, task, action, folder);
   return spec;
 }

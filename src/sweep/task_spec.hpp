@@ -19,15 +19,20 @@ struct TaskSpec {
   std::optional<std::string> start_file;  // `file`, from the plan's folder; else carom init's:
   int dimension = 2;
   InitialOptions initial;
+  // The task's start: carom init's (start.txt in the task's folder), or the start file.
+  std::string start_path;
   // A run: its start read as carom run reads it (the path is the start file), then the run,
   // whose files are in the task's folder.
   StartSpec start;
   RunSpec run;
   std::string checkpoint_every = "600s";  // the run's cadence, as carom run takes it
-  // A compression, of the start read in compress_boundary.
+  // A compression, of the start read in compress_boundary: the task's, or the run's start's when
+  // the run starts from the start compressed (compresses_start; the run's start is the packing).
   CompressionSpec compress;
+  bool compresses_start = false;
   std::optional<Boundary> compress_boundary;
-  // The commands: carom init's (empty with `file`), then carom run's or compress's.
+  // The commands: carom init's (none with `file`), then carom run's or compress's, or compress's
+  // and then run's.
   std::vector<std::string> commands;
   // Why the task's swept seed seeds nothing its run keeps (the tasks of its state point would be
   // one run), or nullopt.

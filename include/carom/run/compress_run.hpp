@@ -50,6 +50,9 @@ void write_json(std::ostream& out, const CompressionSummary& summary);
 // its packing is; nothing when it did not fall short. `carom compress` exits 1 with it, and a
 // sweep's compression fails with it.
 std::optional<std::string> shortfall(const CompressionSummary& summary, const std::string& packing);
+// The same without the packing's file: "the disks jammed at packing fraction 0.84 (Z = 1e+09)
+// before reaching 0.9" (a sweep's run from a compressed start keeps no jammed packing).
+std::optional<std::string> jammed_short(const CompressionSummary& summary);
 
 struct CompressionProgress {
   double packing_fraction = 0.0, compressibility_factor = 0.0, time = 0.0;

@@ -59,6 +59,9 @@ struct SweepTask {
   std::vector<std::pair<std::string, std::string>> point;
   std::vector<PlanSetting> start;   // carom init's options, or `file`
   std::vector<PlanSetting> action;  // carom run's (end_time included) or carom compress's
+  // carom compress's, when the run starts from the start compressed (a plan with [compress] and
+  // [run]: the start a gas, the run at the packing the compression reaches).
+  std::vector<PlanSetting> compression;
 };
 
 class SweepPlan {
@@ -74,6 +77,8 @@ class SweepPlan {
   const std::string& text() const { return text_; }
   const std::string& folder() const { return folder_; }
   TaskKind kind() const { return kind_; }
+  // Whether each run starts from its start compressed first ([compress] and [run]).
+  bool compresses_start() const { return compresses_start_; }
   // The swept keys, in the plan's order.
   const std::vector<std::string>& axes() const { return axes_; }
   const std::vector<SweepTask>& tasks() const { return tasks_; }
@@ -86,6 +91,7 @@ class SweepPlan {
  private:
   std::string name_, text_, folder_;
   TaskKind kind_ = TaskKind::run;
+  bool compresses_start_ = false;
   std::vector<std::string> axes_;
   std::vector<SweepTask> tasks_;
   std::vector<std::string> measures_;
