@@ -51,8 +51,8 @@ NOT_RUN = [
     (r"soak\.txt", "the soak test: 10 hours"),
     (r"^build/carom run gas\.txt 5000 .*--checkpoint", "a run meant to be stopped by Ctrl-C"),
     (r"^build/carom run --resume run\.ckpt", "resumes the run above"),
-    (r"^build/carom sweep examples/hard_disk_loop\.toml (?!.*--dry-run)",
-     "the hard-disk loop at N = 256^2: two hours on one core"),
+    (r"^build/carom sweep examples/hard_disk_loop(_fluid)?\.toml (?!.*--dry-run)",
+     "the hard-disk loop at N = 256^2: eight hours on one core"),
     (r"^(/usr/bin/)?python3 scripts/plot_loop\.py", "draws that loop's results"),
 ]
 
