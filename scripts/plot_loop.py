@@ -155,5 +155,6 @@ def difference(value, error, reference_value, reference_error):
     combined = math.hypot(error, reference_error)
     return (value - reference_value) / combined if combined > 0 else float("nan")
 
+
 if __name__ == "__main__":
     main()

@@ -136,6 +136,16 @@ rate = [0.1, 0.01]
             "d/summary.json -q");
 }
 
+// 64 polydisperse disks that jam short of 0.8 when compressed fast (rate 1000).
+constexpr const char* kJamsShortOf08 = R"([start]
+n = 64
+phi = 0.3
+polydispersity = 0.2
+boundary = "periodic"
+[compress]
+phi = 0.8
+)";
+
 // [compress] and [run] together: each task is carom init's gas, compressed to the swept packing,
 // then run there; phi swept is the compression's, seed carom init's (and the chains').
 constexpr const char* kFluidStartPlan = R"([start]
@@ -208,17 +218,7 @@ TEST(SweepTask, ARunFromACompressedStartStoppedAnywhereEndsTheSame) {
 // and leaves no packing for a run to start from.
 TEST(SweepTask, ARunWhoseCompressionJamsShortFailsWithoutAPacking) {
   const Folder folder;
-  const SweepPlan plan = parse(R"([start]
-n = 64
-phi = 0.3
-polydispersity = 0.2
-boundary = "periodic"
-[compress]
-phi = 0.8
-rate = 1000
-[run]
-end_time = 2
-)");
+  const SweepPlan plan = parse(std::string(kJamsShortOf08) + "rate = 1000\n[run]\nend_time = 2\n");
   const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
   ASSERT_EQ(results[0].status, TaskStatus::failed);
   EXPECT_TRUE(results[0].error.starts_with("the disks jammed at packing fraction "))
@@ -564,16 +564,7 @@ TEST(SweepTask, PreparedReturnedAndFinishedTasksMakeTheTables) {
 // its packing and summary kept, the command's own error in results.csv; run again, it stays so.
 TEST(SweepTask, ACompressionThatJamsShortOfItsTargetFails) {
   const Folder folder;
-  const SweepPlan plan = parse(R"([start]
-n = 64
-phi = 0.3
-polydispersity = 0.2
-boundary = "periodic"
-[compress]
-phi = 0.8
-[sweep]
-rate = [0.1, 1000]
-)");
+  const SweepPlan plan = parse(std::string(kJamsShortOf08) + "[sweep]\nrate = [0.1, 1000]\n");
   const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
   EXPECT_EQ(results[0].status, TaskStatus::done) << results[0].error;
   ASSERT_EQ(results[1].status, TaskStatus::failed);

@@ -231,12 +231,11 @@ void make_start(const sweep::TaskSpec& spec) {
 
 // The task's start compressed into packing.txt (carom init's made first): its result, or nullopt
 // when stopped before the end (nothing written; the next attempt compresses again).
-std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec, const TaskHooks& hooks,
-                                                bool report_progress) {
+std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec, const TaskHooks& hooks) {
   make_start(spec);
   CompressionHooks compression_hooks;
   compression_hooks.stop = hooks.stop;
-  if (report_progress && hooks.progress && spec.compress.settings.target) {
+  if (hooks.progress && spec.compress.settings.target) {
     compression_hooks.progress = [&](const CompressionProgress& p) {
       hooks.progress(p.packing_fraction / *spec.compress.settings.target);
     };
@@ -258,7 +257,8 @@ TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHo
   const fs::path checkpoint = folder / task_files::kCheckpoint;
   const bool resumed = fs::exists(checkpoint);
   if (!resumed && spec.compresses_start && !fs::exists(spec.start.path)) {
-    const std::optional<CompressionResult> compressed = compress_start(spec, hooks, false);
+    // The task's progress is its run's: the compression before it reports none.
+    const std::optional<CompressionResult> compressed = compress_start(spec, {hooks.stop, {}});
     if (!compressed) return TaskStatus::stopped;
     // Jammed short of its packing, the run would be at another state point: the task fails, as
     // carom compress does, and no packing is kept for a run to start from.
@@ -289,7 +289,7 @@ TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHo
 }
 
 TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
-  const std::optional<CompressionResult> result = compress_start(spec, hooks, true);
+  const std::optional<CompressionResult> result = compress_start(spec, hooks);
   if (!result) return TaskStatus::stopped;
   const std::string packing_path = (folder / task_files::kPacking).string();
   write_packing(*result, packing_path);
