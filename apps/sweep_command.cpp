@@ -25,10 +25,12 @@ constexpr const char* kPlanHelp = R"(A plan is a TOML file:
   or both     each run from its start compressed (init, compress, run: a fluid start)
   [sweep]     axes: lists of values of any of those keys; every combination is a task
 Option names lose their dashes and write '-' as '_' (--log-every is log_every). A swept key that
-is an option of carom init goes to the start, else to the run; with [compress] and [run], a swept
-phi (and rate, jam_pressure, unit_diameter) is the compression's. A task's seed also seeds carom
-run's draws (kT, Andersen's) when [run] has no seed of its own; a plan whose swept seed would
-leave its replicas one run is refused. Each task runs in DIR/<task>/ (its
+is an option of carom init goes to the start, else to the run; after carom init, kT is the
+compression's; with [compress] and [run], a swept phi (and rate, jam_pressure, unit_diameter) is
+the compression's, and a run starts only from a compression that reached it (compression.json
+says so). A swept boundary or kT that a later command sets again is refused. A task's seed also
+seeds carom run's draws (kT, Andersen's) when [run] has no seed of its own; a plan whose swept
+seed would leave its replicas one run is refused. Each task runs in DIR/<task>/ (its
 name is its swept values: phi=0.3,seed=1), exactly as the commands of --dry-run would alone, and
 keeps there its start, summary.json, log.csv (a row every log_every, by default a 200th of the
 measured time), its checkpoint (every checkpoint_every, by default "600s") and any dump.

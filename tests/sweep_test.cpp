@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <thread>
@@ -175,11 +176,61 @@ TEST(SweepPlan, ARunFromACompressedStartIsInitCompressAndRun) {
   ASSERT_EQ(commands.size(), 3u);
   EXPECT_EQ(commands[0], "carom init --n 64 --phi 0.3 --boundary periodic --seed 2 -o d/start.txt");
   EXPECT_EQ(commands[1],
-            "carom compress d/start.txt --unit-diameter --phi 0.65 --rate 0.1 -o d/packing.txt -q");
+            "carom compress d/start.txt --unit-diameter --phi 0.65 --rate 0.1 -o d/packing.txt "
+            "--summary d/compression.json -q");
   EXPECT_EQ(commands[2],
             "carom run d/packing.txt 4 --sampler ecmc --equilibrate 1 --seed 2 --log d/log.csv "
             "--log-every 0.015 --summary d/summary.json --checkpoint d/checkpoint.ckpt "
             "--checkpoint-every 600s -q -o /dev/null");
+}
+
+// After carom init, kT is the compression's (it gives the particles new velocities), swept or
+// set; jam = false is no jam; a lattice start's swept seed is not idle when the start is
+// compressed (carom init's velocities shape the packing).
+TEST(SweepPlan, ACompressedStartTakesItsKTAndSeedsItsGas) {
+  const SweepPlan plan = parse(R"([start]
+n = 64
+phi = 0.3
+lattice = true
+[compress]
+phi = 0.6
+jam = false
+[run]
+end_time = 4
+kT = 1
+seed = 5
+[sweep]
+seed = [1, 2]
+)");
+  EXPECT_EQ(task_commands(plan, 1, "d")[0],
+            "carom init --n 64 --phi 0.3 --lattice --seed 2 -o d/start.txt");
+  const SweepPlan swept = parse(R"([start]
+n = 64
+phi = 0.3
+[compress]
+phi = 0.6
+[run]
+end_time = 4
+[sweep]
+kT = [0.5, 2]
+)");
+  const std::vector<std::string> commands = task_commands(swept, 1, "d");
+  EXPECT_EQ(commands[0], "carom init --n 64 --phi 0.3 -o d/start.txt");
+  EXPECT_EQ(commands[1],
+            "carom compress d/start.txt --phi 0.6 --kT 2 -o d/packing.txt --summary "
+            "d/compression.json -q");
+  EXPECT_EQ(commands[2].find("--kT"), std::string::npos) << commands[2];
+  const SweepPlan compressions = parse(R"([start]
+n = 64
+phi = 0.3
+[compress]
+phi = 0.6
+[sweep]
+kT = [0.5, 2]
+)");
+  EXPECT_EQ(task_commands(compressions, 1, "d")[1],
+            "carom compress d/start.txt --phi 0.6 --kT 2 -o d/packing.txt --summary "
+            "d/summary.json -q");
 }
 
 // A task stopped while it compresses keeps no packing and compresses again; stopped in its run,
@@ -196,7 +247,8 @@ TEST(SweepTask, ARunFromACompressedStartStoppedAnywhereEndsTheSame) {
   EXPECT_FALSE(fs::exists(piece / "packing.txt"));
   EXPECT_FALSE(fs::exists(piece / "checkpoint.ckpt"));
   ASSERT_EQ(run_task(plan, 2, folder / "pieces").status, TaskStatus::done);
-  for (const char* name : {"start.txt", "packing.txt", "log.csv"}) {  // (a checkpoint names its folder)
+  for (const char* name :
+       {"start.txt", "packing.txt", "log.csv"}) {  // (a checkpoint names its folder)
     EXPECT_EQ(read(piece / name), read(whole / name)) << name;
   }
   // Stopped after its compression, before its run's first checkpoint: the run starts from the
@@ -214,21 +266,57 @@ TEST(SweepTask, ARunFromACompressedStartStoppedAnywhereEndsTheSame) {
               1e-12);
 }
 
-// A compression that jams short of the run's packing fails the task, as carom compress fails,
-// and leaves no packing for a run to start from.
-TEST(SweepTask, ARunWhoseCompressionJamsShortFailsWithoutAPacking) {
+// A packing no finished compression vouches for (its compression.json missing, as when killed
+// between the two files, or saying the compression was interrupted, as a hand-run carom compress
+// stopped part way leaves it) is not the task's state point: it is compressed again.
+TEST(SweepTask, APackingWhoseCompressionDidNotEndIsCompressedAgain) {
+  const Folder folder;
+  const SweepPlan plan = parse(kFluidStartPlan);
+  ASSERT_EQ(run_task(plan, 0, folder / "whole").status, TaskStatus::done);
+  const fs::path whole = fs::path(folder / "whole") / plan.tasks()[0].name;
+  const fs::path piece = fs::path(folder / "pieces") / plan.tasks()[0].name;
+  const std::string record = read(whole / "compression.json");
+  ASSERT_NE(record.find("\"status\": \"reached_target\""), std::string::npos) << record;
+  const std::string interrupted = std::regex_replace(
+      record, std::regex("\"status\": \"reached_target\""), "\"status\": \"interrupted\"");
+  for (const std::optional<std::string>& left :
+       {std::optional<std::string>(), std::optional(interrupted)}) {
+    fs::remove_all(folder / "pieces");
+    fs::create_directories(piece);
+    fs::copy_file(whole / "start.txt", piece / "start.txt");
+    fs::copy_file(whole / "start.txt", piece / "packing.txt");  // the gas, uncompressed
+    if (left) std::ofstream(piece / "compression.json") << *left;
+    ASSERT_EQ(run_task(plan, 0, folder / "pieces").status, TaskStatus::done);
+    EXPECT_EQ(read(piece / "packing.txt"), read(whole / "packing.txt"));
+    EXPECT_EQ(read(piece / "log.csv"), read(whole / "log.csv"));
+  }
+}
+
+// A compression that jams short of the run's packing fails the task, as carom compress fails:
+// its packing and summary kept, no run, and run again it fails again without compressing again.
+TEST(SweepTask, ARunWhoseCompressionJamsShortFailsWithoutARun) {
   const Folder folder;
   const SweepPlan plan = parse(std::string(kJamsShortOf08) + "rate = 1000\n[run]\nend_time = 2\n");
   const std::vector<TaskResult> results = run_sweep(plan, folder / "out", 1);
   ASSERT_EQ(results[0].status, TaskStatus::failed);
+  const fs::path task = fs::path(folder / "out") / plan.tasks()[0].name;
   EXPECT_TRUE(results[0].error.starts_with("the disks jammed at packing fraction "))
       << results[0].error;
-  EXPECT_TRUE(results[0].error.ends_with(" before reaching 0.8: no run starts from it"))
+  EXPECT_TRUE(results[0].error.ends_with(" before reaching 0.8; the jammed packing is in " +
+                                         (task / "packing.txt").string() +
+                                         ": no run starts from it"))
       << results[0].error;
-  const fs::path task = fs::path(folder / "out") / plan.tasks()[0].name;
-  EXPECT_FALSE(fs::exists(task / "packing.txt"));
+  EXPECT_TRUE(fs::exists(task / "packing.txt"));
+  EXPECT_NE(read(task / "compression.json").find("\"status\": \"jammed\""), std::string::npos);
   EXPECT_FALSE(fs::exists(task / "summary.json"));
+  EXPECT_FALSE(fs::exists(task / "log.csv"));
   EXPECT_EQ(read(task / "error.txt"), results[0].error + "\n");
+  // Not compressed again: carom init's start, which a compression makes first, is not remade.
+  fs::remove(task / "start.txt");
+  const std::vector<TaskResult> again = run_sweep(plan, folder / "out", 1);
+  EXPECT_EQ(again[0].status, TaskStatus::failed);
+  EXPECT_EQ(again[0].error, results[0].error);
+  EXPECT_FALSE(fs::exists(task / "start.txt"));
 }
 
 TEST(SweepPlan, AStartFromAFileIsReadFromThePlansFolder) {
@@ -273,8 +361,9 @@ TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
        "plan.toml:6: [run] dump: takes a file name, without a folder"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[runs]\n",
        "plan.toml:6: unknown section [runs]"},
-      {"[start]\nn = 64\nphi = 0.3\n", "plan.toml:1: a plan has [run] (carom run's options), "
-                                          "[compress] (carom compress's), or both"},
+      {"[start]\nn = 64\nphi = 0.3\n",
+       "plan.toml:1: a plan has [run] (carom run's options), "
+       "[compress] (carom compress's), or both"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\njam = true\n",
        "plan.toml:7: [compress] jam: a run starts from its compression's packing"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nrate = 0.1\n",
@@ -293,6 +382,43 @@ TEST(SweepPlan, BadPlansAreRefusedNamingTheFileLineAndKey) {
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = = 5\n", "plan.toml:5: "},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\ncheckpoint_every = \"10m\"\n",
        "plan.toml:6: [run] checkpoint_every: --checkpoint-every"},
+      // What the compression after carom init replaces, and what a later command sets again.
+      {"[start]\nn = 64\nphi = 0.3\nkT = 2\n[run]\nend_time = 5\n[compress]\nphi = 0.6\n",
+       "plan.toml:4: [start] kT: the compression gives the particles new velocities at [compress] "
+       "kT"},
+      {"[start]\nn = 64\nphi = 0.3\nkT = 2\n[compress]\nphi = 0.6\n",
+       "plan.toml:4: [start] kT: the compression gives the particles new velocities"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nkT = 1\n[sweep]\nkT = [0.5, 2]\n",
+       "plan.toml:8: [sweep] kT: [run] kT on line 6 replaces it in every task"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nboundary = \"periodic\"\n[sweep]\n"
+       "boundary = [\"walls\", \"periodic\"]\n",
+       "plan.toml:8: [sweep] boundary: [run] boundary on line 6 replaces it in every task"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nphi = 0.6\n"
+       "boundary = \"periodic\"\n[sweep]\nboundary = [\"walls\", \"periodic\"]\n",
+       "plan.toml:10: [sweep] boundary: [compress] boundary on line 8 replaces it in every task"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\nkT = 1\n[compress]\nphi = 0.6\n"
+       "[sweep]\nkT = [0.5, 2]\n",
+       "plan.toml:10: [sweep] kT: [run] kT on line 6 replaces it in every task"},
+      {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[compress]\nphi = 0.6\nkT = 2\n"
+       "[sweep]\nkT = [0.5, 2]\n",
+       "plan.toml:10: [sweep] kT: also set on line 8"},
+      // What the compression would refuse, before it runs.
+      {"[start]\nn = 64\nphi = 0.4\n[run]\nend_time = 5\n[compress]\n[sweep]\nphi = [0.6, 0.3]\n",
+       "plan.toml:8: [sweep] phi = 0.3 (task phi=0.3): the target packing fraction 0.3 is not "
+       "above "
+       "the start's, 0.4"},
+      {"[start]\nn = 64\nphi = 0.4\n[run]\nend_time = 5\n[compress]\n[sweep]\nphi = [0.95]\n",
+       "plan.toml:8: [sweep] phi = 0.95 (task phi=0.95): the target packing fraction 0.95 is "
+       "beyond 0.9068996821171089 (close packing)"},
+      {"[start]\nn = 64\nphi = 0.4\n[run]\nend_time = 5\n[compress]\nphi = 0.6\n[sweep]\n"
+       "rate = [0.1, -1]\n",
+       "plan.toml:9: [sweep] rate = -1 (task rate=-1): the growth rate must be a positive number"},
+      {"[start]\nn = 64\nphi = 0.4\n[compress]\njam = false\n",
+       "plan.toml:4: [compress] needs phi (the packing fraction to stop at) or jam = true"},
+      {"[start]\nn = 64\nphi = 0.4\n[compress]\nphi = 0.6\nkT = 0\n",
+       "plan.toml:6: [compress] kT = 0: the temperature must be a positive number"},
+      {"[start]\nn = 64\nphi = 0.4\n[compress]\njam = true\njam_pressure = 1e20\n",
+       "plan.toml:6: [compress] jam_pressure = 1e+20: the jamming pressure must be at most 1e+14"},
       {"[start]\nn = 64\nphi = 0.3\n[run]\nend_time = 5\n[sweep]\nseed = " + thousand +
            "\nequilibrate = " + thousand + "\n",
        "plan.toml:7: [sweep] makes 1000000 tasks, more than a plan may have (100000)"},

@@ -267,6 +267,11 @@ def test_runs_from_compressed_starts_are_their_commands_alone_on_every_runner(cl
         summary = json.loads((alone / "out" / task / "summary.json").read_text())
         assert {k: v for k, v in summary.items() if k not in CLOCK} == swept[f"{task}/summary.json"]
         assert summary["packing_fraction"] == pytest.approx(float(task[4:7]), abs=1e-12)
+        compressions = [json.loads((folder / task / "compression.json").read_text())
+                        for folder in (alone / "out", out)]
+        assert [{k: v for k, v in c.items() if k not in CLOCK} for c in compressions] == \
+            [{k: v for k, v in compressions[1].items() if k not in CLOCK}] * 2
+        assert compressions[0]["status"] == "reached_target"
     # The runners, each into the same absolute folder (the files name it).
     set_aside(out, "alone_reference")
     cli("sweep", plan, "-o", out, "-q")

@@ -24,27 +24,54 @@ bool is_positive(double x) {
 
 }  // namespace
 
-template <std::size_t D>
-Compression<D>::Compression(System<D> start, const CompressionSettings& settings)
-    : settings_(settings), system_(std::move(start)) {
-  if (!is_positive(settings_.rate)) {
+void check_growth_rate(double rate) {
+  if (!is_positive(rate)) {
     throw std::invalid_argument(
-        fmt::format("the growth rate must be a positive number, not {}", settings_.rate));
+        fmt::format("the growth rate must be a positive number, not {}", rate));
   }
-  if (!is_positive(settings_.temperature)) {
+}
+
+void check_compression_temperature(double temperature) {
+  if (!is_positive(temperature)) {
     throw std::invalid_argument(
-        fmt::format("the temperature must be a positive number, not {}", settings_.temperature));
+        fmt::format("the temperature must be a positive number, not {}", temperature));
   }
-  if (!is_positive(settings_.jammed_pressure)) {
-    throw std::invalid_argument(fmt::format(
-        "the jamming pressure must be a positive number, not {}", settings_.jammed_pressure));
+}
+
+void check_jammed_pressure(double pressure) {
+  if (!is_positive(pressure)) {
+    throw std::invalid_argument(
+        fmt::format("the jamming pressure must be a positive number, not {}", pressure));
   }
-  if (settings_.jammed_pressure > kMostJammedPressure) {
+  if (pressure > kMostJammedPressure) {
     throw std::invalid_argument(fmt::format(
         "the jamming pressure must be at most {:g}, got {:g}: beyond it the gaps between particles "
         "are below what doubles resolve, and Z stops rising (near 1e15)",
-        kMostJammedPressure, settings_.jammed_pressure));
+        kMostJammedPressure, pressure));
   }
+}
+
+void check_target_packing(double target, double start_packing, bool equal_particles,
+                          std::size_t dimension) {
+  if (!(target > start_packing) || !std::isfinite(target)) {
+    throw std::invalid_argument(fmt::format(
+        "the target packing fraction {} is not above the start's, {}", target, start_packing));
+  }
+  const double most = equal_particles ? close_packing(dimension) : 1.0;
+  if (!(target < most)) {
+    throw std::invalid_argument(fmt::format(
+        "the target packing fraction {} is beyond {} ({}): no packing of these {} has it", target,
+        most, equal_particles ? "close packing" : "a full box",
+        dimension == 3 ? kParticlesName<3> : kParticlesName<2>));
+  }
+}
+
+template <std::size_t D>
+Compression<D>::Compression(System<D> start, const CompressionSettings& settings)
+    : settings_(settings), system_(std::move(start)) {
+  check_growth_rate(settings_.rate);
+  check_compression_temperature(settings_.temperature);
+  check_jammed_pressure(settings_.jammed_pressure);
   if (system_.particles.empty()) throw std::invalid_argument("there are no particles to compress");
   if (system_.records.empty()) system_.records.resize(system_.particles.size());
   // Every particle at the latest stored time, which becomes t = 0 of the compression.
@@ -72,15 +99,7 @@ Compression<D>::Compression(System<D> start, const CompressionSettings& settings
   const double final_packing = settings_.target.value_or(most);
   if (settings_.target) {
     const double target = *settings_.target;
-    if (!(target > initial_packing_) || !std::isfinite(target)) {
-      throw std::invalid_argument(fmt::format(
-          "the target packing fraction {} is not above the start's, {}", target, initial_packing_));
-    }
-    if (!(target < most)) {
-      throw std::invalid_argument(fmt::format(
-          "the target packing fraction {} is beyond {} ({}): no packing of these {} has it", target,
-          most, equal ? "close packing" : "a full box", kParticlesName<D>));
-    }
+    check_target_packing(target, initial_packing_, equal, D);
     const double scale = std::pow(target / initial_packing_, 1.0 / static_cast<double>(D));
     target_time_ = (scale - 1.0) / settings_.rate;
   } else {

@@ -398,9 +398,9 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
       const std::optional<KeyInfo> info = find_key(section, key);
       if (!info) {
         const auto why = section == Section::run ? sweep::refused_run_key(key) : std::nullopt;
-        reader.fail(line_of(*node), why ? fmt::format("[run] {}: {}", key, *why)
-                                        : fmt::format("[{}] {}: not an option of carom {}", name,
-                                                      key, name));
+        reader.fail(line_of(*node),
+                    why ? fmt::format("[run] {}: {}", key, *why)
+                        : fmt::format("[{}] {}: not an option of carom {}", name, key, name));
       }
       fixed.push_back({key, reader.value(*info, *node, name), line_of(*node)});
     }
@@ -408,41 +408,74 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
   read_section(action, action_section, fixed_action);
   if (plan.compresses_start_) read_section(*compress, Section::compress, fixed_compression);
   const auto fixed_of = [&](Goes goes) -> std::vector<PlanSetting>& {
-    return goes == Goes::start ? fixed_start
-                               : goes == Goes::action ? fixed_action : fixed_compression;
+    return goes == Goes::start    ? fixed_start
+           : goes == Goes::action ? fixed_action
+                                  : fixed_compression;
   };
 
+  // carom compress gives the particles new velocities at its own kT: after carom init, init's kT
+  // would be erased, so there kT is the compression's.
+  const bool compresses_init = start_section == Section::init &&
+                               (plan.kind_ == TaskKind::compress || plan.compresses_start_);
+  if (compresses_init) {
+    for (const PlanSetting& s : fixed_start) {
+      if (s.key == "kT") {
+        reader.fail(s.line,
+                    "[start] kT: the compression gives the particles new velocities at "
+                    "[compress] kT (default 1), so carom init's would be lost: set it there");
+      }
+    }
+  }
   std::vector<Axis> axes;
   if (const toml::table* swept = root["sweep"].as_table()) {
     for (const auto& [key, node] : in_order(*swept)) {
       Axis axis{key, Goes::action, line_of(*node), {}};
-      // A key of carom init's goes to the start; of a run from a compressed start, `phi` is the
-      // compression's (the packing the run is at; [start]'s is the gas's), and a key of carom
-      // compress's alone (rate, jam_pressure, unit_diameter) is too.
+      // A key of carom init's goes to the start, but kT after carom init goes to the compression
+      // (above); of a run from a compressed start, `phi` and kT are the compression's (the
+      // packing the run is at; [start]'s phi is the gas's), and a key of carom compress's alone
+      // (rate, jam_pressure, unit_diameter) is too.
       std::optional<KeyInfo> info;
-      const bool compression_phi = plan.compresses_start_ && key == "phi";
-      if (start_section == Section::init && !compression_phi) {
+      const bool compression_key = plan.compresses_start_ && (key == "phi" || key == "kT");
+      if (start_section == Section::init && !compression_key && !(compresses_init && key == "kT")) {
         info = find_key(Section::init, key);
         if (info) axis.goes = Goes::start;
       }
-      if (!info && !compression_phi) info = find_key(action_section, key);
+      if (!info && !compression_key) info = find_key(action_section, key);
       if (!info && plan.compresses_start_) {
         info = find_key(Section::compress, key);
         axis.goes = Goes::compression;
       }
       if (!info) {
-        reader.fail(axis.line,
-                    plan.compresses_start_
-                        ? fmt::format("[sweep] {}: not an option of [start], [compress] or [run]",
-                                      key)
-                        : fmt::format("[sweep] {}: not an option of [start] or [{}]", key,
-                                      action_name));
+        reader.fail(
+            axis.line,
+            plan.compresses_start_
+                ? fmt::format("[sweep] {}: not an option of [start], [compress] or [run]", key)
+                : fmt::format("[sweep] {}: not an option of [start] or [{}]", key, action_name));
       }
       for (const PlanSetting& s : fixed_of(axis.goes)) {
         if (s.key == key) {
           reader.fail(axis.line, fmt::format("[sweep] {}: also set on line {}; a key is set or "
                                              "swept, not both",
                                              key, s.line));
+        }
+      }
+      // The box's boundary and the velocities' kT are the particles' as a command leaves them:
+      // a later command that sets its own replaces the swept one, and the tasks would not differ.
+      if (key == "boundary" || key == "kT") {
+        const auto later = [&](Goes goes) {
+          return axis.goes == Goes::start ? goes != Goes::start
+                                          : axis.goes == Goes::compression && goes == Goes::action;
+        };
+        for (const Goes goes : {Goes::compression, Goes::action}) {
+          if (!later(goes)) continue;
+          for (const PlanSetting& s : fixed_of(goes)) {
+            if (s.key != key) continue;
+            const Section section = goes == Goes::compression ? Section::compress : action_section;
+            reader.fail(axis.line,
+                        fmt::format("[sweep] {}: [{}] {} on line {} replaces it in every task, "
+                                    "which would not differ: sweep it there, or drop that line",
+                                    key, sweep::section_name(section), key, s.line));
+          }
         }
       }
       const toml::array* values = node->as_array();
@@ -475,15 +508,30 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     return 0;
   };
   const auto has = [&](Goes goes, std::string_view key) { return line_setting(goes, key) != 0; };
+  // The line that sets jam to true for `goes`, or sweeps it with true among its values, or 0 (jam =
+  // false is no jam).
+  const auto line_jammed = [&](Goes goes) {
+    for (const PlanSetting& s : fixed_of(goes)) {
+      if (s.key == "jam" && std::get<bool>(s.value)) return s.line;
+    }
+    for (const Axis& a : axes) {
+      const auto jams = [](const PlanValue& v) { return std::get<bool>(v); };
+      if (a.goes == goes && a.key == "jam" &&
+          std::any_of(a.values.begin(), a.values.end(), jams)) {
+        return a.line;
+      }
+    }
+    return 0;
+  };
   if (start_section == Section::init) {
     for (const char* needed : {"n", "phi"}) {
       if (!has(Goes::start, needed)) {
-        reader.fail(line_of(*start),
-                    plan.compresses_start_ && std::string_view(needed) == "phi"
-                        ? "[start] needs phi (carom init --phi: the gas each run's start is "
-                          "compressed from), set; a swept phi is the compression's"
-                        : fmt::format("[start] needs {} (carom init --{}), set or swept", needed,
-                                      needed));
+        reader.fail(
+            line_of(*start),
+            plan.compresses_start_ && std::string_view(needed) == "phi"
+                ? "[start] needs phi (carom init --phi: the gas each run's start is "
+                  "compressed from), set; a swept phi is the compression's"
+                : fmt::format("[start] needs {} (carom init --{}), set or swept", needed, needed));
       }
     }
   }
@@ -491,13 +539,13 @@ SweepPlan SweepPlan::parse(std::string_view text, const std::string& name,
     reader.fail(line_of(action), "[run] needs end_time, set or swept");
   }
   if (plan.kind_ == TaskKind::compress && !has(Goes::action, "phi") &&
-      !has(Goes::action, "jam")) {
+      line_jammed(Goes::action) == 0) {
     reader.fail(line_of(action),
                 "[compress] needs phi (the packing fraction to stop at) or "
                 "jam = true");
   }
   if (plan.compresses_start_) {
-    if (const int jam = line_setting(Goes::compression, "jam"); jam != 0) {
+    if (const int jam = line_jammed(Goes::compression); jam != 0) {
       reader.fail(jam,
                   "[compress] jam: a run starts from its compression's packing, which must be a "
                   "packing fraction to stop at (phi), not a jammed packing");

@@ -22,7 +22,6 @@
 #include "carom/io/atomic_file.hpp"
 #include "carom/run/compress_run.hpp"
 #include "carom/run/run.hpp"
-#include "carom/run/start.hpp"
 #include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
 #include "carom/sweep/sweep.hpp"
@@ -155,9 +154,9 @@ double number(const nlohmann::json& summary, const char* key) {
   return found != summary.end() && found->is_number() ? found->get<double>() : kNotMeasured;
 }
 
-// A compression's failure, as carom compress reports it (exit 1): jammed before its target.
-std::optional<std::string> compression_shortfall(const nlohmann::json& summary,
-                                                 const fs::path& folder) {
+// What a compression's summary says of how it ended: its status, target, dimension, packing
+// fraction and Z.
+CompressionSummary compression_outcome(const nlohmann::json& summary) {
   CompressionSummary outcome;
   outcome.status = summary.value("status", "");
   if (const auto target = summary.find("target"); target != summary.end() && target->is_number()) {
@@ -166,7 +165,13 @@ std::optional<std::string> compression_shortfall(const nlohmann::json& summary,
   outcome.dimension = summary.value("dimension", 2);
   outcome.packing_fraction = number(summary, "packing_fraction");
   outcome.compressibility_factor = number(summary, "compressibility_factor");
-  return shortfall(outcome, (folder / task_files::kPacking).string());
+  return outcome;
+}
+
+// A compression's failure, as carom compress reports it (exit 1): jammed before its target.
+std::optional<std::string> compression_shortfall(const nlohmann::json& summary,
+                                                 const fs::path& folder) {
+  return shortfall(compression_outcome(summary), (folder / task_files::kPacking).string());
 }
 
 // What a finished task measured, from its summary (and a run's time series for the errors):
@@ -231,7 +236,8 @@ void make_start(const sweep::TaskSpec& spec) {
 
 // The task's start compressed into packing.txt (carom init's made first): its result, or nullopt
 // when stopped before the end (nothing written; the next attempt compresses again).
-std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec, const TaskHooks& hooks) {
+std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec,
+                                                const TaskHooks& hooks) {
   make_start(spec);
   CompressionHooks compression_hooks;
   compression_hooks.stop = hooks.stop;
@@ -240,9 +246,9 @@ std::optional<CompressionResult> compress_start(const sweep::TaskSpec& spec, con
       hooks.progress(p.packing_fraction / *spec.compress.settings.target);
     };
   }
-  CompressionResult result = carom::compress(
-      read_start_system(spec.compress.input, spec.compress_boundary), spec.compress,
-      compression_hooks);
+  CompressionResult result =
+      carom::compress(read_start_system(spec.compress.input, spec.compress_boundary), spec.compress,
+                      compression_hooks);
   if (result.summary.status == "interrupted") return std::nullopt;
   return result;
 }
@@ -253,19 +259,49 @@ void write_packing(const CompressionResult& result, const std::string& path) {
   packing.commit();
 }
 
+void write_compression_summary(const CompressionSummary& summary, const fs::path& path) {
+  AtomicFile file(path.string());
+  write_json(file.stream(), summary);
+  file.commit();
+}
+
+// How the compression that made a run's packing ended, if it ended at the task's target or
+// jammed before it: its summary (compression.json, written after packing.txt) says so. Nothing
+// otherwise: no packing, no summary (killed between the two), an unreadable one, or a compression
+// stopped part way (a hand-run carom compress interrupted): that packing is compressed again.
+std::optional<CompressionSummary> finished_compression(const sweep::TaskSpec& spec,
+                                                       const fs::path& folder) {
+  const fs::path record = folder / task_files::kCompression;
+  if (!fs::exists(spec.start.path) || !fs::exists(record)) return std::nullopt;
+  CompressionSummary outcome;
+  try {
+    outcome = compression_outcome(parse_json(read_text(record)));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const bool ended = outcome.status == "reached_target" || outcome.status == "jammed";
+  if (!ended || outcome.target != spec.compress.settings.target) return std::nullopt;
+  return outcome;
+}
+
 TaskStatus run(const sweep::TaskSpec& spec, const fs::path& folder, const TaskHooks& hooks) {
   const fs::path checkpoint = folder / task_files::kCheckpoint;
   const bool resumed = fs::exists(checkpoint);
-  if (!resumed && spec.compresses_start && !fs::exists(spec.start.path)) {
-    // The task's progress is its run's: the compression before it reports none.
-    const std::optional<CompressionResult> compressed = compress_start(spec, {hooks.stop, {}});
-    if (!compressed) return TaskStatus::stopped;
+  if (!resumed && spec.compresses_start) {
+    std::optional<CompressionSummary> compressed = finished_compression(spec, folder);
+    if (!compressed) {
+      // The task's progress is its run's: the compression before it reports none.
+      const std::optional<CompressionResult> result = compress_start(spec, {hooks.stop, {}});
+      if (!result) return TaskStatus::stopped;
+      write_packing(*result, spec.start.path);
+      write_compression_summary(result->summary, folder / task_files::kCompression);
+      compressed = result->summary;
+    }
     // Jammed short of its packing, the run would be at another state point: the task fails, as
-    // carom compress does, and no packing is kept for a run to start from.
-    if (const std::optional<std::string> jammed = jammed_short(compressed->summary)) {
+    // carom compress does, its packing kept, and is not compressed again (it would jam again).
+    if (const std::optional<std::string> jammed = shortfall(*compressed, spec.start.path)) {
       throw RequestError(*jammed + ": no run starts from it");
     }
-    write_packing(*compressed, spec.start.path);
   }
   const auto begin = [&] {
     if (resumed) return resume_start(checkpoint.string());
@@ -371,6 +407,7 @@ std::vector<std::string> task_file_names(const SweepPlan& plan, const SweepTask&
   if (plan.kind() == TaskKind::compress || plan.compresses_start()) {
     names.emplace_back(task_files::kPacking);
   }
+  if (plan.compresses_start()) names.emplace_back(task_files::kCompression);
   if (plan.kind() == TaskKind::compress) return names;
   names.emplace_back(task_files::kLog);
   names.emplace_back(task_files::kCheckpoint);
@@ -497,7 +534,7 @@ const std::vector<std::string>& measure_names(const SweepPlan& plan) {
 std::vector<std::string> sweep::measures_of(const SweepPlan& plan) {
   if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
   std::vector<std::string> names = {
-      "Z",           "Z_error",        "pressure",        "pressure_error",
+      "Z",           "Z_error",        "pressure",         "pressure_error",
       "temperature", "collision_rate", "packing_fraction", std::string(kDriftMeasure)};
   const auto any_task = [&plan](auto&& asks) {
     return std::any_of(plan.tasks().begin(), plan.tasks().end(), [&](const SweepTask& task) {

@@ -235,9 +235,36 @@ void compress_options(TaskSpec& spec, const std::vector<PlanSetting>& settings) 
   if (jam) c.settings.target.reset();
 }
 
+// What carom compress would refuse of a task's compression before it starts, named by the setting
+// that sets it: its rate, kT and jamming pressure, and, where carom init makes the start (whose
+// packing fraction is [start]'s phi), its target.
+void check_compression(const SweepPlan& plan, const SweepTask& task, const TaskSpec& spec,
+                       const std::vector<PlanSetting>& settings, std::string_view section) {
+  const CompressionSettings& c = spec.compress.settings;
+  const auto check = [&](std::string_view key, const auto& checked) {
+    try {
+      checked();
+    } catch (const std::invalid_argument& e) {
+      const PlanSetting* s = find_setting(settings, key);
+      throw setting_error(plan, &task, s != nullptr ? *s : settings.front(), section, e.what());
+    }
+  };
+  check("rate", [&] { check_growth_rate(c.rate); });
+  check("kT", [&] { check_compression_temperature(c.temperature); });
+  check("jam_pressure", [&] { check_jammed_pressure(c.jammed_pressure); });
+  const InitialOptions& o = spec.initial;
+  if (c.target && !spec.start_file && o.packing_fraction > 0.0) {
+    const bool equal = o.polydispersity == 0.0 && o.species.empty();
+    check("phi", [&] {
+      check_target_packing(*c.target, o.packing_fraction, equal,
+                           static_cast<std::size_t>(spec.dimension));
+    });
+  }
+}
+
 // The run's settings, and the task's seed when the run draws random numbers (new velocities at
-// kT, Andersen's resets, event chains) without a seed of its own and carom init's start has one: a seed, set or
-// swept, then seeds every draw of its task, not only carom init's.
+// kT, Andersen's resets, event chains) without a seed of its own and carom init's start has one: a
+// seed, set or swept, then seeds every draw of its task, not only carom init's.
 std::vector<PlanSetting> action_settings(const SweepPlan& plan, const SweepTask& task) {
   std::vector<PlanSetting> settings = task.action;
   const PlanSetting* seed = find_setting(task.start, "seed");
@@ -257,7 +284,8 @@ std::vector<PlanSetting> action_settings(const SweepPlan& plan, const SweepTask&
 std::optional<std::string> why_seed_is_idle(const TaskSpec& spec, const SweepTask& task) {
   const PlanSetting* seed = find_setting(task.start, "seed");
   const bool chains = spec.start.sampler == SamplerKind::ecmc;
-  if (seed == nullptr || !seed->swept || spec.kind != TaskKind::run ||
+  // A compressed start is not: the velocities carom init draws shape the packing.
+  if (seed == nullptr || !seed->swept || spec.kind != TaskKind::run || spec.compresses_start ||
       !(spec.start.temperature || chains)) {
     return std::nullopt;
   }
@@ -297,10 +325,11 @@ void write_commands(TaskSpec& spec, const SweepTask& task, const std::vector<Pla
       append_option(compress, s);
     }
     compress += " -o " + shell_word(in_folder(folder, task_files::kPacking));
-    // A compression's own summary is the task's; before a run, the run's is.
-    if (spec.kind == TaskKind::compress) {
-      compress += " --summary " + shell_word(in_folder(folder, task_files::kSummary));
-    }
+    // A compression's own summary is the task's; before a run, the run's is, and the
+    // compression's says whether the packing is whole.
+    compress += " --summary " + shell_word(in_folder(folder, spec.kind == TaskKind::compress
+                                                                 ? task_files::kSummary
+                                                                 : task_files::kCompression));
     spec.commands.push_back(compress + " -q");
     if (spec.kind == TaskKind::compress) return;
   }
@@ -372,12 +401,19 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
     } catch (const std::invalid_argument& e) {
       throw setting_error(plan, &task, named_in(task.compression, e.what()), "compress", e.what());
     }
+    check_compression(plan, task, spec, task.compression, "compress");
   }
   const std::vector<PlanSetting> action = action_settings(plan, task);
-  try {
-    if (spec.kind == TaskKind::compress) {
+  if (spec.kind == TaskKind::compress) {
+    try {
       compress_options(spec, action);
-    } else {
+    } catch (const std::invalid_argument& e) {
+      throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());
+    }
+    check_compression(plan, task, spec, action, section);
+  }
+  try {
+    if (spec.kind == TaskKind::run) {
       run_options(spec, action, folder);
       const StartSpec& s = spec.start;
       check_settings(
@@ -387,12 +423,11 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
       // What the run checks of its start's box, before any particle is made: the boundary and
       // rule are the run's, else what the start records (carom init's: its boundary, elastic; a
       // compression's: the boundary it compressed in, elastic).
-      StartRecord record = spec.start_file
-                               ? plan.start_file_record()
-                               : StartRecord{spec.initial.boundary, Rule::elastic, {}};
+      StartRecord record = spec.start_file ? plan.start_file_record()
+                                           : StartRecord{spec.initial.boundary, Rule::elastic, {}};
       if (spec.compresses_start) {
-        record = {spec.compress_boundary ? spec.compress_boundary : record.boundary,
-                  Rule::elastic, {}};
+        record = {
+            spec.compress_boundary ? spec.compress_boundary : record.boundary, Rule::elastic, {}};
       }
       const Boundary boundary = s.boundary.value_or(record.boundary.value_or(Boundary::walls));
       const Rule rule = s.rule.value_or(default_rule(record, boundary, s.restitution));

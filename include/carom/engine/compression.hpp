@@ -43,6 +43,18 @@ struct CompressionSettings {
   EngineKind engine = EngineKind::fast;
 };
 
+// The checks Compression's constructor makes of its settings, one at a time, so that a caller can
+// make them before it has a start (a sweep plan, at each task's setting): each throws
+// std::invalid_argument saying what is wrong. A growth rate, temperature or jamming pressure must
+// be a positive number, the last at most kMostJammedPressure.
+void check_growth_rate(double rate);
+void check_compression_temperature(double temperature);
+void check_jammed_pressure(double pressure);
+// A target packing fraction must lie above the start's and below what the particles can fill:
+// close packing of equal particles in `dimension` dimensions, else a full box.
+void check_target_packing(double target, double start_packing, bool equal_particles,
+                          std::size_t dimension);
+
 enum class CompressionStatus {
   running,
   reached_target,  // the packing fraction is the target (to rounding)

@@ -106,16 +106,19 @@ inline constexpr const char* kSummary = "summary.json";  // there only when the 
 inline constexpr const char* kLog = "log.csv";           // a run's time series
 inline constexpr const char* kCheckpoint = "checkpoint.ckpt";  // a run's state
 inline constexpr const char* kPacking = "packing.txt";         // a compression's packing
-inline constexpr const char* kError = "error.txt";             // why the task failed
-inline constexpr const char* kLock = "task.lock";              // held while the task runs
+// The summary of the compression that made a run's packing, written after it: there only when
+// that compression ended (at its target, or jammed before it).
+inline constexpr const char* kCompression = "compression.json";
+inline constexpr const char* kError = "error.txt";  // why the task failed
+inline constexpr const char* kLock = "task.lock";   // held while the task runs
 // All of them: a plan's dump or event log may take none of these names, nor that of a temporary
 // file of one (AtomicFile::is_temporary_of: carom makes some beside any file it writes).
-inline constexpr std::array kOwn = {kCommands,   kStart,   kSummary, kLog,
-                                    kCheckpoint, kPacking, kError,   kLock};
+inline constexpr std::array kOwn = {kCommands, kStart,       kSummary, kLog, kCheckpoint,
+                                    kPacking,  kCompression, kError,   kLock};
 // Those written whole (AtomicFile): an attempt killed while it wrote one leaves its temporary,
 // which a resumed task removes.
-inline constexpr std::array kWrittenWhole = {kCommands,   kStart,   kSummary,
-                                             kCheckpoint, kPacking, kError};
+inline constexpr std::array kWrittenWhole = {kCommands, kStart,       kSummary, kCheckpoint,
+                                             kPacking,  kCompression, kError};
 }  // namespace task_files
 
 // In a sweep's folder: held while a sweep runs there.
