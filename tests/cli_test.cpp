@@ -709,6 +709,10 @@ TEST_F(Cli, ARunSaysWhenZDriftedOverItsWindow) {
   // No window, no verdict.
   const Result none = carom({"run", start, "5", "--equilibrate", "5", "--format", "json"});
   EXPECT_TRUE(nlohmann::json::parse(none.out)["compressibility_factor_drift"].is_null());
+  // Nor a pressure: the window lasted no time (not a pressure of 0).
+  for (const char* key : {"compressibility_factor", "pressure", "collision_rate"}) {
+    EXPECT_TRUE(nlohmann::json::parse(none.out)[key].is_null()) << key;
+  }
 }
 
 // A dump that a resumed run begins (not one it continues) starts with a frame at the resumed
@@ -2069,6 +2073,8 @@ TEST_F(Cli, EdgesOfTheOutputKeepTheirPromises) {
   EXPECT_NE(zero.find("\"end_time\": 0.0,"), std::string::npos) << zero;  // not -0.0
   const auto j = nlohmann::json::parse(zero);
   EXPECT_TRUE(j["mean_free_time"].is_null());  // no time has passed: undefined, as documented
+  EXPECT_TRUE(j["compressibility_factor"].is_null());
+  EXPECT_TRUE(j["pressure"].is_null());
   const fs::path upper = dir_ / "MOVIE.XYZ";
   EXPECT_EQ(carom({"run", input, "1", "--dump", upper, "--every", "0.5"}).exit_code, 0);
   EXPECT_TRUE(holds(upper, "Time=1"));

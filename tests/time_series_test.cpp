@@ -48,6 +48,17 @@ TEST(BlockAverage, IndependentValuesGiveTheNaiveErrorAndCorrelatedOnesALargerOne
   EXPECT_NEAR(correlated.error(), blocked, 0.4 * blocked);
 }
 
+// An error from blocks of at least K values: the levels of shorter blocks left out, none (NaN)
+// until a level of long enough blocks holds kLeastBlocks of them.
+TEST(BlockAverage, AnErrorFromLongBlocksOnlyLeavesTheShortOnesOut) {
+  BlockAverage a;
+  for (int i = 0; i < 64; ++i) a.add(i % 2 == 0 ? 1.0 : 3.0);  // alternating: pairs average to 2
+  EXPECT_GT(a.error(), 0.0);
+  EXPECT_EQ(a.error(2), 0.0);  // blocks of 2 and 4 (32 and 16 of them), every one 2
+  EXPECT_TRUE(std::isnan(a.error(8)));  // 8 blocks of 8: too few
+  EXPECT_TRUE(std::isnan(BlockAverage().error(2)));
+}
+
 TEST(TimeSeries, RowsComeAtMultiplesOfTheIntervalWithTheWindowsZ) {
   pcg32 rng(3);
   System<2> gas = carom::testing::random_gas(rng, 60, 0.5, 0.5, 14, 14);
@@ -62,6 +73,39 @@ TEST(TimeSeries, RowsComeAtMultiplesOfTheIntervalWithTheWindowsZ) {
   EXPECT_EQ(series->compressibility().count(), 40u);
   EXPECT_NEAR(series->compressibility().mean(), simulation.observables().compressibility_factor,
               1e-12);
+}
+
+// Event chains longer than the rows: a row's interval moves the particles along one axis only,
+// and the log gives Z's mean but no error from blocks shorter than a turn of chains (x then y),
+// as the summary gives none; with rows that hold turns, it gives one.
+TEST(TimeSeries, EventChainsLongerThanItsBlocksGiveNoError) {
+  pcg32 rng(3);
+  System<2> gas = carom::testing::random_gas(rng, 64, 0.5, 0.5, 16, 16);
+  gas.box.boundary = Boundary::periodic;
+  for (ParticleRecord& record : gas.records) record.mass = 1.0;  // chains move positions only
+  ASSERT_EQ(gas.size(), 64u);
+  const auto last_row = [&](double chain_length, double every) {
+    Settings settings;
+    settings.sampler = {SamplerKind::ecmc, chain_length, 1};
+    Simulation<2> simulation(gas, settings);
+    std::ostringstream out;
+    simulation.add_observer(std::make_shared<TimeSeriesWriter<2>>(out, every));
+    simulation.run_until(64.0 * every);
+    const std::string text = out.str();
+    const std::size_t end = text.rfind('\n', text.size() - 2);
+    std::vector<std::string> fields;
+    std::stringstream row(text.substr(end + 1));
+    for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+    return fields;
+  };
+  // Columns 11 and 12 (from 0): Z_mean and Z_error. A turn of chains of 64 diameters over 64
+  // disks lasts 2 time units: rows 0.01 apart hold a 200th of one.
+  const std::vector<std::string> short_rows = last_row(64.0, 0.01);
+  EXPECT_FALSE(short_rows[11].empty());
+  EXPECT_TRUE(short_rows[12].empty()) << short_rows[12];
+  EXPECT_TRUE(short_rows[10].empty()) << short_rows[10];  // pressure_error
+  const std::vector<std::string> turns = last_row(1.0, 1.0);
+  EXPECT_FALSE(turns[12].empty());
 }
 
 }  // namespace

@@ -140,6 +140,7 @@ def test_init_and_arrays_give_the_command_lines_run(cli, tmp_path):
     (["--engine", "reference"], "--engine reference needs dynamics"),
     (["--transport"], "--transport needs dynamics (--sampler md)"),
     (["--chain-length", "-1"], "--chain-length must be a number above 0"),
+    (["--tc", "0.1"], "--tc needs dynamics (--sampler md)"),
 ])
 def test_what_needs_dynamics_is_refused_by_name(cli, tmp_path, options, words):
     start = tmp_path / "start.txt"
@@ -179,6 +180,12 @@ def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
                          sampler="ecmc", rule="swap")
     with pytest.raises(ValueError, match='chain_length= needs sampler="ecmc"'):
         carom.init(50, 0.3, boundary="periodic", chain_length=3.0)
+    with pytest.raises(ValueError, match='tc= needs dynamics'):
+        carom.init(50, 0.3, boundary="periodic", sampler="ecmc", tc=0.1)
+    # The magnitudes carom's command line takes, in every front end.
+    for length in (1e300, 1e-300):
+        with pytest.raises(ValueError, match="chain_length= is out of range"):
+            carom.init(50, 0.3, boundary="periodic", sampler="ecmc", chain_length=length)
     start = tmp_path / "start.txt"
     cli("init", "--n", "50", "--phi", "0.3", "--boundary", "periodic", "-o", start)
     assert "--chain-length needs --sampler ecmc" in cli.error("run", start, "1", "--chain-length", "3")
@@ -186,6 +193,14 @@ def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
     plan.write_text('[start]\nn = 50\nphi = 0.3\nboundary = "periodic"\n'
                     '[run]\nend_time = 1\nchain_length = 3\n[sweep]\nseed = [1, 2]\n')
     assert "needs" in cli.error("sweep", plan, "-o", tmp_path / "out")
+    # Chains that a task's run would refuse are refused with the plan, before anything runs.
+    for setting, words in (("chain_length = 1e300", "--chain-length is out of range"),
+                           ("chain_length = 1e-7", "too late for event chains"),
+                           ("tc = 0.1", "--tc needs dynamics")):
+        plan.write_text('[start]\nn = 64\nphi = 0.3\nboundary = "periodic"\n[run]\n'
+                        f'sampler = "ecmc"\nend_time = 10\n{setting}\n[sweep]\nseed = [1, 2]\n')
+        message = cli.error("sweep", plan, "-o", tmp_path / "out", "--dry-run")
+        assert "plan.toml:" in message and words in message, message
 
 
 def test_a_seed_alone_still_needs_something_to_seed(cli, tmp_path):

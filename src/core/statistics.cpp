@@ -35,16 +35,21 @@ double BlockAverage::mean() const {
   return levels_.front().sum / static_cast<double>(levels_.front().count);
 }
 
-double BlockAverage::error() const {
+double BlockAverage::error(std::uint64_t least_block) const {
   const auto standard_error = [](const Level& level) {
     const auto n = static_cast<double>(level.count);
     const double variance = (level.sum_of_squares - level.sum * level.sum / n) / (n - 1.0);
     return std::sqrt(std::max(variance, 0.0) / n);
   };
-  if (count() < 2) return std::numeric_limits<double>::quiet_NaN();
-  double largest = standard_error(levels_.front());
+  double largest = std::numeric_limits<double>::quiet_NaN();
+  if (count() < 2) return largest;
+  if (least_block <= 1) largest = standard_error(levels_.front());
+  std::uint64_t block = 1;
   for (const Level& level : levels_) {
-    if (level.count >= kLeastBlocks) largest = std::max(largest, standard_error(level));
+    if (block >= least_block && level.count >= kLeastBlocks) {
+      largest = std::isnan(largest) ? standard_error(level) : std::max(largest, standard_error(level));
+    }
+    block *= 2;
   }
   return largest;
 }

@@ -1040,17 +1040,21 @@ double EcmcEngine<D>::slice_length() const {
   return std::min(Engine<D>::slice_length(), kChainsPerSlice * chain_duration_);
 }
 
-template <std::size_t D>
-void EcmcEngine<D>::check_target(double t) const {
-  // A chain's end is its start plus chain_duration_, in stored times no later than t: resolved
-  // to a millionth of a chain at least.
-  if (!(chain_duration_ >= std::abs(t) * 0x1p-32)) {
+void check_chain_clock(double end_time, double chain_length, double chain_duration) {
+  // A chain's end is its start plus chain_duration, in stored times no later than end_time:
+  // resolved to a millionth of a chain at least.
+  if (!(chain_duration >= std::abs(end_time) * 0x1p-32)) {
     throw RunLengthError(fmt::format(
         "{} is too late for event chains of {:.3g} mean diameters: each lasts {:.3g} time units, "
-        "and a double resolves time there only to {:.3g}; use a longer chain length",
-        t, chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_,
-        std::abs(t) * 0x1p-52));
+        "and a chain must last a million times what a double resolves at that time ({:.3g}); use a "
+        "longer chain length or a shorter run",
+        end_time, chain_length, chain_duration, std::abs(end_time) * 0x1p-52));
   }
+}
+
+template <std::size_t D>
+void EcmcEngine<D>::check_target(double t) const {
+  check_chain_clock(t, chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_);
 }
 
 template <std::size_t D>

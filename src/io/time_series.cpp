@@ -85,12 +85,18 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
     }
   }
   take(row, window(simulation));
+  // Rows a block must hold for its error to count: a turn of event chains (a row each for
+  // dynamics). Capped where the count would not fit: no run has that many rows.
+  const double turn = chain_turn_duration(simulation.settings().sampler, system.size(), D);
+  const auto least_block =
+      static_cast<std::uint64_t>(std::max(1.0, std::min(std::ceil(turn / every_), 0x1p62)));
   const Counts& c = row.totals;
   std::string line = fmt::format(
       "{},{},{},{},{},{},{},{},{},{},{},{},{}", row.time, c.events, c.pair_collisions,
       field(c.virial), field(c.wall_momentum), field(simulation.temperature()),
       field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
-      field(pressure_.mean()), field(pressure_.error()), field(z_.mean()), field(z_.error()));
+      field(pressure_.mean()), field(pressure_.error(least_block)), field(z_.mean()),
+      field(z_.error(least_block)));
   const SymmetricTensor moment =
       c.fluxes ? c.fluxes->stress_moment() : SymmetricTensor{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   for (const std::size_t k : tensor_components<D>())

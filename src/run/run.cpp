@@ -24,17 +24,6 @@ namespace {
 constexpr const char* kCannotStream =
     "cannot write the trajectory, the event log or the time series (is the disk full?)";
 
-// How many turns of event chains (a chain along every axis) a stretch of `time` holds: a chain
-// lasts its length over N (the moving particle runs at N mean diameters a unit of time).
-// Dynamics has no chains: kNever.
-template <std::size_t D>
-double turns_of_chains(const Simulation<D>& simulation, double time) {
-  const Sampler& sampler = simulation.settings().sampler;
-  if (sampler.kind != SamplerKind::ecmc) return kNever;
-  const double chain = sampler.chain_length / static_cast<double>(simulation.state().size());
-  return time / (static_cast<double>(D) * chain);
-}
-
 // Calls the caller's progress function every kProgressEvents events.
 template <std::size_t D>
 class ProgressCall final : public Observer<D> {
@@ -149,7 +138,9 @@ struct Runner::State {
   void take_errors(const Simulation<D>& simulation) {
     const BlockErrors errors =
         records.drift ? block_errors(*records.drift, simulation) : BlockErrors{};
-    const bool blocks_apart = turns_of_chains(simulation, errors.block_length) >= 1.0;
+    const bool blocks_apart =
+        errors.block_length >= chain_turn_duration(simulation.settings().sampler,
+                                                   simulation.state().size(), D);
     drift = blocks_apart ? errors.verdict : std::nullopt;
     pressure_tensor_error = blocks_apart ? errors.pressure_tensor : std::nullopt;
     compressibility_factor_error = blocks_apart ? errors.compressibility_factor : std::nullopt;

@@ -47,6 +47,12 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   const auto number = [](double x) {
     return std::isfinite(x) ? nlohmann::ordered_json(x) : nlohmann::ordered_json(nullptr);
   };
+  // What is measured over the window, undefined (null) when it has lasted no time: a run to its
+  // start, or one whose --equilibrate is its end.
+  const bool measured = o.elapsed > 0.0;
+  const auto over_window = [&](double x) {
+    return measured ? number(x) : nlohmann::ordered_json(nullptr);
+  };
   const auto vector = [](const Vec<D>& v) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (std::size_t k = 0; k < D; ++k) list.push_back(v[k]);
@@ -141,10 +147,10 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
       {"momentum_final", of_dynamics(vector(o.momentum_final))},
       {"degrees_of_freedom", of_dynamics(o.degrees_of_freedom)},
       {"temperature", o.temperature},
-      {"pressure", o.pressure},
+      {"pressure", over_window(o.pressure)},
       {"wall_pressure", system.box.periodic() ? nlohmann::ordered_json(nullptr)
-                                              : nlohmann::ordered_json(o.wall_pressure)},
-      {"compressibility_factor", number(o.compressibility_factor)},
+                                              : over_window(o.wall_pressure)},
+      {"compressibility_factor", over_window(o.compressibility_factor)},
       // Over the drift verdict's intervals of the window, taken as independent.
       {"compressibility_factor_error", optional(report.compressibility_factor_error)},
       // Event chains: Z along x, y (and z), from the lifts and the displacement along each.
@@ -158,8 +164,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
                                              {"sigmas", report.drift->sigmas},
                                              {"intervals", report.drift->intervals}}
                     : nlohmann::ordered_json(nullptr)},
-      {"collision_rate", o.collision_rate},
-      {"mean_free_time", number(o.mean_free_time)},
+      {"collision_rate", over_window(o.collision_rate)},
+      {"mean_free_time", over_window(o.mean_free_time)},
       // Present when the run kept its fluxes (fluxes.hpp): the window's pressure tensor and the
       // standard error of each component over the drift verdict's intervals.
       {"pressure_tensor", tensor(o.pressure_tensor)},

@@ -259,13 +259,22 @@ void check_sampler_request(const Settings& settings, bool periodic, const ShearR
     refuse(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
   }
   if (settings.rule.restitution != 1.0) refuse(option("restitution"), "samples hard particles");
+  if (settings.rule.elastic_within != kDefaultTc) {
+    refuse(option("tc"), "has no inelastic collisions for it to make elastic");
+  }
   if (rule_named) refuse(option("rule"), "moves no two particles at once, under any rule");
   if (settings.engine == EngineKind::reference) {
     refuse(option("engine", "reference"), "has its own engine");
   }
   if (draws_velocities) refuse(option("temperature"), "samples positions, at kT = 1");
-  if (!(settings.sampler.chain_length >= 0.0) || !std::isfinite(settings.sampler.chain_length)) {
+  const double length = settings.sampler.chain_length;
+  if (!(length >= 0.0) || !std::isfinite(length)) {
     throw RequestError({option("chain_length"), " must be a number above 0 (0: the default)"});
+  }
+  if (length > kLargestMagnitude || (length != 0.0 && length < kSmallestMagnitude)) {
+    throw RequestError({option("chain_length"), fmt::format(" is out of range: carom takes "
+                                                            "magnitudes from {} to {}",
+                                                            kSmallestMagnitude, kLargestMagnitude)});
   }
 }
 

@@ -439,6 +439,12 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
                              s.thermostat,
                              {s.sampler, s.chain_length, s.seed}},
                             periodic, s.shear, s.rule.has_value(), s.temperature.has_value());
+      // Chains of a length given, over carom init's particles: whether they reach the end.
+      if (s.sampler == SamplerKind::ecmc && s.chain_length != 0.0 && !spec.start_file &&
+          spec.initial.n > 0) {
+        check_chain_clock(spec.run.end_time, s.chain_length,
+                          s.chain_length / static_cast<double>(spec.initial.n));
+      }
     }
   } catch (const std::invalid_argument& e) {
     throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());

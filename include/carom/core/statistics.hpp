@@ -23,7 +23,11 @@ class BlockAverage {
   void add(double value);
   std::uint64_t count() const { return levels_.empty() ? 0 : levels_.front().count; }
   double mean() const;   // NaN before any value
-  double error() const;  // NaN with fewer than two values
+  // The largest standard error over the levels of blocks of at least `least_block` values that
+  // hold kLeastBlocks blocks or more, and the values themselves' when `least_block` is 1 (the
+  // levels' blocks are 1, 2, 4, ... values). NaN with fewer than two values, or when no level
+  // qualifies.
+  double error(std::uint64_t least_block = 1) const;
   void clear() { levels_.clear(); }
 
  private:

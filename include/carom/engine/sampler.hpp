@@ -43,6 +43,18 @@ struct Sampler {
 template <std::size_t D>
 double default_chain_length(const System<D>& system, double mean_diameter);
 
+// How long a turn of event chains lasts (a chain along every axis), in time units, for a run of
+// `sampler` over `particles` particles in `dimension` dimensions: a chain lasts its length over N
+// (the moving particle runs at N mean diameters a unit of time). A stretch shorter than a turn has
+// moved the particles along some axes only, and stretches of it are neither alike nor apart: no
+// error comes from blocks shorter than it. Dynamics has no chains: 0. (`sampler.chain_length` as
+// the run has it: set, not 0.)
+inline double chain_turn_duration(const Sampler& sampler, std::size_t particles,
+                                  std::size_t dimension) {
+  if (sampler.kind != SamplerKind::ecmc) return 0.0;
+  return static_cast<double>(dimension) * sampler.chain_length / static_cast<double>(particles);
+}
+
 // Throws std::invalid_argument, saying why, unless chains can run in `system`: a periodic box
 // that is not sheared, every mass 1 (chains move positions only), and three cells of the largest
 // diameter or more along every axis (the search's two columns of cells must hold one image of a

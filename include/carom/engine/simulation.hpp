@@ -111,6 +111,12 @@ class RunLengthError : public std::invalid_argument {
   using std::invalid_argument::invalid_argument;
 };
 
+// Throws RunLengthError unless event chains of `chain_length` mean diameters, each lasting
+// `chain_duration` time units (its length over N: the moving particle runs at N mean diameters a
+// unit of time), can run to `end_time`: a chain's end must lie after its start there, by a
+// millionth of a chain at least.
+void check_chain_clock(double end_time, double chain_length, double chain_duration);
+
 template <std::size_t D>
 struct Checkpoint;
 

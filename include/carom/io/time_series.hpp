@@ -26,8 +26,10 @@ namespace carom {
 // events to wall_momentum are the run's running totals (Counts); temperature is kT at the row's
 // time; pressure, Z = P V / (N kT) and the collision rate (per particle) are measured over the
 // interval since the previous row; the means and errors (BlockAverage) are over the rows whose
-// interval lies in the measurement window (none while equilibrating). Empty fields: not measured
-// (the first row, or no row yet in the window). Throws std::runtime_error when the stream fails.
+// interval lies in the measurement window (none while equilibrating), the errors from blocks of at
+// least a turn of event chains (chain_turn_duration: none until there are enough). Empty fields:
+// not measured (the first row, or no row yet in the window, or no error yet). Throws
+// std::runtime_error when the stream fails.
 template <std::size_t D>
 class TimeSeriesWriter final : public Observer<D> {
  public:
@@ -35,7 +37,7 @@ class TimeSeriesWriter final : public Observer<D> {
       "time,events,pair_collisions,virial,wall_momentum,temperature,pressure,Z,collision_rate,"
       "pressure_mean,pressure_error,Z_mean,Z_error\n";
   TimeSeriesWriter(std::ostream& out, double every)
-      : Observer<D>(Trigger::every_time(every)), out_(out) {}
+      : Observer<D>(Trigger::every_time(every)), out_(out), every_(every) {}
   // The header of a log: kHeader's columns, then the pressure tensor over the row's interval
   // (pxx, pyy, pxy; in 3D pxx, pyy, pzz, pxy, pxz, pyz) and its Einstein-Helfand moment, the
   // integral of V P_ab since the run began keeping its fluxes (Gxx, ...: running totals, like
@@ -63,6 +65,7 @@ class TimeSeriesWriter final : public Observer<D> {
   void take(const Row& row, std::optional<double> window_start);
 
   std::ostream& out_;
+  double every_;
   bool started_ = false;
   Row last_;                            // the previous row
   std::optional<double> window_start_;  // the measurement window the averages are over
