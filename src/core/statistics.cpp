@@ -47,7 +47,8 @@ double BlockAverage::error(std::uint64_t least_block) const {
   std::uint64_t block = 1;
   for (const Level& level : levels_) {
     if (block >= least_block && level.count >= kLeastBlocks) {
-      largest = std::isnan(largest) ? standard_error(level) : std::max(largest, standard_error(level));
+      largest =
+          std::isnan(largest) ? standard_error(level) : std::max(largest, standard_error(level));
     }
     block *= 2;
   }

@@ -112,6 +112,7 @@ EcmcEngine<D>::EcmcEngine(System<D> system, double chain_length, const ChainStat
   }
   const double diameter = mean_diameter(this->system_);
   speed_ = static_cast<double>(n) * diameter;
+  chain_length_ = chain_length;
   chain_duration_ = chain_length * diameter / speed_;
   for (std::size_t k = 0; k < D; ++k) {
     half_box_[k] = 0.5 * this->system_.box.size[k];
@@ -1054,7 +1055,7 @@ void check_chain_clock(double end_time, double chain_length, double chain_durati
 
 template <std::size_t D>
 void EcmcEngine<D>::check_target(double t) const {
-  check_chain_clock(t, chain_duration_ * speed_ / mean_diameter(this->system_), chain_duration_);
+  check_chain_clock(t, chain_length_, chain_duration_);
 }
 
 template <std::size_t D>

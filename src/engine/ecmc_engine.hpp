@@ -290,6 +290,7 @@ class EcmcEngine final : public Engine<D> {
   bool avx2_ = false;  // lifts() runs lifts_avx2
   // The stored time the clock last moved on from by a step a double resolves (see lift()).
   double stall_since_ = 0.0;
+  double chain_length_ = 0.0;    // in mean diameters
   double chain_duration_ = 0.0;  // stored time a chain lasts
   double speed_ = 0.0;
   ChainState chain_;

@@ -35,8 +35,7 @@ void check_number(double value, const std::string& what) {
   if (!std::isfinite(value)) {
     throw std::invalid_argument(fmt::format("{} is not a finite number: {}", what, value));
   }
-  if (std::abs(value) > kLargestMagnitude ||
-      (value != 0.0 && std::abs(value) < kSmallestMagnitude)) {
+  if (!within_magnitudes(value)) {
     throw std::invalid_argument(
         fmt::format("{} is out of range: {} (carom takes magnitudes from {} to {})", what, value,
                     kSmallestMagnitude, kLargestMagnitude));

@@ -51,8 +51,7 @@ double parse_finite_double(std::string_view token) {
   }
   if (!std::isfinite(value))
     throw std::invalid_argument(quoted_token(token) + " is not a finite number");
-  if (std::abs(value) > kLargestMagnitude ||
-      (value != 0.0 && std::abs(value) < kSmallestMagnitude)) {
+  if (!within_magnitudes(value)) {
     throw std::invalid_argument(
         fmt::format("{} is out of range: carom takes magnitudes from {} to {}", quoted_token(token),
                     kSmallestMagnitude, kLargestMagnitude));

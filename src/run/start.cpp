@@ -271,10 +271,10 @@ void check_sampler_request(const Settings& settings, bool periodic, const ShearR
   if (!(length >= 0.0) || !std::isfinite(length)) {
     throw RequestError({option("chain_length"), " must be a number above 0 (0: the default)"});
   }
-  if (length > kLargestMagnitude || (length != 0.0 && length < kSmallestMagnitude)) {
-    throw RequestError({option("chain_length"), fmt::format(" is out of range: carom takes "
-                                                            "magnitudes from {} to {}",
-                                                            kSmallestMagnitude, kLargestMagnitude)});
+  if (!within_magnitudes(length)) {
+    throw RequestError({option("chain_length"),
+                        fmt::format(" is out of range: carom takes magnitudes from {} to {}",
+                                    kSmallestMagnitude, kLargestMagnitude)});
   }
 }
 

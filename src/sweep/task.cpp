@@ -334,9 +334,7 @@ TaskStatus compress(const sweep::TaskSpec& spec, const fs::path& folder, const T
   if (const std::optional<std::string> why = shortfall(result->summary, packing_path)) {
     write_text(folder / task_files::kError, *why + '\n');
   }
-  AtomicFile summary((folder / task_files::kSummary).string());
-  write_json(summary.stream(), result->summary);
-  summary.commit();
+  write_compression_summary(result->summary, folder / task_files::kSummary);
   return TaskStatus::done;
 }
 

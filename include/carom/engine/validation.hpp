@@ -3,6 +3,7 @@
 // checkpoints) and the makers of starts (carom init, arrays from Python) check with these.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -16,6 +17,12 @@ namespace carom {
 // predictions, and beyond these the squares overflow or underflow.
 inline constexpr double kLargestMagnitude = 1e100;
 inline constexpr double kSmallestMagnitude = 1e-100;
+// Whether a finite number's magnitude is one carom takes: 0, or from kSmallestMagnitude to
+// kLargestMagnitude.
+inline bool within_magnitudes(double value) {
+  return value == 0.0 ||
+         (std::abs(value) >= kSmallestMagnitude && std::abs(value) <= kLargestMagnitude);
+}
 // The spacing of doubles across the box, as a fraction of a particle's diameter, beyond which its
 // contacts cannot be resolved: a box at most about 4.5e9 diameters across.
 inline constexpr double kFinestContact = 1e-6;
