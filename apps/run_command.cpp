@@ -326,6 +326,16 @@ void run_command(const RunArguments& args) {
         "(equilibrate longer: --equilibrate)\n",
         report.drift->first, report.drift->second, report.drift->sigmas);
   }
+  if (report.drift && !report.drift->drifted() && report.drift->blocks_correlated() &&
+      !args.quiet) {
+    std::cerr << fmt::format(
+        "carom: warning: Z's blocks of the measurement window are correlated (lag-one "
+        "autocorrelation {:.2f} over {} blocks, where independent ones give 0 +- {:.2f}): Z "
+        "fluctuates over longer than a block, so its standard error understates the "
+        "uncertainty (measure over a longer window, or compare independent runs)\n",
+        report.drift->block_correlation, report.drift->intervals,
+        1.0 / std::sqrt(static_cast<double>(report.drift->intervals)));
+  }
   if (!args.trace) write_result(main.stream(), simulation, args.format, report);
   main.commit();
 }

@@ -105,7 +105,7 @@ std::string status_text(const SweepProgress& p) {
 
 int finish(const SweepArguments& args, const SweepPlan& plan, const std::string& folder,
            const std::vector<TaskResult>& results, double seconds) {
-  std::size_t done = 0, failed = 0, drifting = 0;
+  std::size_t done = 0, failed = 0, drifting = 0, correlated = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done) ++done;
     if (results[i].status == TaskStatus::done && drifted(results[i])) {
@@ -115,6 +115,15 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
             "carom: warning: task {}: Z drifted by {:.1f} standard errors over its measurement "
             "window: it was still changing while measured (equilibrate longer)\n",
             plan.tasks()[i].name, results[i].measure(kDriftMeasure));
+      }
+    } else if (results[i].status == TaskStatus::done && blocks_correlated(results[i])) {
+      ++correlated;
+      if (!args.quiet) {
+        std::cerr << fmt::format(
+            "carom: warning: task {}: Z's blocks are correlated ({} = {:.1f}): Z fluctuated "
+            "over longer than a block, so its error understates the uncertainty (measure over "
+            "a longer window, or compare seeds)\n",
+            plan.tasks()[i].name, kCorrelationMeasure, results[i].measure(kCorrelationMeasure));
       }
     }
     if (results[i].status == TaskStatus::failed) {
@@ -131,10 +140,14 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
   }
   if (!args.quiet) {
     std::cerr << fmt::format(
-        "carom: {} of {} tasks done{}{} in {}: {}/results.csv, summary.csv; {}\n", done,
+        "carom: {} of {} tasks done{}{}{} in {}: {}/results.csv, summary.csv; {}\n", done,
         results.size(), failed > 0 ? fmt::format(", {} failed", failed) : "",
         drifting > 0 ? fmt::format(", {} with Z drifting (column {})", drifting, kDriftMeasure)
                      : "",
+        correlated > 0
+            ? fmt::format(", {} with Z's blocks correlated (column {})", correlated,
+                          kCorrelationMeasure)
+            : "",
         clock_time(seconds), folder, "report " + sweep_report_page(folder, args.html));
   }
   constexpr std::size_t kMostCounted = 27;  // 100 + 27 = 127, below the signals' 128 + N

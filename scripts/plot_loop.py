@@ -8,7 +8,11 @@ Reads a sweep's results.csv (or the sweep's folder): one row a task with `phi` (
 the `packing_fraction` column), `status`, `Z` and `Z_error`. beta P d^2 = Z N d^2 / V = Z 4 phi / pi
 for equal disks of diameter d (Z = P V / (N kT), so neither kT nor the unit of length enters).
 Tasks of one packing (several seeds) are averaged; the error is the larger of their block-average
-errors combined and the standard error of their scatter (one task: its run's block error). Tasks not done are left out and counted.
+errors combined and the standard error of their scatter (one task: its run's block error). Where
+the runs of the packings measured more than once scatter beyond their errors (chi2 over its
+degrees of freedom above 1), every run's error is first multiplied by sqrt(chi2 / dof), the
+scale factor the Particle Data Group applies to measurements that disagree: a run's blocks can be
+shorter than its slowest fluctuation. Tasks not done are left out and counted.
 
 Drawn beside it from docs/data/historic_disks/ (HistoricDisks, GPL-3.0): E. P. Bernard and
 W. Krauth, Phys. Rev. Lett. 107, 155704 (2011) (event-chain Monte Carlo) and M. Engel et al.,
@@ -32,13 +36,14 @@ REFERENCES = [
 ]
 
 
-def read_results(path):
+def read_results(path, scale_from=None):
     """{phi: (beta P d^2, error, runs, windows)} over the done runs, and the count not done.
 
     Reads a sweep's results.csv (or its folder), one row a task (`phi` or `packing_fraction`,
     `status`, `Z`, `Z_error`), or a table of chains (docs/data/hard_disk_loop_runs.csv: `phi`,
     `from`, `to`, `beta_p`, `error`, with `#` comment lines), one row a chain measured over the
-    window [from, to]."""
+    window [from, to]. The errors are scaled by error_scale over the packings from
+    scale_from[0] to scale_from[1] (all when None)."""
     if os.path.isdir(path):
         path = os.path.join(path, "results.csv")
     by_phi, windows, not_done = {}, {}, 0
@@ -57,11 +62,32 @@ def read_results(path):
             z_err = float(row["Z_error"]) if row.get("Z_error") else float("nan")
             to_bp = 4.0 * phi / math.pi
             by_phi.setdefault(round(phi, 9), []).append((z * to_bp, z_err * to_bp))
+    lo, hi = scale_from or (-math.inf, math.inf)
+    scale = error_scale(vals for phi, vals in by_phi.items() if lo <= phi <= hi)
     points = {}
     for phi, vals in sorted(by_phi.items()):
         window = ", ".join(sorted(windows.get(phi, ()), key=lambda w: int(w.split("-")[0])))
-        points[phi] = (*mean_of_runs(vals), len(vals), window)
-    return points, not_done
+        scaled = [(v, e * scale[0]) for v, e in vals]
+        points[phi] = (*mean_of_runs(scaled), len(vals), window)
+    return points, not_done, scale
+
+
+def error_scale(groups):
+    """(S, chi2, degrees of freedom, groups): how much runs of one packing scatter beyond their
+    errors, S = sqrt(chi2 / dof) of each group's runs about their weighted mean, pooled over the
+    groups of two runs or more (the Particle Data Group's scale factor). Runs whose errors come
+    from blocks shorter than the slowest fluctuation scatter more than those errors say; every
+    run's error is multiplied by S where it exceeds 1 (1 without two runs of a packing)."""
+    chi2, dof, used = 0.0, 0, 0
+    for vals in groups:
+        if len(vals) < 2 or any(not e > 0 for _, e in vals):
+            continue
+        weights = [1.0 / (e * e) for _, e in vals]
+        mean = sum(w * v for w, (v, _) in zip(weights, vals)) / sum(weights)
+        chi2 += sum(((v - mean) / e) ** 2 for v, e in vals)
+        dof += len(vals) - 1
+        used += 1
+    return (max(1.0, math.sqrt(chi2 / dof)) if dof else 1.0), chi2, dof, used
 
 
 def mean_of_runs(values):
@@ -96,9 +122,12 @@ def main():
                         help="the sweep's N, whose published data are drawn (default 65536)")
     parser.add_argument("--label", help="the legend of carom's points (default: carom (ECMC), N)")
     parser.add_argument("--data", default=historic_disks.DATA, help="the published data folder")
+    parser.add_argument("--scale-from", nargs=2, type=float, metavar=("LO", "HI"),
+                        help="take the errors' scale factor from the packings LO to HI only "
+                             "(default: every packing measured more than once)")
     args = parser.parse_args()
 
-    points, not_done = read_results(args.results)
+    points, not_done, scale = read_results(args.results, args.scale_from)
     if not points:
         sys.exit(f"{args.results}: no task done yet ({not_done} not done)")
     refs = [(label, marker, reference(file, sampling, args.n, args.data))
@@ -146,8 +175,16 @@ def main():
             cells.append(f"{y:.5f} +- {ye:.5f} ({dev:+.1f})")
         runs = f"{k} | {window}" if windows else f"{k}"
         print(f"| {x:.3f} | {m:.5f} +- {e:.5f} | {runs} | " + " | ".join(cells) + " |")
+    factor, chi2, dof, groups = scale
     print(f"\n{len(xs)} packings done, {not_done} tasks not done; {within} of {len(xs)} within two "
           f"combined errors of {names[0]}; figure: {args.output}")
+    if dof:
+        among = (f" from {args.scale_from[0]:g} to {args.scale_from[1]:g}" if args.scale_from
+                 else "")
+        print(f"Every run's error multiplied by {factor:.2f}: the runs of the {groups} packings"
+              f"{among} measured more than once scatter by chi2 = {chi2:.1f} over {dof} degrees of "
+              f"freedom about their means, sqrt(chi2 / dof) = {math.sqrt(chi2 / dof):.2f} times "
+              f"what their errors say")
 
 
 def difference(value, error, reference_value, reference_error):

@@ -684,6 +684,28 @@ TEST_F(Cli, LongRunsShowProgressOnATerminalOnly) {
   EXPECT_EQ(piped.err, "");
 }
 
+// Z whose blocks remember each other: 1024 disks at 0.71 (inside the coexistence region) by
+// event chains, measured over 100 units, blocks of 4: no drift, but Z fluctuates over longer
+// than a block, and the run says its error understates the uncertainty. (The steady gas of the
+// test below is told nothing.)
+TEST_F(Cli, ARunSaysWhenZsBlocksAreCorrelated) {
+  const fs::path start = dir_ / "dense.txt";
+  ASSERT_EQ(carom({"init", "--n", "1024", "--phi", "0.71", "--boundary", "periodic", "-o", start})
+                .exit_code,
+            0);
+  const Result slow = carom({"run", start, "600", "--equilibrate", "500", "--sampler", "ecmc",
+                             "--format", "json"});
+  ASSERT_EQ(slow.exit_code, 0) << slow.err;
+  const auto verdict = nlohmann::json::parse(slow.out)["compressibility_factor_drift"];
+  EXPECT_LT(std::abs(verdict["sigmas"].get<double>()), 3.0);
+  const double blocks = verdict["intervals"].get<double>();
+  EXPECT_GT(verdict["block_correlation"].get<double>(), 2.0 / std::sqrt(blocks)) << verdict;
+  EXPECT_NE(slow.err.find("carom: warning: Z's blocks of the measurement window are correlated"),
+            std::string::npos)
+      << slow.err;
+  EXPECT_EQ(slow.err.find("drifted"), std::string::npos) << slow.err;
+}
+
 // Z over the first half of the measurement window against the second: a run still changing is
 // told so; an equilibrated one is not.
 TEST_F(Cli, ARunSaysWhenZDriftedOverItsWindow) {
@@ -697,6 +719,7 @@ TEST_F(Cli, ARunSaysWhenZDriftedOverItsWindow) {
   const auto calm = nlohmann::json::parse(steady.out)["compressibility_factor_drift"];
   EXPECT_EQ(calm["intervals"], 25);  // blocks of 2 from t = 10 to 60
   EXPECT_LT(std::abs(calm["sigmas"].get<double>()), 3.0);
+  EXPECT_LT(calm["block_correlation"].get<double>(), 2.0 / 5.0);  // 25 blocks
   // A cooling granular gas changes all along.
   const Result cooling = carom({"run", start, "30", "--restitution", "0.5", "--format", "json"});
   ASSERT_EQ(cooling.exit_code, 0) << cooling.err;

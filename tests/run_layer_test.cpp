@@ -19,6 +19,8 @@
 #include "carom/run/compress_run.hpp"
 #include "carom/run/run.hpp"
 #include "carom/run/start.hpp"
+#include "carom/run/z_drift.hpp"
+#include "test_systems.hpp"
 
 namespace carom {
 namespace {
@@ -275,6 +277,39 @@ TEST_F(RunLayer, CompressReachesItsTargetOrStopsWithAValidPacking) {
   const CompressionResult stopped = compress(start, spec, hooks);
   EXPECT_EQ(stopped.summary.status, "interrupted");
   EXPECT_LT(stopped.summary.packing_fraction, 0.5);
+}
+
+// The drift verdict's blocks: Z that remembers itself from block to block (a slow oscillation,
+// two whole periods, so the halves agree) is told apart from Z that does not (alternating about
+// the same mean), and neither drifted.
+TEST(DriftVerdict, SaysWhenZsBlocksAreCorrelated) {
+  pcg32 rng(3);
+  const Simulation<2> simulation(testing::random_gas(rng, 20, 0.3, 0.5, 10, 8), {{Rule::elastic}});
+  const auto record_of = [&](auto block_z) {
+    DriftRecord record{1.0, {}, {}, {}};
+    Counts total;
+    for (int i = 0; i <= 32; ++i) {
+      if (i > 0) total.virial += 2.0 * 20.0 * (block_z(i) - 1.0);  // Z = 1 + virial / (D N)
+      record.boundaries.push_back(i);
+      record.totals.push_back(total);
+      record.temperatures.push_back(1.0);
+    }
+    return record;
+  };
+  const double pi = std::acos(-1.0);
+  const BlockErrors slow =
+      block_errors(record_of([&](int i) { return 5.0 + std::sin(2 * pi * i / 16.0); }), simulation);
+  ASSERT_TRUE(slow.verdict);
+  EXPECT_EQ(slow.verdict->intervals, 32u);
+  EXPECT_FALSE(slow.verdict->drifted()) << slow.verdict->sigmas;
+  EXPECT_NEAR(slow.verdict->block_correlation, std::cos(2 * pi / 16.0), 0.05);
+  EXPECT_TRUE(slow.verdict->blocks_correlated());
+  const BlockErrors fast =
+      block_errors(record_of([](int i) { return i % 2 == 0 ? 4.0 : 6.0; }), simulation);
+  ASSERT_TRUE(fast.verdict);
+  EXPECT_FALSE(fast.verdict->drifted());
+  EXPECT_LT(fast.verdict->block_correlation, 0.0);
+  EXPECT_FALSE(fast.verdict->blocks_correlated());
 }
 
 }  // namespace

@@ -653,7 +653,7 @@ TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {
       << results[1].error;
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
-  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,random placement jammed"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,,random placement jammed"), std::string::npos) << table;
 }
 
 // The steps every runner takes, as carom.sweep takes them around Dask workers that return only a
@@ -681,7 +681,7 @@ TEST(SweepTask, PreparedReturnedAndFinishedTasksMakeTheTables) {
     finish_sweep(plan, out, results);
   }
   const std::string table = read(fs::path(out) / "results.csv");
-  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,lost on the way"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,,lost on the way"), std::string::npos) << table;
   EXPECT_TRUE(fs::exists(sweep_report_page(out)));
   EXPECT_EQ(prepare_sweep(plan, out).waiting, (std::vector<std::size_t>{1}));  // lock let go
 }
@@ -761,10 +761,10 @@ TEST(SweepTables, ResultsKeepFullPrecisionAndSummariesAverageOverSeeds) {
   const std::string table = read(folder / "results.csv");
   EXPECT_EQ(table.substr(0, table.find('\n')),
             "phi,seed,status,Z,Z_error,pressure,pressure_error,temperature,collision_rate,"
-            "packing_fraction,Z_drift,error");
-  EXPECT_NE(table.find("\n0.3,1,done,0.30000000000000004,0.25,1,,,,,,\n"), std::string::npos)
+            "packing_fraction,Z_drift,Z_correlation,error");
+  EXPECT_NE(table.find("\n0.3,1,done,0.30000000000000004,0.25,1,,,,,,,\n"), std::string::npos)
       << table;
-  EXPECT_NE(table.find("\n0.3,2,failed,,,,,,,,,\"it broke, \"\"badly\"\"\"\n"), std::string::npos);
+  EXPECT_NE(table.find("\n0.3,2,failed,,,,,,,,,,\"it broke, \"\"badly\"\"\"\n"), std::string::npos);
   const std::string summary = read(folder / "summary.csv");
   // phi 0.2: two seeds, Z 1 and 2: mean 1.5, standard error 0.5. phi 0.3: one done task, whose
   // own error stands.
@@ -785,8 +785,8 @@ TEST(SweepTables, TasksWhoseZDriftedAreFlagged) {
   }
   write_sweep_tables(plan, folder / "", results);
   const std::string table = read(folder / "results.csv");
-  EXPECT_NE(table.find("\n0.2,1,done,1,0.25,,,,,,-3.5,\n"), std::string::npos) << table;
-  EXPECT_NE(table.find("\n0.3,1,done,1,0.25,,,,,,,\n"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.2,1,done,1,0.25,,,,,,-3.5,,\n"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.3,1,done,1,0.25,,,,,,,,\n"), std::string::npos) << table;
   const std::string summary = read(folder / "summary.csv");
   EXPECT_EQ(summary.substr(0, summary.find('\n')).find("Z_drift"), std::string::npos) << summary;
   EXPECT_NE(summary.find(",drifted\n"), std::string::npos) << summary;
@@ -807,6 +807,34 @@ TEST(SweepTables, TasksWhoseZDriftedAreFlagged) {
       << html;
   EXPECT_EQ(html.find(plan.tasks()[1].name + "</b>"), std::string::npos);
   EXPECT_NE(html.find("<td class=\"drifted\">1 of 2</td>"), std::string::npos);
+}
+
+// A task whose Z's blocks were correlated past two spreads of independent ones shows it in
+// results.csv and is named in the report (unless it drifted, which says more); the correlation
+// is averaged nowhere.
+TEST(SweepTables, TasksWhoseZBlocksAreCorrelatedAreFlagged) {
+  const Folder folder;
+  const SweepPlan plan = parse(kSmallPlan);
+  std::vector<TaskResult> results(4, TaskResult::with(TaskStatus::done));
+  const double drift[] = {0.5, 0.5, 4.0, std::nan("")};
+  const double correlation[] = {2.5, 1.5, 3.0, std::nan("")};
+  for (std::size_t i = 0; i < 4; ++i) {
+    results[i].measures = {{"Z", 1.0}, {"Z_error", 0.25}, {"Z_drift", drift[i]},
+                           {"Z_correlation", correlation[i]}};
+  }
+  write_sweep_tables(plan, folder / "", results);
+  const std::string table = read(folder / "results.csv");
+  EXPECT_NE(table.find("\n0.2,1,done,1,0.25,,,,,,0.5,2.5,\n"), std::string::npos) << table;
+  const std::string summary = read(folder / "summary.csv");
+  EXPECT_EQ(summary.find("Z_correlation"), std::string::npos) << summary;
+  std::ostringstream page;
+  write_sweep_report(page, plan, results);
+  const std::string html = page.str();
+  EXPECT_NE(html.find("Tasks whose Z fluctuated over longer than a block"), std::string::npos);
+  EXPECT_NE(html.find(plan.tasks()[0].name + "</b>: 2.5</li>"), std::string::npos) << html;
+  EXPECT_EQ(html.find(plan.tasks()[1].name + "</b>"), std::string::npos);  // 1.5: independent
+  EXPECT_EQ(html.find(plan.tasks()[2].name + "</b>: 3.0"), std::string::npos);  // drifted
+  EXPECT_NE(html.find(plan.tasks()[2].name + "</b>: 4.0 standard errors"), std::string::npos);
 }
 
 // Issue 36, item 24: a plan nested deeper than any plan needs (a dotted key or a table header of

@@ -7,7 +7,9 @@
 #include <pcg_random.hpp>
 #include <random>
 #include <sstream>
+#include <vector>
 
+#include "carom/core/statistics.hpp"
 #include "test_systems.hpp"
 
 namespace carom {
@@ -46,6 +48,29 @@ TEST(BlockAverage, IndependentValuesGiveTheNaiveErrorAndCorrelatedOnesALargerOne
   EXPECT_NEAR(independent.error(), naive, 0.25 * naive);
   const double blocked = 2.0 / std::sqrt(kValues / 32.0);
   EXPECT_NEAR(correlated.error(), blocked, 0.4 * blocked);
+}
+
+// Consecutive values' correlation: about 0 (within 1/sqrt(n)) for independent values, the
+// process's own for a correlated one, -1 for alternating ones; none without three values that
+// differ.
+TEST(LagOneAutocorrelation, TellsIndependentValuesFromCorrelatedOnes) {
+  pcg32 rng(11);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  constexpr int kValues = 1 << 14;
+  std::vector<double> independent(kValues), remembering(kValues);
+  double x = 0.0;
+  for (int i = 0; i < kValues; ++i) {
+    independent[i] = 5.0 + normal(rng);
+    x = 0.8 * x + normal(rng);  // AR(1): lag-one autocorrelation 0.8
+    remembering[i] = 5.0 + x;
+  }
+  const double spread = 1.0 / std::sqrt(kValues);
+  EXPECT_NEAR(lag_one_autocorrelation(independent), 0.0, 4 * spread);
+  EXPECT_NEAR(lag_one_autocorrelation(remembering), 0.8, 0.03);
+  const std::vector<double> alternating = {1, 3, 1, 3, 1, 3, 1, 3};
+  EXPECT_NEAR(lag_one_autocorrelation(alternating), -7.0 / 8.0, 1e-15);
+  EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{1.0, 2.0})));
+  EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{2.0, 2.0, 2.0})));
 }
 
 // An error from blocks of at least K values: the levels of shorter blocks left out, none (NaN)

@@ -224,6 +224,9 @@ void export_sweep(py::module_& m) {
   m.def("finish_sweep", &finish_sweep, "plan"_a, "out_dir"_a, "results"_a, "report"_a = "");
   // Past this many standard errors of Z_drift a task was still changing while measured.
   m.attr("DRIFT_WARNING") = DriftVerdict::kWarning;
+  // Past this many spreads of independent blocks' autocorrelation, Z_correlation says a task's Z
+  // fluctuated over longer than a block.
+  m.attr("CORRELATION_WARNING") = DriftVerdict::kCorrelationWarning;
 }
 
 }  // namespace carom::python

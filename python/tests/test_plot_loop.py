@@ -39,10 +39,17 @@ def test_chains_of_a_packing_are_averaged_with_their_scatter(tmp_path):
     # Two chains 0.02 apart with errors of 0.001: the error is their scatter's, 0.01, not the
     # 0.0007 of their errors combined.
     assert table["0.704"][:3] == ["9.19000 +- 0.01000", "2", "12000-18000"]
-    assert table["0.716"][0] == "9.17791 +- 0.00200"
+    # Their scatter is sqrt(chi2) = 14.14 times their errors: so is every chain's error taken to
+    # be, the one chain at 0.716 too.
+    assert "multiplied by 14.14" in done.stdout
+    assert table["0.716"][0] == "9.17791 +- 0.02828"
     assert "(+0.0)" in table["0.716"][3]  # Bernard and Krauth's 9.17791 at 0.716
     assert "2 of 2 within two combined errors" in done.stdout
     assert (tmp_path / "loop.svg").stat().st_size > 0
+    # The factor from the packings 0.71 to 0.72 only: none there is measured twice.
+    apart = plot(chains, "-o", tmp_path / "loop.svg", "--scale-from", "0.71", "0.72")
+    assert rows(apart.stdout)["0.716"][0] == "9.17791 +- 0.00200"
+    assert "multiplied" not in apart.stdout
 
 
 def test_a_sweeps_results_give_the_same_table(tmp_path):

@@ -445,7 +445,7 @@ def test_a_task_that_cannot_run_fails_alone(cli, tmp_path, client):
         == (tmp_path / "cli" / "results.csv").read_bytes()
     assert list(table["status"]) == ["done", "failed"]
     assert table["Z"][0] > 1 and np.isnan(table["Z"][1])
-    assert table["error"][1] == rows[2].split(",", 10)[-1]
+    assert table["error"][1] == rows[2].split(",", 11)[-1]
 
 
 # A compression that jams short of its target at the fast rate: its error names its packing's
@@ -712,6 +712,22 @@ def test_ctrl_c_stops_the_tasks_on_the_dask_workers(cli, long_sweep, client):
             fcntl.lockf(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
     cli("sweep", plan, "-o", out, "-q")
     assert_same_contents(contents(out), reference, "after Ctrl-C")
+
+
+def test_a_task_whose_blocks_are_correlated_is_warned_of():
+    """carom.sweep names a task whose Z_correlation is past _carom.CORRELATION_WARNING, as carom
+    sweep does, unless it drifted (that warning says more); NaN (no verdict) is no warning."""
+    from carom import dask_sweep
+
+    class Plan:
+        tasks = ["remembers", "drifted", "independent", "no verdict"]
+    table = np.array([(0.5, 2.5), (4.0, 3.0), (0.1, 1.5), (np.nan, np.nan)],
+                     dtype=[("Z_drift", float), ("Z_correlation", float)])
+    with pytest.warns(UserWarning) as caught:
+        dask_sweep._warn_of_drift(Plan, table)
+    assert [str(w.message).split(":")[0] for w in caught] == ["task remembers", "task drifted"]
+    assert "Z's blocks are correlated (Z_correlation = 2.5)" in str(caught[0].message)
+    assert "Z drifted by 4.0" in str(caught[1].message)
 
 
 DRIFTING_PLAN = """\

@@ -13,6 +13,20 @@ std::pair<double, double> mean_and_variance_of_mean(std::span<const double> valu
   return {mean, squares / (n - 1.0) / n};
 }
 
+double lag_one_autocorrelation(std::span<const double> values) {
+  if (values.size() < 3) return std::numeric_limits<double>::quiet_NaN();
+  const auto n = static_cast<double>(values.size());
+  double mean = 0.0;
+  for (const double x : values) mean += x / n;
+  double variance = 0.0, covariance = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double d = values[i] - mean;
+    variance += d * d;
+    if (i > 0) covariance += d * (values[i - 1] - mean);
+  }
+  return variance > 0.0 ? covariance / variance : std::numeric_limits<double>::quiet_NaN();
+}
+
 void BlockAverage::add(double value) {
   for (std::size_t level = 0;; ++level) {
     if (level == levels_.size()) levels_.emplace_back();

@@ -162,7 +162,9 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
        report.drift ? nlohmann::ordered_json{{"first_half", report.drift->first},
                                              {"second_half", report.drift->second},
                                              {"sigmas", report.drift->sigmas},
-                                             {"intervals", report.drift->intervals}}
+                                             {"intervals", report.drift->intervals},
+                                             {"block_correlation",
+                                              report.drift->block_correlation}}
                     : nlohmann::ordered_json(nullptr)},
       {"collision_rate", over_window(o.collision_rate)},
       {"mean_free_time", over_window(o.mean_free_time)},

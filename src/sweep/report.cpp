@@ -322,6 +322,24 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
            "numbers are not equilibrium values. Equilibrate them longer.</p>\n<ul>\n"
         << drifting << "</ul>\n";
   }
+  std::string correlated;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    if (results[i].status == TaskStatus::done && !drifted(results[i]) &&
+        blocks_correlated(results[i])) {
+      correlated += fmt::format("<li><b>{}</b>: {:.1f}</li>\n", escaped(plan.tasks()[i].name),
+                                results[i].measure(kCorrelationMeasure));
+    }
+  }
+  if (!correlated.empty()) {
+    out << "<h2 class=\"drifted\">Tasks whose Z fluctuated over longer than a block</h2>\n<p>The "
+           "blocks of these runs' measurement windows are correlated (column "
+        << kCorrelationMeasure << ": their lag-one autocorrelation, in units of the spread of "
+        << "independent blocks', above " << DriftVerdict::kCorrelationWarning
+        << "): Z remembers itself from one block to the next, so the errors over the blocks "
+           "understate the uncertainty. Measure over a longer window, or compare seeds.</p>\n"
+           "<ul>\n"
+        << correlated << "</ul>\n";
+  }
   out << "<h2>The plan</h2>\n<pre>" << escaped(plan.text()) << "</pre>\n</body></html>\n";
 }
 

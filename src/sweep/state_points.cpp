@@ -51,7 +51,7 @@ StatePoints state_points(const SweepPlan& plan, const std::vector<TaskResult>& r
     // A drift is a verdict on one run: counted (StatePoint::drifted), not averaged.
     if (name == kDriftMeasure) {
       s.drift_measured = true;
-    } else if (!is_error(name)) {
+    } else if (!is_error(name) && name != kCorrelationMeasure) {
       s.measures.push_back(name);
     }
   }

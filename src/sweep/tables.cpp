@@ -71,6 +71,10 @@ bool drifted(const TaskResult& result) {
   return std::abs(result.measure(kDriftMeasure)) > DriftVerdict::kWarning;  // NaN: no verdict
 }
 
+bool blocks_correlated(const TaskResult& result) {
+  return result.measure(kCorrelationMeasure) > DriftVerdict::kCorrelationWarning;
+}
+
 double TaskResult::measure(std::string_view name) const {
   for (const auto& [n, value] : measures) {
     if (n == name) return value;

@@ -212,6 +212,12 @@ TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
       const auto drift = summary.find("compressibility_factor_drift");
       if (drift != summary.end() && drift->is_object()) value = number(*drift, "sigmas");
     }
+    if (name == kCorrelationMeasure) {
+      const auto drift = summary.find("compressibility_factor_drift");
+      if (drift != summary.end() && drift->is_object() && drift->contains("block_correlation")) {
+        value = number(*drift, "block_correlation") * std::sqrt(number(*drift, "intervals"));
+      }
+    }
     result.measures.emplace_back(name, value);
   }
   return result;
@@ -533,7 +539,8 @@ std::vector<std::string> sweep::measures_of(const SweepPlan& plan) {
   if (plan.kind() == TaskKind::compress) return {"packing_fraction", "Z", "time", "events"};
   std::vector<std::string> names = {
       "Z",           "Z_error",        "pressure",         "pressure_error",
-      "temperature", "collision_rate", "packing_fraction", std::string(kDriftMeasure)};
+      "temperature", "collision_rate", "packing_fraction", std::string(kDriftMeasure),
+      std::string(kCorrelationMeasure)};
   const auto any_task = [&plan](auto&& asks) {
     return std::any_of(plan.tasks().begin(), plan.tasks().end(), [&](const SweepTask& task) {
       return std::any_of(task.action.begin(), task.action.end(), asks);

@@ -12,6 +12,12 @@ namespace carom {
 // over n), taken as independent: for block or interval means that are.
 std::pair<double, double> mean_and_variance_of_mean(std::span<const double> values);
 
+// The lag-one autocorrelation of `values`: the covariance of consecutive values over their
+// variance (both about the mean of all). Near -1/n for independent values, within about
+// 1/sqrt(n); values correlated over longer than one step give more. NaN for fewer than three
+// values or none that differ.
+double lag_one_autocorrelation(std::span<const double> values);
+
 // The mean of a series of correlated values and its standard error by block averaging (Flyvbjerg
 // and Petersen 1989): values are averaged in pairs, pairs of pairs, ..., and the standard error
 // of the mean is estimated at each level; correlated values make it grow with the block size

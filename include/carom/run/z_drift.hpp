@@ -18,9 +18,19 @@ struct DriftVerdict {
   double first = 0.0, second = 0.0;  // mean Z over each half's blocks
   double sigmas = 0.0;               // (second - first) / the standard error of the difference
   std::size_t intervals = 0;         // blocks
+  // The lag-one autocorrelation of the blocks' Z: near 0 when they are independent, as the
+  // standard errors over them assume.
+  double block_correlation = 0.0;
   // Past this many standard errors a run says it was not equilibrated.
   static constexpr double kWarning = 3.0;
   bool drifted() const { return std::abs(sigmas) > kWarning; }
+  // Past this many times 1 / sqrt(blocks) (the spread of independent blocks' autocorrelation),
+  // Z remembers itself from one block to the next: its fluctuations outlast a block, and the
+  // standard errors over the blocks understate the uncertainty.
+  static constexpr double kCorrelationWarning = 2.0;
+  bool blocks_correlated() const {
+    return block_correlation > kCorrelationWarning / std::sqrt(static_cast<double>(intervals));
+  }
 };
 
 // What the blocks of a window give: the drift verdict, and the standard errors of Z's mean and

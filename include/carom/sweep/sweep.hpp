@@ -195,8 +195,15 @@ struct TaskResult {
 // DriftVerdict::kWarning the task was still changing while measured: the console, summary.csv
 // and the report flag it.
 inline constexpr std::string_view kDriftMeasure = "Z_drift";
+// And Z_correlation: the lag-one autocorrelation of the verdict's blocks' Z, in units of the
+// spread independent blocks would give it (1 / sqrt(blocks)). Past
+// DriftVerdict::kCorrelationWarning, Z fluctuated over longer than a block and its error
+// understates the uncertainty: the console and the report flag it.
+inline constexpr std::string_view kCorrelationMeasure = "Z_correlation";
 // Whether a task's Z drifted past DriftVerdict::kWarning standard errors.
 bool drifted(const TaskResult& result);
+// Whether a task's Z blocks were correlated past DriftVerdict::kCorrelationWarning.
+bool blocks_correlated(const TaskResult& result);
 const std::vector<std::string>& measure_names(const SweepPlan& plan);
 
 struct TaskHooks {
