@@ -653,7 +653,8 @@ TEST(SweepTask, AFailingTaskKeepsItsErrorAndTheSweepGoesOn) {
       << results[1].error;
   EXPECT_EQ(read_task_results(plan, folder / "out")[1].error, results[1].error);
   const std::string table = read(fs::path(folder / "out") / "results.csv");
-  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,,random placement jammed"), std::string::npos) << table;
+  EXPECT_NE(table.find("\n0.7,failed,,,,,,,,,,random placement jammed"), std::string::npos)
+      << table;
 }
 
 // The steps every runner takes, as carom.sweep takes them around Dask workers that return only a
