@@ -155,9 +155,20 @@ class Simulation:
         return self._idle.boundary
 
     @property
+    def sampler(self):
+        """"md" (dynamics) or "ecmc" (event chains)."""
+        return self._idle.sampler
+
+    @property
+    def chain_length(self):
+        """Event chains: each chain's length in mean diameters; None for dynamics."""
+        return self._idle.chain_length
+
+    @property
     def rule(self):
         """"elastic" (momentum exchanged along the line of centres, with masses) or "swap" (the
-        classic assignment's: whole velocities exchanged)."""
+        classic assignment's: whole velocities exchanged); None for event chains, as are
+        restitution, tc and engine."""
         return self._idle.rule
 
     @property
@@ -269,6 +280,9 @@ class Simulation:
 
     def __repr__(self):
         kind = "disks" if self.dim == 2 else "spheres"
+        if self.sampler == "ecmc":
+            return (f"<carom.Simulation: {self.n} {kind}, t = {self.time}, {self.events} lifts, "
+                    f"{self.boundary}, event chains of {self.chain_length:.6g} diameters>")
         return (f"<carom.Simulation: {self.n} {kind}, t = {self.time}, {self.events} events, "
                 f"{self.boundary}, {self.rule}>")
 

@@ -71,6 +71,18 @@ py::dict choices() {
   return d;
 }
 
+const Settings& settings_of(const PythonSimulation& s) { return s.simulation().settings(); }
+
+bool chains(const PythonSimulation& s) {
+  return settings_of(s).sampler.kind == SamplerKind::ecmc;
+}
+
+// A setting of dynamics, or None under event chains.
+template <class T>
+py::object of_dynamics(const PythonSimulation& s, T value) {
+  return chains(s) ? py::object(py::none()) : py::cast(std::move(value));
+}
+
 }  // namespace
 
 void export_simulation(py::module_& m) {
@@ -136,19 +148,33 @@ void export_simulation(py::module_& m) {
       .def_property_readonly(
           "boundary",
           [](const PythonSimulation& s) { return std::string(name_of(s.simulation().boundary())); })
+      // What only dynamics has is None under event chains, as in the summary.
       .def_property_readonly("rule",
                              [](const PythonSimulation& s) {
-                               return std::string(name_of(s.simulation().settings().rule.rule));
+                               return of_dynamics(s, std::string(name_of(
+                                                         settings_of(s).rule.rule)));
                              })
       .def_property_readonly(
           "restitution",
-          [](const PythonSimulation& s) { return s.simulation().settings().rule.restitution; })
+          [](const PythonSimulation& s) { return of_dynamics(s, settings_of(s).rule.restitution); })
       .def_property_readonly(
           "tc",
-          [](const PythonSimulation& s) { return s.simulation().settings().rule.elastic_within; })
+          [](const PythonSimulation& s) {
+            return of_dynamics(s, settings_of(s).rule.elastic_within);
+          })
       .def_property_readonly("engine",
                              [](const PythonSimulation& s) {
-                               return std::string(name_of(s.simulation().settings().engine));
+                               return of_dynamics(s, std::string(name_of(settings_of(s).engine)));
+                             })
+      .def_property_readonly(
+          "sampler",
+          [](const PythonSimulation& s) {
+            return std::string(name_of(settings_of(s).sampler.kind));
+          })
+      .def_property_readonly("chain_length",
+                             [](const PythonSimulation& s) -> py::object {
+                               if (!chains(s)) return py::none();
+                               return py::float_(settings_of(s).sampler.chain_length);
                              })
       .def_property_readonly("source", &PythonSimulation::source)
       .def_property_readonly("positions", &PythonSimulation::positions)

@@ -40,6 +40,22 @@ def test_the_summary_says_how_the_chains_ran(cli, tmp_path, start):
         summary["compressibility_factor"] * summary["n"] / volume, rel=1e-12)
 
 
+def test_a_simulation_of_chains_says_so_as_its_summary_does(cli, tmp_path, start):
+    """sim.sampler and sim.chain_length are the summary's; what only dynamics has (rule,
+    restitution, tc, engine) is None, as the summary's null; repr speaks of chains and lifts."""
+    start_file, _ = start
+    path = tmp_path / "summary.json"
+    sim = carom.read(start_file, sampler="ecmc", seed=7)
+    sim.run(2, summary=path)
+    summary = json.loads(path.read_text())
+    assert (sim.sampler, sim.chain_length) == ("ecmc", summary["chain_length"])
+    assert (sim.rule, sim.restitution, sim.tc, sim.engine) == (None, None, None, None)
+    assert [summary[k] for k in ("rule", "restitution", "tc", "engine")] == [None] * 4
+    assert f"{summary['lifts']} lifts" in repr(sim) and "event chains of" in repr(sim)
+    dynamics = carom.read(start_file)
+    assert (dynamics.sampler, dynamics.chain_length, dynamics.rule) == ("md", None, "elastic")
+
+
 def test_the_pressure_tensor_and_errors_hold_for_chains_of_any_length(cli, tmp_path, start):
     """The tensor's diagonal is beta P along each axis, rho Z_k, however the chains' moves split
     among the axes (a chain longer than the run moves along x alone: nothing is known along y).
