@@ -226,6 +226,39 @@ def test_a_seed_alone_still_needs_something_to_seed(cli, tmp_path):
     cli("run", start, "1", "--seed", "3", "--sampler", "ecmc", "-q", "-o", tmp_path / "end.txt")
 
 
+def test_every_output_shows_the_particles_at_rest(cli, tmp_path, start):
+    """Chains sample positions: the table, json, frames (.xyz, .lammpstrj, .gsd), the end state
+    and Python's velocities give every particle velocity 0, as the summary's kinetic energy
+    does (the one moving particle's speed is the sampler's clock); dynamics' are the velocities."""
+    import gsd.hoomd
+    start_file, dim = start
+    run = ("run", start_file, "3", "--sampler", "ecmc")
+    table = cli(*run, "-q").splitlines()[1:]
+    assert all(line.split(") (")[1].startswith(", ".join(["0.000000"] * dim)) for line in table)
+    particles = json.loads(cli(*run, "--format", "json", "-q"))["particles"]
+    assert all(p[v] == 0.0 for p in particles for v in ("vx", "vy", "vz")[:dim])
+    for name in ("f.xyz", "f.lammpstrj"):
+        cli(*run, "--dump", tmp_path / name, "--every", "1", "-q", "-o", tmp_path / "end.txt")
+    xyz = [line.split() for line in (tmp_path / "f.xyz").read_text().splitlines()]
+    assert all(row[4:7] == ["0", "0", "0"] for row in xyz
+               if len(row) > 10 and not row[0].startswith("Lattice="))
+    lammps = (tmp_path / "f.lammpstrj").read_text().split("ITEM: ATOMS ")[1:]
+    columns = lammps[0].splitlines()[0].split()
+    at = [columns.index(c) for c in ("vx", "vy", "vz")[:dim]]
+    rows = [row.split() for frame in lammps for row in frame.splitlines()[1:]]
+    atoms = [row for row in rows if len(row) == len(columns)]
+    assert len(atoms) == 4 * len(particles)
+    assert all(float(row[k]) == 0.0 for row in atoms for k in at)
+    cli(*run, "--dump", tmp_path / "f.gsd", "--every", "1", "-q", "-o", tmp_path / "end.txt")
+    assert all(not np.any(f.particles.velocity) for f in gsd.hoomd.open(tmp_path / "f.gsd"))
+    sim = carom.read(start_file, sampler="ecmc")
+    sim.run(3)
+    assert not np.any(sim.velocities)
+    dynamics = carom.read(start_file)
+    dynamics.run(1)
+    assert np.any(dynamics.velocities)
+
+
 def test_every_output_reads_back(cli, tmp_path):
     start = tmp_path / "start.txt"
     cli("init", "--n", "400", "--phi", "0.65", "--seed", "2", "--boundary", "periodic", "-o", start)

@@ -38,7 +38,8 @@ class GsdFormat final : public TrajectoryFormat<D> {
   // must be seekable (a file or a string stream opened in binary mode). Throws std::range_error
   // (check_frame's), before writing anything, for a frame whose numbers single precision cannot
   // hold.
-  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) override;
+  void write_frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system,
+                   typename TrajectoryFormat<D>::Velocities velocities) override;
   // Every number of the frame in single precision, as the schema stores them: beyond float's
   // range it would be written as inf, and a positive size (a box side, a diameter, a mass) that
   // rounds to 0 as 0, which no reader takes.
@@ -66,7 +67,7 @@ class GsdFormat final : public TrajectoryFormat<D> {
  private:
   // A frame's chunks as stored (single precision where the schema has it).
   struct Values;
-  Values values(double t, const System<D>& system) const;
+  Values values(double t, const System<D>& system, bool at_rest = false) const;
   void start(std::ostream& out);
   void write_header(std::ostream& out) const;
 

@@ -168,7 +168,8 @@ struct GsdFormat<D>::Values {
 };
 
 template <std::size_t D>
-typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& system) const {
+typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& system,
+                                                   bool at_rest) const {
   const std::size_t n = system.size();
   const Vec<D>& side = system.box.size;
   constexpr const char* kAxes = "xyz";
@@ -189,6 +190,7 @@ typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& sy
   for (std::size_t i = 0; i < n; ++i) {
     std::array<std::int32_t, 3> flags = system.records[i].image;
     Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
+    if (at_rest) p.velocity = Vec<D>{};
     if (shift != 0.0) into_tilted_box(p.position, side, shift, flags);
     for (std::size_t k = 0; k < D; ++k) {
       v.position[3 * i + k] = single(p.position[k] - 0.5 * side[k], false, [&] {
@@ -255,9 +257,12 @@ void GsdFormat<D>::start(std::ostream& out) {
 }
 
 template <std::size_t D>
-void GsdFormat<D>::frame(std::ostream& out, std::uint64_t index, double t,
-                         const System<D>& system) {
-  const Values v = values(t, system);  // refused before anything is written
+void GsdFormat<D>::write_frame(std::ostream& out, std::uint64_t index, double t,
+                               const System<D>& system,
+                               typename TrajectoryFormat<D>::Velocities velocities) {
+  // Refused before anything is written.
+  const Values v =
+      values(t, system, velocities == TrajectoryFormat<D>::Velocities::at_rest);
   if (frames_ == 0) start(out);
   const auto n = static_cast<std::uint32_t>(system.size());
   std::vector<std::uint32_t> typeid_(n);

@@ -10,7 +10,12 @@ template <std::size_t D>
 void FrameWriter<D>::observe(const Simulation<D>& simulation) {
   const double t = simulation.time();
   const auto index = static_cast<std::uint64_t>(std::llround(t / this->trigger().period));
-  format_->frame(out_, index, t, simulation.state());
+  // Event chains' one moving particle's speed is a unit of the sampler's clock.
+  if (simulation.settings().sampler.kind == SamplerKind::ecmc) {
+    format_->frame_at_rest(out_, index, t, simulation.state());
+  } else {
+    format_->frame(out_, index, t, simulation.state());
+  }
   if (!out_.flush()) throw std::runtime_error("cannot write the trajectory");
 }
 

@@ -43,13 +43,16 @@ std::string_view element_of(std::uint32_t type) {
 template <std::size_t D>
 class TextFormat : public TrajectoryFormat<D> {
  public:
-  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) override {
+  using Velocities = typename TrajectoryFormat<D>::Velocities;
+  void write_frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system,
+                   Velocities velocities) override {
     header(out, index, t, system);
     const double at = system.stored(t);
     const bool typed = has_types(system);
     for (std::size_t i = 0; i < system.size(); ++i) {
       std::array<std::int32_t, 3> image = system.records[i].image;
-      const Particle<D> now = synchronised(system.particles[i], system.box, at, image);
+      Particle<D> now = synchronised(system.particles[i], system.box, at, image);
+      if (velocities == Velocities::at_rest) now.velocity = Vec<D>{};
       line(
           out, i, now, system.records[i], image,
           typed ? std::string_view(system.type_names[system.records[i].type]) : std::string_view());

@@ -113,7 +113,10 @@ void AnySimulation::positions(double* out) const {
 }
 void AnySimulation::velocities(double* out) const {
   visit([&](const auto& s) {
-    per_particle_vector(s, out, [](const auto& p) { return p.velocity; });
+    // Event chains' particles are at rest: the moving one's speed is the sampler's clock.
+    using V = std::remove_cvref_t<decltype(s.state().particles[0].velocity)>;
+    const bool chains = s.settings().sampler.kind == SamplerKind::ecmc;
+    per_particle_vector(s, out, [chains](const auto& p) { return chains ? V{} : p.velocity; });
   });
 }
 void AnySimulation::images(std::int32_t* out) const {

@@ -200,7 +200,8 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
     const ParticleRecord& r = system.records[i];
     nlohmann::ordered_json particle = {{"id", i}};
     for (std::size_t k = 0; k < D; ++k) particle[kAxes[k]] = p.position[k];
-    for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = p.velocity[k];
+    // Event chains' particles are at rest: the moving one's speed is the sampler's clock.
+    for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = chain ? 0.0 : p.velocity[k];
     particle["radius"] = p.radius;
     particle["mass"] = r.mass;
     particle["last_update"] = simulation.time();

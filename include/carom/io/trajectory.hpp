@@ -20,8 +20,16 @@ template <std::size_t D>
 class TrajectoryFormat {
  public:
   virtual ~TrajectoryFormat() = default;
+  enum class Velocities { as_stored, at_rest };
   // Frame number `index` of a run writing a frame every `every`: t = index x every.
-  virtual void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) = 0;
+  void frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system) {
+    write_frame(out, index, t, system, Velocities::as_stored);
+  }
+  // The same with every velocity 0: event chains' frames, whose one moving particle's speed is
+  // a unit of the sampler's clock, not a velocity (as their end state has them).
+  void frame_at_rest(std::ostream& out, std::uint64_t index, double t, const System<D>& system) {
+    write_frame(out, index, t, system, Velocities::at_rest);
+  }
   // Throws std::range_error, naming the value, when a frame of `system` at `t` would not read
   // back as written (a number beyond a GSD file's single precision). Text formats write every
   // double as it is.
@@ -36,6 +44,10 @@ class TrajectoryFormat {
   // rewrites what pointed past the cut (a GSD file's header and index). Text formats have
   // nothing to rewrite.
   virtual void continue_after_cut(std::ostream& /*out*/) {}
+
+ private:
+  virtual void write_frame(std::ostream& out, std::uint64_t index, double t,
+                           const System<D>& system, Velocities velocities) = 0;
 };
 
 // The format for a file name: `.xyz` is extended XYZ (ASE, OVITO), `.lammpstrj` a LAMMPS text
