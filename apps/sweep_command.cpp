@@ -120,7 +120,7 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
       ++correlated;
       if (!args.quiet) {
         std::cerr << fmt::format(
-            "carom: warning: task {}: Z's blocks are correlated ({} = {:.1f}): Z fluctuated "
+            "carom: warning: task {}: Z's blocks are correlated ({} = {:.2f}): Z fluctuated "
             "over longer than a block, so its error understates the uncertainty (measure over "
             "a longer window, or compare seeds)\n",
             plan.tasks()[i].name, kCorrelationMeasure, results[i].measure(kCorrelationMeasure));

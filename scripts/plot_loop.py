@@ -178,10 +178,11 @@ def main():
     factor, chi2, dof, groups = scale
     print(f"\n{len(xs)} packings done, {not_done} tasks not done; {within} of {len(xs)} within two "
           f"combined errors of {names[0]}; figure: {args.output}")
-    if dof:
+    if factor > 1:
         among = (f" from {args.scale_from[0]:g} to {args.scale_from[1]:g}" if args.scale_from
                  else "")
-        print(f"Every run's error multiplied by {factor:.2f}: the runs of the {groups} packings"
+        packings = "packing" if groups == 1 else "packings"
+        print(f"Every run's error multiplied by {factor:.2f}: the runs of the {groups} {packings}"
               f"{among} measured more than once scatter by chi2 = {chi2:.1f} over {dof} degrees of "
               f"freedom about their means, sqrt(chi2 / dof) = {math.sqrt(chi2 / dof):.2f} times "
               f"what their errors say")

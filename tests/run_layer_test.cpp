@@ -310,6 +310,13 @@ TEST(DriftVerdict, SaysWhenZsBlocksAreCorrelated) {
   EXPECT_FALSE(fast.verdict->drifted());
   EXPECT_LT(fast.verdict->block_correlation, 0.0);
   EXPECT_FALSE(fast.verdict->blocks_correlated());
+  // Z = 5 in every block: no correlation to speak of (NaN, null in the summary), no warning.
+  const BlockErrors still = block_errors(record_of([](int) { return 5.0; }), simulation);
+  ASSERT_TRUE(still.verdict);
+  EXPECT_TRUE(std::isnan(still.verdict->block_correlation));
+  EXPECT_FALSE(still.verdict->blocks_correlated());
+  EXPECT_EQ(slow.verdict->correlation_spreads(),
+            slow.verdict->block_correlation * std::sqrt(32.0));
 }
 
 }  // namespace

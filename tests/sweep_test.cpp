@@ -832,7 +832,7 @@ TEST(SweepTables, TasksWhoseZBlocksAreCorrelatedAreFlagged) {
   write_sweep_report(page, plan, results);
   const std::string html = page.str();
   EXPECT_NE(html.find("Tasks whose Z fluctuated over longer than a block"), std::string::npos);
-  EXPECT_NE(html.find(plan.tasks()[0].name + "</b>: 2.5</li>"), std::string::npos) << html;
+  EXPECT_NE(html.find(plan.tasks()[0].name + "</b>: 2.50</li>"), std::string::npos) << html;
   EXPECT_EQ(html.find(plan.tasks()[1].name + "</b>"), std::string::npos);  // 1.5: independent
   EXPECT_EQ(html.find(plan.tasks()[2].name + "</b>: 3.0"), std::string::npos);  // drifted
   EXPECT_NE(html.find(plan.tasks()[2].name + "</b>: 4.0 standard errors"), std::string::npos);

@@ -71,6 +71,9 @@ TEST(LagOneAutocorrelation, TellsIndependentValuesFromCorrelatedOnes) {
   EXPECT_NEAR(lag_one_autocorrelation(alternating), -7.0 / 8.0, 1e-15);
   EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{1.0, 2.0})));
   EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{2.0, 2.0, 2.0})));
+  // Values apart by round-off only (a gas that never collides: Z = 1 to the last bits).
+  const double one = 1.0, below = std::nextafter(1.0, 0.0);
+  EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{one, one, below, below})));
 }
 
 // An error from blocks of at least K values: the levels of shorter blocks left out, none (NaN)

@@ -133,11 +133,11 @@ def sweep(plan, out_dir, client=None):
             [_carom.TaskResult(status, _os.fsencode(error)) for status, error in returned])
         _carom.finish_sweep(core, out_dir, results)
     table = _results_table(core, _os.path.join(out_dir, b"results.csv"))
-    _warn_of_drift(core, table)
+    _warn_of_unsettled(core, table)
     return table
 
 
-def _warn_of_drift(plan, table):
+def _warn_of_unsettled(plan, table):
     """A warning for each task whose Z drifted past _carom.DRIFT_WARNING standard errors over its
     measurement window, or else whose blocks were correlated past _carom.CORRELATION_WARNING, as
     `carom sweep` prints one."""
@@ -151,7 +151,7 @@ def _warn_of_drift(plan, table):
                            "(equilibrate longer)", stacklevel=3)
         elif memory > _carom.CORRELATION_WARNING:
             _warnings.warn(f"task {name}: Z's blocks are correlated (Z_correlation = "
-                           f"{memory:.1f}): Z fluctuated over longer than a block, so its error "
+                           f"{memory:.2f}): Z fluctuated over longer than a block, so its error "
                            "understates the uncertainty (measure over a longer window, or "
                            "compare seeds)", stacklevel=3)
 

@@ -173,20 +173,21 @@ class Simulation:
 
     @property
     def restitution(self):
-        """The coefficient of normal restitution: 1 elastic, below 1 inelastic (granular)."""
+        """The coefficient of normal restitution: 1 elastic, below 1 inelastic (granular); None
+        for event chains."""
         return self._idle.restitution
 
     @property
     def tc(self):
         """The TC model's time: a particle that collided less than tc ago collides elastically
-        (against inelastic collapse; no effect at restitution 1)."""
+        (against inelastic collapse; no effect at restitution 1); None for event chains."""
         return self._idle.tc
 
     @property
     def engine(self):
         """"fast" (neighbour lists or cells and an event calendar) or "reference" (every pair
         checked after every event: O(N^2), for checking); both give the same events, bit for
-        bit."""
+        bit. None for event chains."""
         return self._idle.engine
 
     @property
@@ -219,7 +220,8 @@ class Simulation:
 
     @property
     def velocities(self):
-        """Every particle's velocity at sim.time: (N, D) float64 (a copy)."""
+        """Every particle's velocity at sim.time: (N, D) float64 (a copy); zero under event
+        chains, which sample positions."""
         return self._idle.velocities
 
     @property

@@ -724,9 +724,9 @@ def test_a_task_whose_blocks_are_correlated_is_warned_of():
     table = np.array([(0.5, 2.5), (4.0, 3.0), (0.1, 1.5), (np.nan, np.nan)],
                      dtype=[("Z_drift", float), ("Z_correlation", float)])
     with pytest.warns(UserWarning) as caught:
-        dask_sweep._warn_of_drift(Plan, table)
+        dask_sweep._warn_of_unsettled(Plan, table)
     assert [str(w.message).split(":")[0] for w in caught] == ["task remembers", "task drifted"]
-    assert "Z's blocks are correlated (Z_correlation = 2.5)" in str(caught[0].message)
+    assert "Z's blocks are correlated (Z_correlation = 2.50)" in str(caught[0].message)
     assert "Z drifted by 4.0" in str(caught[1].message)
 
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "carom/io/classic_input.hpp"
+#include "carom/io/shown_velocities.hpp"
 
 namespace carom {
 
@@ -79,8 +80,7 @@ void write_table(std::ostream& out, const Simulation<D>& simulation) {
   for (std::size_t i = 0; i < system.size(); ++i) {
     Particle<D> now = synchronised(system.particles[i], system.box, now_stored);
     now.time = simulation.time();
-    // Event chains' particles are at rest: the moving one's speed is the sampler's clock.
-    if (simulation.settings().sampler.kind == SamplerKind::ecmc) now.velocity = Vec<D>{};
+    if (shows_at_rest(simulation)) now.velocity = Vec<D>{};
     out << particle_line(i, now, system.records[i]) << '\n';
   }
 }

@@ -37,9 +37,7 @@ class GsdFormat final : public TrajectoryFormat<D> {
   // index and header in place, so that the file is a valid GSD file after every frame: `out`
   // must be seekable (a file or a string stream opened in binary mode). Throws std::range_error
   // (check_frame's), before writing anything, for a frame whose numbers single precision cannot
-  // hold.
-  void write_frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system,
-                   typename TrajectoryFormat<D>::Velocities velocities) override;
+  // hold. (frame and frame_at_rest write through write_frame.)
   // Every number of the frame in single precision, as the schema stores them: beyond float's
   // range it would be written as inf, and a positive size (a box side, a diameter, a mass) that
   // rounds to 0 as 0, which no reader takes.
@@ -65,9 +63,12 @@ class GsdFormat final : public TrajectoryFormat<D> {
   static_assert(sizeof(Entry) == 32);
 
  private:
+  using Velocities = typename TrajectoryFormat<D>::Velocities;
+  void write_frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system,
+                   Velocities velocities) override;
   // A frame's chunks as stored (single precision where the schema has it).
   struct Values;
-  Values values(double t, const System<D>& system, bool at_rest = false) const;
+  Values values(double t, const System<D>& system, Velocities velocities) const;
   void start(std::ostream& out);
   void write_header(std::ostream& out) const;
 

@@ -169,7 +169,7 @@ struct GsdFormat<D>::Values {
 
 template <std::size_t D>
 typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& system,
-                                                   bool at_rest) const {
+                                                   Velocities velocities) const {
   const std::size_t n = system.size();
   const Vec<D>& side = system.box.size;
   constexpr const char* kAxes = "xyz";
@@ -190,7 +190,7 @@ typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& sy
   for (std::size_t i = 0; i < n; ++i) {
     std::array<std::int32_t, 3> flags = system.records[i].image;
     Particle<D> p = synchronised(system.particles[i], system.box, at, flags);
-    if (at_rest) p.velocity = Vec<D>{};
+    if (velocities == Velocities::at_rest) p.velocity = Vec<D>{};
     if (shift != 0.0) into_tilted_box(p.position, side, shift, flags);
     for (std::size_t k = 0; k < D; ++k) {
       v.position[3 * i + k] = single(p.position[k] - 0.5 * side[k], false, [&] {
@@ -220,7 +220,7 @@ typename GsdFormat<D>::Values GsdFormat<D>::values(double t, const System<D>& sy
 
 template <std::size_t D>
 void GsdFormat<D>::check_frame(const System<D>& system, double t) const {
-  values(t, system);
+  values(t, system, Velocities::as_stored);
 }
 
 template <std::size_t D>
@@ -258,11 +258,8 @@ void GsdFormat<D>::start(std::ostream& out) {
 
 template <std::size_t D>
 void GsdFormat<D>::write_frame(std::ostream& out, std::uint64_t index, double t,
-                               const System<D>& system,
-                               typename TrajectoryFormat<D>::Velocities velocities) {
-  // Refused before anything is written.
-  const Values v =
-      values(t, system, velocities == TrajectoryFormat<D>::Velocities::at_rest);
+                               const System<D>& system, Velocities velocities) {
+  const Values v = values(t, system, velocities);  // refused before anything is written
   if (frames_ == 0) start(out);
   const auto n = static_cast<std::uint32_t>(system.size());
   std::vector<std::uint32_t> typeid_(n);

@@ -1,4 +1,5 @@
 #include "carom/io/trajectory.hpp"
+#include "carom/io/shown_velocities.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -10,8 +11,7 @@ template <std::size_t D>
 void FrameWriter<D>::observe(const Simulation<D>& simulation) {
   const double t = simulation.time();
   const auto index = static_cast<std::uint64_t>(std::llround(t / this->trigger().period));
-  // Event chains' one moving particle's speed is a unit of the sampler's clock.
-  if (simulation.settings().sampler.kind == SamplerKind::ecmc) {
+  if (shows_at_rest(simulation)) {
     format_->frame_at_rest(out_, index, t, simulation.state());
   } else {
     format_->frame(out_, index, t, simulation.state());

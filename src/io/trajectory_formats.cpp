@@ -42,7 +42,7 @@ std::string_view element_of(std::uint32_t type) {
 // A text format: a frame header, then one line a particle.
 template <std::size_t D>
 class TextFormat : public TrajectoryFormat<D> {
- public:
+ private:
   using Velocities = typename TrajectoryFormat<D>::Velocities;
   void write_frame(std::ostream& out, std::uint64_t index, double t, const System<D>& system,
                    Velocities velocities) override {
@@ -59,7 +59,6 @@ class TextFormat : public TrajectoryFormat<D> {
     }
   }
 
- private:
   virtual void header(std::ostream& out, std::uint64_t index, double t,
                       const System<D>& system) = 0;
   // `p` is the particle at the frame's time, wrapped into a periodic box (see synchronised), and

@@ -4,6 +4,7 @@
 
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/classic_output.hpp"
+#include "carom/io/shown_velocities.hpp"
 
 namespace carom {
 
@@ -113,10 +114,9 @@ void AnySimulation::positions(double* out) const {
 }
 void AnySimulation::velocities(double* out) const {
   visit([&](const auto& s) {
-    // Event chains' particles are at rest: the moving one's speed is the sampler's clock.
     using V = std::remove_cvref_t<decltype(s.state().particles[0].velocity)>;
-    const bool chains = s.settings().sampler.kind == SamplerKind::ecmc;
-    per_particle_vector(s, out, [chains](const auto& p) { return chains ? V{} : p.velocity; });
+    const bool at_rest = shows_at_rest(s);
+    per_particle_vector(s, out, [at_rest](const auto& p) { return at_rest ? V{} : p.velocity; });
   });
 }
 void AnySimulation::images(std::int32_t* out) const {

@@ -13,6 +13,7 @@
 #include "carom/io/input_error.hpp"
 #include "carom/io/time_series.hpp"
 #include "carom/io/trajectory.hpp"
+#include "carom/io/shown_velocities.hpp"
 #include "run_checks.hpp"
 #include "run_outputs.hpp"
 #include "transport_meter.hpp"
@@ -269,12 +270,11 @@ RunOutcome Runner::State::run(Simulation<D>& simulation, const RunSpec& spec,
   outcome.report.compressibility_factor_error = compressibility_factor_error;
   outcome.report.transport = transport;
   if (!spec.final_state.empty()) {
-    // Event chains' one moving particle has the sampler's speed, not a temperature's.
-    const bool chains = simulation.settings().sampler.kind == SamplerKind::ecmc;
+    const bool at_rest = shows_at_rest(simulation);
     AtomicFile final_state(spec.final_state);
     write_final_state(final_state.stream(), final_format(spec.final_state), simulation.state(),
-                      simulation.time(), chains ? Rule::elastic : simulation.settings().rule.rule,
-                      chains);
+                      simulation.time(), at_rest ? Rule::elastic : simulation.settings().rule.rule,
+                      at_rest);
     final_state.commit();
   }
   if (summary) {

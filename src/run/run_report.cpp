@@ -10,6 +10,7 @@
 #include "carom/core/observables.hpp"
 #include "carom/io/classic_output.hpp"
 #include "carom/version.hpp"
+#include "carom/io/shown_velocities.hpp"
 #include "io/json_text.hpp"
 
 namespace carom {
@@ -194,14 +195,14 @@ void write_json(std::ostream& out, const Simulation<D>& simulation, const RunRep
   constexpr const char* kAxes[] = {"x", "y", "z"};
   constexpr const char* kVelocities[] = {"vx", "vy", "vz"};
   const double now_stored = simulation.stored_time();
+  const bool at_rest = shows_at_rest(simulation);
   for (std::size_t i = 0; i < system.size(); ++i) {
     // One particle at a time: a million-particle result needs no copy of the state.
     const Particle<D> p = synchronised(system.particles[i], system.box, now_stored);
     const ParticleRecord& r = system.records[i];
     nlohmann::ordered_json particle = {{"id", i}};
     for (std::size_t k = 0; k < D; ++k) particle[kAxes[k]] = p.position[k];
-    // Event chains' particles are at rest: the moving one's speed is the sampler's clock.
-    for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = chain ? 0.0 : p.velocity[k];
+    for (std::size_t k = 0; k < D; ++k) particle[kVelocities[k]] = at_rest ? 0.0 : p.velocity[k];
     particle["radius"] = p.radius;
     particle["mass"] = r.mass;
     particle["last_update"] = simulation.time();

@@ -113,9 +113,7 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     const auto [second, second_variance] = mean_and_variance_of_mean(all.last(half));
     const double error = std::sqrt(first_variance + second_variance);
     const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
-    const double correlation = lag_one_autocorrelation(z);
-    errors.verdict = DriftVerdict{first, second, sigmas, z.size(),
-                                  std::isfinite(correlation) ? correlation : 0.0};
+    errors.verdict = DriftVerdict{first, second, sigmas, z.size(), lag_one_autocorrelation(z)};
     errors.compressibility_factor = std::sqrt(mean_and_variance_of_mean(z).second);
   }
   if (tensors.size() >= 2 * kLeastPerHalf) {

@@ -250,7 +250,7 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
       << escaped(plan.name()) << "</title>\n<style>body{font-family:sans-serif;margin:2em;"
       << "max-width:64em}table{border-collapse:collapse}td,th{padding:2px 8px;text-align:right;"
       << "border-bottom:1px solid #ddd}pre{background:#f4f4f4;padding:1em}"
-      << "figure{display:inline-block;margin:0 1em 1em 0}.drifted{color:#b00;font-weight:bold}"
+      << "figure{display:inline-block;margin:0 1em 1em 0}.drifted,.warned{color:#b00;font-weight:bold}"
       << "</style></head><body>\n";
   out << fmt::format("<h1>carom sweep: {}</h1>\n<p>{} of {} tasks done.</p>\n",
                      escaped(plan.name()), done, results.size());
@@ -326,12 +326,12 @@ void write_sweep_report(std::ostream& out, const SweepPlan& plan,
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done && !drifted(results[i]) &&
         blocks_correlated(results[i])) {
-      correlated += fmt::format("<li><b>{}</b>: {:.1f}</li>\n", escaped(plan.tasks()[i].name),
+      correlated += fmt::format("<li><b>{}</b>: {:.2f}</li>\n", escaped(plan.tasks()[i].name),
                                 results[i].measure(kCorrelationMeasure));
     }
   }
   if (!correlated.empty()) {
-    out << "<h2 class=\"drifted\">Tasks whose Z fluctuated over longer than a block</h2>\n<p>The "
+    out << "<h2 class=\"warned\">Tasks whose Z fluctuated over longer than a block</h2>\n<p>The "
            "blocks of these runs' measurement windows are correlated (column "
         << kCorrelationMeasure << ": their lag-one autocorrelation, in units of the spread of "
         << "independent blocks', above " << DriftVerdict::kCorrelationWarning

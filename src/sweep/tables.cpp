@@ -72,7 +72,7 @@ bool drifted(const TaskResult& result) {
 }
 
 bool blocks_correlated(const TaskResult& result) {
-  return result.measure(kCorrelationMeasure) > DriftVerdict::kCorrelationWarning;
+  return result.measure(kCorrelationMeasure) > DriftVerdict::kCorrelationWarning;  // NaN: none
 }
 
 double TaskResult::measure(std::string_view name) const {

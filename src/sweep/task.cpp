@@ -24,6 +24,7 @@
 #include "carom/run/run.hpp"
 #include "carom/run/run_report.hpp"
 #include "carom/run/start.hpp"
+#include "carom/run/z_drift.hpp"
 #include "carom/sweep/sweep.hpp"
 #include "io/json_text.hpp"
 #include "plan_keys.hpp"
@@ -215,7 +216,8 @@ TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
     if (name == kCorrelationMeasure) {
       const auto drift = summary.find("compressibility_factor_drift");
       if (drift != summary.end() && drift->is_object() && drift->contains("block_correlation")) {
-        value = number(*drift, "block_correlation") * std::sqrt(number(*drift, "intervals"));
+        value = DriftVerdict::correlation_spreads_of(number(*drift, "block_correlation"),
+                                                     number(*drift, "intervals"));
       }
     }
     result.measures.emplace_back(name, value);

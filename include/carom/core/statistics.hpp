@@ -15,7 +15,7 @@ std::pair<double, double> mean_and_variance_of_mean(std::span<const double> valu
 // The lag-one autocorrelation of `values`: the covariance of consecutive values over their
 // variance (both about the mean of all). Near -1/n for independent values, within about
 // 1/sqrt(n); values correlated over longer than one step give more. NaN for fewer than three
-// values or none that differ.
+// values or none that differ by more than round-off.
 double lag_one_autocorrelation(std::span<const double> values);
 
 // The mean of a series of correlated values and its standard error by block averaging (Flyvbjerg

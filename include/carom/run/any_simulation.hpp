@@ -65,7 +65,8 @@ class AnySimulation {
   std::optional<double> compressibility_factor() const;
 
   // Every particle at time(), row-major (N, D) into `out` (N x D values): positions wrapped into
-  // a periodic box, velocities, and the image flags that unwrap the positions.
+  // a periodic box, velocities (zero under event chains: shows_at_rest), and the image flags
+  // that unwrap the positions.
   void positions(double* out) const;
   void velocities(double* out) const;
   void images(std::int32_t* out) const;

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 
 #include "carom/core/fluxes.hpp"
@@ -19,8 +20,9 @@ struct DriftVerdict {
   double sigmas = 0.0;               // (second - first) / the standard error of the difference
   std::size_t intervals = 0;         // blocks
   // The lag-one autocorrelation of the blocks' Z: near 0 when they are independent, as the
-  // standard errors over them assume.
-  double block_correlation = 0.0;
+  // standard errors over them assume (NaN, null in the summary, when their Z differ by no more
+  // than round-off).
+  double block_correlation = std::numeric_limits<double>::quiet_NaN();
   // Past this many standard errors a run says it was not equilibrated.
   static constexpr double kWarning = 3.0;
   bool drifted() const { return std::abs(sigmas) > kWarning; }
@@ -28,9 +30,14 @@ struct DriftVerdict {
   // Z remembers itself from one block to the next: its fluctuations outlast a block, and the
   // standard errors over the blocks understate the uncertainty.
   static constexpr double kCorrelationWarning = 2.0;
-  bool blocks_correlated() const {
-    return block_correlation > kCorrelationWarning / std::sqrt(static_cast<double>(intervals));
+  // block_correlation in units of that spread: a sweep's Z_correlation.
+  double correlation_spreads() const {
+    return correlation_spreads_of(block_correlation, static_cast<double>(intervals));
   }
+  static double correlation_spreads_of(double correlation, double blocks) {
+    return correlation * std::sqrt(blocks);
+  }
+  bool blocks_correlated() const { return correlation_spreads() > kCorrelationWarning; }
 };
 
 // What the blocks of a window give: the drift verdict, and the standard errors of Z's mean and
