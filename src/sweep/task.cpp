@@ -190,6 +190,8 @@ TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
   }
   result.dimension = summary.value("dimension", 0);
   result.wall_seconds = number(summary, "wall_seconds");
+  const auto drift = summary.find("compressibility_factor_drift");
+  const bool verdict = drift != summary.end() && drift->is_object();
   for (const std::string& name : names) {
     double value = kNotMeasured;
     for (const char* section : {"transport", "shear"}) {
@@ -209,16 +211,11 @@ TaskResult finished_result(const SweepPlan& plan, const fs::path& folder) {
       value = number(summary, name.c_str());
     }
     if (name == "events") value = number(summary, "events");
-    if (name == kDriftMeasure) {
-      const auto drift = summary.find("compressibility_factor_drift");
-      if (drift != summary.end() && drift->is_object()) value = number(*drift, "sigmas");
-    }
-    if (name == kCorrelationMeasure) {
-      const auto drift = summary.find("compressibility_factor_drift");
-      if (drift != summary.end() && drift->is_object() && drift->contains("block_correlation")) {
-        value = DriftVerdict::correlation_spreads_of(number(*drift, "block_correlation"),
-                                                     number(*drift, "intervals"));
-      }
+    // A summary written before carom reported block_correlation has none: NaN, a blank field.
+    if (verdict && name == kDriftMeasure) value = number(*drift, "sigmas");
+    if (verdict && name == kCorrelationMeasure) {
+      value = DriftVerdict::correlation_spreads_of(number(*drift, "block_correlation"),
+                                                   number(*drift, "intervals"));
     }
     result.measures.emplace_back(name, value);
   }
