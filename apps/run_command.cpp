@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
 #include <iostream>
 #include <optional>
 
@@ -319,25 +318,16 @@ void run_command(const RunArguments& args) {
                                                 interruption(simulation, spec));
   }
   const RunReport& report = outcome.report;
-  if (report.drift && report.drift->drifted() && !args.quiet) {
-    std::cerr << fmt::format(
-        "carom: warning: Z drifted from {:.6g} (first half of the measurement window) to {:.6g} "
-        "(second half), {:.1f} standard errors: the system was still changing while measured "
-        "(equilibrate longer: --equilibrate)\n",
-        report.drift->first, report.drift->second, report.drift->sigmas);
-  }
-  // Only a run that reports Z's error hears of its blocks (the classic table of a few disks
-  // between walls, whose Z nobody reads, would be told of it at every run).
-  const bool reports_z = args.format == Format::json || !spec.summary.empty() || !spec.log.empty();
-  if (reports_z && report.drift && !report.drift->drifted() &&
-      report.drift->blocks_correlated() && !args.quiet) {
-    std::cerr << fmt::format(
-        "carom: warning: Z's blocks of the measurement window are correlated (lag-one "
-        "autocorrelation {:.2f} over {} blocks, where independent ones give 0 +- {:.2f}): Z "
-        "fluctuates over longer than a block, so its standard error understates the "
-        "uncertainty (measure over a longer window, or compare independent runs)\n",
-        report.drift->block_correlation, report.drift->intervals,
-        1.0 / std::sqrt(static_cast<double>(report.drift->intervals)));
+  if (report.drift && !args.quiet) {
+    if (const auto drift = report.drift->drift_warning()) {
+      std::cerr << "carom: warning: " << *drift << '\n';
+    }
+    // Only a run that reports Z's error hears of its blocks (the classic table of a few disks
+    // between walls, whose Z nobody reads, would be told of it at every run).
+    const bool reports_z =
+        args.format == Format::json || !spec.summary.empty() || !spec.log.empty();
+    const auto blocks = report.drift->correlation_warning();
+    if (reports_z && blocks) std::cerr << "carom: warning: " << *blocks << '\n';
   }
   if (!args.trace) write_result(main.stream(), simulation, args.format, report);
   main.commit();

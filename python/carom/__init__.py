@@ -25,18 +25,19 @@ Use Debian's interpreter, ``/usr/bin/python3``, which has numpy and which the mo
 Bad arguments raise ``ValueError`` with the command line's messages, naming the options as
 keywords (``kT=`` where the command line says ``--kT``); a broken file raises
 ``carom.InputError`` (a ``ValueError``) naming the file and line; a run that cannot go on (jammed
-particles) raises ``carom.JamError`` (a ``RuntimeError``). Ctrl-C during ``run`` raises
-``KeyboardInterrupt`` within a fraction of a second and leaves the simulation whole: it can be
-saved or run on.
+particles) raises ``carom.JamError`` (a ``RuntimeError``); a run or a sweep whose Z did not
+settle, or whose blocks are correlated, warns with ``carom.UnsettledWarning`` where the command
+line prints a warning. Ctrl-C during ``run`` raises ``KeyboardInterrupt`` within a fraction of a
+second and leaves the simulation whole: it can be saved or run on.
 """
 
 from . import _carom
 from ._carom import InputError, JamError
 from .analysis import analyze
 from .dask_sweep import sweep
-from .simulation import Simulation, compress
+from .simulation import Simulation, UnsettledWarning, compress
 from .start import init, read, resume
 
 __version__ = _carom.__version__
 __all__ = ["Simulation", "read", "init", "resume", "compress", "analyze", "sweep", "InputError",
-           "JamError", "__version__"]
+           "JamError", "UnsettledWarning", "__version__"]

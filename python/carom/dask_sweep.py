@@ -8,6 +8,7 @@ import warnings as _warnings
 import numpy as _np
 
 from . import _carom
+from .simulation import UnsettledWarning
 
 
 def _file_name(name, value):
@@ -148,12 +149,12 @@ def _warn_of_unsettled(plan, table):
         if abs(drift) > _carom.DRIFT_WARNING:  # NaN (no verdict) is not
             _warnings.warn(f"task {name}: Z drifted by {drift:.1f} standard errors over its "
                            "measurement window: it was still changing while measured "
-                           "(equilibrate longer)", stacklevel=3)
+                           "(equilibrate longer)", UnsettledWarning, stacklevel=3)
         elif memory > _carom.CORRELATION_WARNING:
             _warnings.warn(f"task {name}: Z's blocks are correlated (Z_correlation = "
                            f"{memory:.2f}): Z fluctuated over longer than a block, so its error "
                            "understates the uncertainty (measure over a longer window, or "
-                           "compare seeds)", stacklevel=3)
+                           "compare seeds)", UnsettledWarning, stacklevel=3)
 
 
 def _run_tasks(client, plan, out_dir, indices):

@@ -1,12 +1,20 @@
 """carom.Simulation, a run held in Python, and carom.compress, which makes one from another."""
 
 import json as _json
+import warnings as _warnings
 
 import numpy as _np
 
 from . import _carom
 from ._arguments import (_D, _flag, _float_array, _given, _keywords, _number, _path,
                          _per_particle, _species)
+
+
+class UnsettledWarning(UserWarning):
+    """Z did not settle over a measurement window: it drifted between the window's halves, or
+    its blocks are correlated, so that its standard error understates the uncertainty. Raised
+    where `carom run` and `carom sweep` print "carom: warning: ..." of Z; silenced as any
+    warning is: warnings.simplefilter("ignore", carom.UnsettledWarning)."""
 
 
 class Simulation:
@@ -98,7 +106,13 @@ class Simulation:
         collisions: when True, returns a numpy structured array of this run's collisions with
         fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
         bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
+        Where Z drifted over the measurement window, or its blocks are correlated, the run says
+        so, as `carom run` does, with a carom.UnsettledWarning.
         """
+        return self._run(t, collisions, options)
+
+    def _run(self, t, collisions, options):
+        """run() for run() and advance(): the warnings name their caller's caller's line."""
         options = _given(options)
         if "check_every" in options and not options.get("check"):
             raise ValueError("check_every needs check=True")
@@ -106,9 +120,11 @@ class Simulation:
         core = self._idle
         self._running = True
         try:
-            core.run(spec, _flag("collisions", collisions))
+            unsettled = core.run(spec, _flag("collisions", collisions))
         finally:
             self._running = False
+        for message in unsettled:
+            _warnings.warn(message, UnsettledWarning, stacklevel=3)
         return core.collisions() if collisions else None
 
     def advance(self, dt, **options):
@@ -118,7 +134,7 @@ class Simulation:
         dt = _number("dt", dt)
         if not dt >= 0.0:
             raise ValueError(f"dt must be >= 0, got {dt}")
-        return self.run(self.time + dt, **options)
+        return self._run(self.time + dt, options.pop("collisions", False), options)
 
     def collisions(self):
         """The collisions logged and not yet returned (after a KeyboardInterrupt, say)."""

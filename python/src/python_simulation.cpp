@@ -92,7 +92,7 @@ PythonSimulation PythonSimulation::from_arrays(
   return PythonSimulation(arrays_start(arrays, settings));
 }
 
-void PythonSimulation::run(RunSpec spec, bool collisions) {
+std::vector<std::string> PythonSimulation::run(RunSpec spec, bool collisions) {
   RunHooks hooks;
   if (collisions) hooks.collisions = &log_;
   for (;;) {
@@ -103,7 +103,15 @@ void PythonSimulation::run(RunSpec spec, bool collisions) {
       py::gil_scoped_release release;
       outcome = runner_.run(spec, hooks);
     }
-    if (outcome.status == RunStatus::reached) return;
+    if (outcome.status == RunStatus::reached) {
+      std::vector<std::string> warnings;
+      if (const auto& drift = outcome.report.drift) {
+        for (const auto& warning : {drift->drift_warning(), drift->correlation_warning()}) {
+          if (warning) warnings.push_back(*warning);
+        }
+      }
+      return warnings;
+    }
     // Stopped by SIGINT: Python's own handler gets it now; if it raises nothing, run on.
     InterruptHandler::deliver();
     spec.measure_from.reset();  // opened already

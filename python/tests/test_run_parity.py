@@ -11,6 +11,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import pytest
 
@@ -233,3 +234,42 @@ def test_transport_continued_to_a_later_end_is_the_run_in_one(cli, tmp_path):
     cli("run", "--resume", checkpoint, "230", "--transport", "--summary", summary, "-q", "-o",
         tmp_path / "second.txt")
     assert json.loads(summary.read_text())["transport"] == one
+
+
+def unsettled_warnings(caught):
+    return [str(w.message) for w in caught if issubclass(w.category, carom.UnsettledWarning)]
+
+
+def test_a_run_warns_of_unsettled_z_as_the_command_line_does(cli, tmp_path):
+    """A cooling granular gas drifts, and 1024 disks by chains at 0.71 (the coexistence region)
+    have correlated blocks: sim.run warns of each with carom.UnsettledWarning in the words the
+    command line prints after "carom: warning: "; a steady gas warns of nothing. The warning
+    names the caller's line, of run() and of advance() alike."""
+    cli("init", "--n", "500", "--phi", "0.3", "--boundary", "periodic", "-o", "gas.txt",
+        cwd=tmp_path)
+    cli("init", "--n", "1024", "--phi", "0.71", "--boundary", "periodic", "-o", "dense.txt",
+        cwd=tmp_path)
+    cases = [("gas.txt", 30, dict(restitution=0.5), {}, "Z drifted from"),
+             ("dense.txt", 600, dict(sampler="ecmc"), dict(equilibrate=500),
+              "Z's blocks of the measurement window are correlated")]
+    for start, t, settings, options, words in cases:
+        cli("run", start, str(t), "--format", "json", "-o", "out.json",
+            *cli_options({**settings, **options}), cwd=tmp_path)
+        printed = [line[len("carom: warning: "):] for line in cli.last_stderr.splitlines()
+                   if line.startswith("carom: warning: ")]
+        assert len(printed) == 1 and printed[0].startswith(words), cli.last_stderr
+        sim = carom.read(tmp_path / start, **settings)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            sim.run(t, **options)
+        assert unsettled_warnings(caught) == printed
+        assert caught[0].filename == __file__
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            sim.advance(0.0)
+        assert unsettled_warnings(caught) == printed
+        assert caught[0].filename == __file__
+    steady = carom.read(tmp_path / "gas.txt")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", carom.UnsettledWarning)
+        steady.run(60, equilibrate=10)

@@ -723,7 +723,7 @@ def test_a_task_whose_blocks_are_correlated_is_warned_of():
         tasks = ["remembers", "drifted", "independent", "no verdict"]
     table = np.array([(0.5, 2.5), (4.0, 3.0), (0.1, 1.5), (np.nan, np.nan)],
                      dtype=[("Z_drift", float), ("Z_correlation", float)])
-    with pytest.warns(UserWarning) as caught:
+    with pytest.warns(carom.UnsettledWarning) as caught:
         dask_sweep._warn_of_unsettled(Plan, table)
     assert [str(w.message).split(":")[0] for w in caught] == ["task remembers", "task drifted"]
     assert "Z's blocks are correlated (Z_correlation = 2.50)" in str(caught[0].message)
@@ -771,7 +771,7 @@ def test_tasks_whose_z_drifted_are_flagged_in_the_tables_the_console_and_python(
     assert "Tasks whose Z drifted" in report and all(f"<b>{n}</b>" in report for n in names)
     cli("sweep", plan, "-o", out, "-q")
     assert cli.last_stderr == ""
-    with pytest.warns(UserWarning, match=r"task phi=0\.68,seed=1: Z drifted by"):
+    with pytest.warns(carom.UnsettledWarning, match=r"task phi=0\.68,seed=1: Z drifted by"):
         table = carom.sweep(plan, out, client=client)
     assert list(table["Z_drift"]) == drifts
 

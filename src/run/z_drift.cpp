@@ -1,5 +1,7 @@
 #include "carom/run/z_drift.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -8,6 +10,25 @@
 #include "carom/core/statistics.hpp"
 
 namespace carom {
+
+std::optional<std::string> DriftVerdict::drift_warning() const {
+  if (!drifted()) return std::nullopt;
+  return fmt::format(
+      "Z drifted from {:.6g} (first half of the measurement window) to {:.6g} (second half), "
+      "{:.1f} standard errors: the system was still changing while measured (equilibrate "
+      "longer: --equilibrate)",
+      first, second, sigmas);
+}
+
+std::optional<std::string> DriftVerdict::correlation_warning() const {
+  if (drifted() || !blocks_correlated()) return std::nullopt;
+  return fmt::format(
+      "Z's blocks of the measurement window are correlated (lag-one autocorrelation {:.2f} over "
+      "{} blocks, where independent ones give 0 +- {:.2f}): Z fluctuates over longer than a "
+      "block, so its standard error understates the uncertainty (measure over a longer window, "
+      "or compare independent runs)",
+      block_correlation, intervals, 1.0 / std::sqrt(static_cast<double>(intervals)));
+}
 
 namespace {
 

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
+#include <string>
 
 #include "carom/core/fluxes.hpp"
 #include "carom/core/measurement.hpp"
@@ -38,6 +39,11 @@ struct DriftVerdict {
     return correlation * std::sqrt(blocks);
   }
   bool blocks_correlated() const { return correlation_spreads() > kCorrelationWarning; }
+  // What every front end says of a verdict, in these words: that Z drifted (where drifted()),
+  // and, where it did not, that its blocks are correlated (where blocks_correlated()); nothing
+  // where Z settled over independent blocks.
+  std::optional<std::string> drift_warning() const;
+  std::optional<std::string> correlation_warning() const;
 };
 
 // What the blocks of a window give: the drift verdict, and the standard errors of Z's mean and
