@@ -107,23 +107,14 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
            const std::vector<TaskResult>& results, double seconds) {
   std::size_t done = 0, failed = 0, drifting = 0, correlated = 0;
   for (std::size_t i = 0; i < results.size(); ++i) {
-    if (results[i].status == TaskStatus::done) ++done;
-    if (results[i].status == TaskStatus::done && drifted(results[i])) {
-      ++drifting;
-      if (!args.quiet) {
-        std::cerr << fmt::format(
-            "carom: warning: task {}: Z drifted by {:.1f} standard errors over its measurement "
-            "window: it was still changing while measured (equilibrate longer)\n",
-            plan.tasks()[i].name, results[i].measure(kDriftMeasure));
-      }
-    } else if (results[i].status == TaskStatus::done && blocks_correlated(results[i])) {
-      ++correlated;
-      if (!args.quiet) {
-        std::cerr << fmt::format(
-            "carom: warning: task {}: Z's blocks are correlated ({} = {:.2f}): Z fluctuated "
-            "over longer than a block, so its error understates the uncertainty (measure over "
-            "a longer window, or compare seeds)\n",
-            plan.tasks()[i].name, kCorrelationMeasure, results[i].measure(kCorrelationMeasure));
+    if (results[i].status == TaskStatus::done) {
+      ++done;
+      drifting += drifted(results[i]) ? 1 : 0;
+      correlated += !drifted(results[i]) && blocks_correlated(results[i]) ? 1 : 0;
+      const auto unsettled = unsettled_warning(results[i]);
+      if (unsettled && !args.quiet) {
+        std::cerr << fmt::format("carom: warning: task {}: {}\n", plan.tasks()[i].name,
+                                 *unsettled);
       }
     }
     if (results[i].status == TaskStatus::failed) {

@@ -2216,7 +2216,7 @@ TEST_F(Cli, SweepWritesItsTablesAndAnotherPlansFolderIsRefused) {
   EXPECT_EQ(read_file(dir_ / "out/results.csv"), results);
 }
 
-// Issue 36, item 24: a plan nested 100,000 deep is refused (exit 2, the plan's line), not a crash
+// A plan nested 100,000 deep is refused (exit 2, the plan's line), not a crash
 // of the TOML parser, and nothing is written.
 TEST_F(Cli, SweepRefusesADeeplyNestedPlanBeforeParsingIt) {
   std::string deep = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[sweep]\nx";

@@ -75,7 +75,7 @@ TEST(SweepReport, TheReferenceIsTheDimensionsAndOnlyAgainstPhi) {
   EXPECT_NE(against_rule.find("<td>elastic</td>"), std::string::npos);
 }
 
-// Issue 36, item 12: axis values a rounding apart (0.3 and 0.1 + 0.2) draw a chart, in bounded
+// Axis values a rounding apart (0.3 and 0.1 + 0.2) draw a chart, in bounded
 // time and memory (the tick loop advanced by less than a double resolves, forever).
 TEST(SweepReport, NearEqualAxisValuesAreDrawnInBoundedTime) {
   for (const char* axis : {"phi = [0.3, 0.30000000000000004]", "phi = [0.1, 0.1000000000001]"}) {

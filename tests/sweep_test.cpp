@@ -836,9 +836,19 @@ TEST(SweepTables, TasksWhoseZBlocksAreCorrelatedAreFlagged) {
   EXPECT_EQ(html.find(plan.tasks()[1].name + "</b>"), std::string::npos);  // 1.5: independent
   EXPECT_EQ(html.find(plan.tasks()[2].name + "</b>: 3.0"), std::string::npos);  // drifted
   EXPECT_NE(html.find(plan.tasks()[2].name + "</b>: 4.0 standard errors"), std::string::npos);
+  // What the console and carom.sweep say of each: the correlation, nothing, the drift alone,
+  // nothing.
+  ASSERT_TRUE(unsettled_warning(results[0]));
+  EXPECT_EQ(unsettled_warning(results[0])->rfind("Z's blocks are correlated (Z_correlation = 2.50)",
+                                                 0),
+            0u);
+  EXPECT_FALSE(unsettled_warning(results[1]));
+  ASSERT_TRUE(unsettled_warning(results[2]));
+  EXPECT_EQ(unsettled_warning(results[2])->rfind("Z drifted by 4.0 standard errors", 0), 0u);
+  EXPECT_FALSE(unsettled_warning(results[3]));
 }
 
-// Issue 36, item 24: a plan nested deeper than any plan needs (a dotted key or a table header of
+// A plan nested deeper than any plan needs (a dotted key or a table header of
 // thousands of levels) is refused before the TOML parser recurses into it.
 TEST(SweepPlan, DeepNestingIsRefusedBeforeTheTomlParserRecurses) {
   std::string dotted = "[start]\nn = 16\nphi = 0.3\n[run]\nend_time = 1\n[sweep]\nx";

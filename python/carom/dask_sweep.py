@@ -140,21 +140,15 @@ def sweep(plan, out_dir, client=None):
 
 def _warn_of_unsettled(plan, table):
     """A warning for each task whose Z drifted past _carom.DRIFT_WARNING standard errors over its
-    measurement window, or else whose blocks were correlated past _carom.CORRELATION_WARNING, as
-    `carom sweep` prints one."""
+    measurement window, or else whose blocks were correlated past _carom.CORRELATION_WARNING, in
+    the words `carom sweep` prints (_carom.unsettled_warning)."""
     names = table.dtype.names if isinstance(table, _np.ndarray) else list(table.columns)
     if "Z_drift" not in names:
         return
     for name, drift, memory in zip(plan.tasks, table["Z_drift"], table["Z_correlation"]):
-        if abs(drift) > _carom.DRIFT_WARNING:  # NaN (no verdict) is not
-            _warnings.warn(f"task {name}: Z drifted by {drift:.1f} standard errors over its "
-                           "measurement window: it was still changing while measured "
-                           "(equilibrate longer)", UnsettledWarning, stacklevel=3)
-        elif memory > _carom.CORRELATION_WARNING:
-            _warnings.warn(f"task {name}: Z's blocks are correlated (Z_correlation = "
-                           f"{memory:.2f}): Z fluctuated over longer than a block, so its error "
-                           "understates the uncertainty (measure over a longer window, or "
-                           "compare seeds)", UnsettledWarning, stacklevel=3)
+        message = _carom.unsettled_warning(float(drift), float(memory))
+        if message is not None:
+            _warnings.warn(f"task {name}: {message}", UnsettledWarning, stacklevel=3)
 
 
 def _run_tasks(client, plan, out_dir, indices):

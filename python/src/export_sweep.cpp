@@ -227,6 +227,8 @@ void export_sweep(py::module_& m) {
   // Past this many spreads of independent blocks' autocorrelation, Z_correlation says a task's Z
   // fluctuated over longer than a block.
   m.attr("CORRELATION_WARNING") = DriftVerdict::kCorrelationWarning;
+  m.def("unsettled_warning",
+        py::overload_cast<double, double>(&unsettled_warning), "z_drift"_a, "z_correlation"_a);
 }
 
 }  // namespace carom::python

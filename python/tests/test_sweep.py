@@ -411,7 +411,7 @@ BAD_PLANS = {
                        "[start] colour"),
     "empty axis": (("phi = [0.3, 0.5]", "phi = []"), 11, "[sweep] phi"),
     "bad value in one task": (("phi = [0.3, 0.5]", "phi = [0.3, 2.0]"), 11, "[sweep] phi = 2"),
-    # Issue 36, item 24: a dotted key 100,000 deep crashed the TOML parser (and Python with it).
+    # A dotted key 100,000 deep crashed the TOML parser (and Python with it).
     "deep nesting": (("seed = [1, 2]", "seed = [1, 2]\nx" + ".x" * 100_000 + " = 1"), 13,
                      "nesting deeper than"),
 }
@@ -728,6 +728,7 @@ def test_a_task_whose_blocks_are_correlated_is_warned_of():
     assert [str(w.message).split(":")[0] for w in caught] == ["task remembers", "task drifted"]
     assert "Z's blocks are correlated (Z_correlation = 2.50)" in str(caught[0].message)
     assert "Z drifted by 4.0" in str(caught[1].message)
+    assert carom._carom.unsettled_warning(0.5, 1.5) is None
 
 
 DRIFTING_PLAN = """\
@@ -762,6 +763,8 @@ def test_tasks_whose_z_drifted_are_flagged_in_the_tables_the_console_and_python(
     for name, drift in zip(names, drifts):
         assert f"warning: task {name}: Z drifted by {drift:.1f} standard errors" in cli.last_stderr
     assert "2 with Z drifting (column Z_drift)" in cli.last_stderr
+    printed = [line[len("carom: warning: "):] for line in cli.last_stderr.splitlines()
+               if line.startswith("carom: warning: task")]
     rows = (out / "results.csv").read_text().splitlines()
     header = rows[0].split(",")
     assert [float(r.split(",")[header.index("Z_drift")]) for r in rows[1:]] == drifts
@@ -771,9 +774,12 @@ def test_tasks_whose_z_drifted_are_flagged_in_the_tables_the_console_and_python(
     assert "Tasks whose Z drifted" in report and all(f"<b>{n}</b>" in report for n in names)
     cli("sweep", plan, "-o", out, "-q")
     assert cli.last_stderr == ""
-    with pytest.warns(carom.UnsettledWarning, match=r"task phi=0\.68,seed=1: Z drifted by"):
+    with pytest.warns(carom.UnsettledWarning,
+                      match=r"task phi=0\.68,seed=1: Z drifted by") as caught:
         table = carom.sweep(plan, out, client=client)
     assert list(table["Z_drift"]) == drifts
+    # In the console's words.
+    assert [str(w.message) for w in caught if w.category is carom.UnsettledWarning] == printed
 
     settled = tmp_path / "settled"
     settled.mkdir()

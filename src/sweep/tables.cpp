@@ -75,6 +75,26 @@ bool blocks_correlated(const TaskResult& result) {
   return result.measure(kCorrelationMeasure) > DriftVerdict::kCorrelationWarning;  // NaN: none
 }
 
+std::optional<std::string> unsettled_warning(double z_drift, double z_correlation) {
+  if (std::abs(z_drift) > DriftVerdict::kWarning) {
+    return fmt::format(
+        "Z drifted by {:.1f} standard errors over its measurement window: it was still changing "
+        "while measured (equilibrate longer)",
+        z_drift);
+  }
+  if (z_correlation > DriftVerdict::kCorrelationWarning) {
+    return fmt::format(
+        "Z's blocks are correlated ({} = {:.2f}): Z fluctuated over longer than a block, so its "
+        "error understates the uncertainty (measure over a longer window, or compare seeds)",
+        kCorrelationMeasure, z_correlation);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> unsettled_warning(const TaskResult& result) {
+  return unsettled_warning(result.measure(kDriftMeasure), result.measure(kCorrelationMeasure));
+}
+
 double TaskResult::measure(std::string_view name) const {
   for (const auto& [n, value] : measures) {
     if (n == name) return value;

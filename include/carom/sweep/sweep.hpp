@@ -204,6 +204,11 @@ inline constexpr std::string_view kCorrelationMeasure = "Z_correlation";
 bool drifted(const TaskResult& result);
 // Whether a task's Z blocks were correlated past DriftVerdict::kCorrelationWarning.
 bool blocks_correlated(const TaskResult& result);
+// What every front end says of a task whose Z did not settle, from its Z_drift and
+// Z_correlation: that it drifted, or else that its blocks are correlated; nothing where neither
+// (NaN: no verdict, no correlation).
+std::optional<std::string> unsettled_warning(double z_drift, double z_correlation);
+std::optional<std::string> unsettled_warning(const TaskResult& result);
 const std::vector<std::string>& measure_names(const SweepPlan& plan);
 
 struct TaskHooks {
