@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "carom/core/statistics.hpp"
 #include "carom/engine/invariant_check.hpp"
 #include "carom/io/checkpoint.hpp"
 #include "carom/io/event_log.hpp"
@@ -317,6 +318,24 @@ TEST(DriftVerdict, SaysWhenZsBlocksAreCorrelated) {
   EXPECT_FALSE(still.verdict->blocks_correlated());
   EXPECT_EQ(slow.verdict->correlation_spreads(),
             slow.verdict->block_correlation * std::sqrt(32.0));
+  // Blocks on either side of a gap (boundaries 16 and 17 missing: the blocks that end at 15 and
+  // at 19 are not neighbours) are not a pair: alternating Z with a 6 either side of the gap.
+  DriftRecord gapped = record_of([](int i) { return i % 2 == 0 ? 4.0 : 6.0; });
+  gapped.totals.erase(gapped.totals.begin() + 16, gapped.totals.begin() + 18);
+  gapped.boundaries.erase(gapped.boundaries.begin() + 16, gapped.boundaries.begin() + 18);
+  gapped.temperatures.erase(gapped.temperatures.begin() + 16, gapped.temperatures.begin() + 18);
+  const BlockErrors across = block_errors(gapped, simulation);
+  ASSERT_TRUE(across.verdict);
+  std::vector<double> z;
+  std::vector<std::uint8_t> follows;
+  for (int i = 1; i <= 32; ++i) {
+    if (i >= 16 && i <= 18) continue;  // the blocks that end at 16, 17 and 18 are gone
+    z.push_back(i % 2 == 0 ? 4.0 : 6.0);
+    follows.push_back(i != 1 && i != 19 ? 1 : 0);
+  }
+  ASSERT_EQ(across.verdict->intervals, z.size());
+  EXPECT_NEAR(across.verdict->block_correlation, lag_one_autocorrelation(z, follows), 1e-12);
+  EXPECT_LT(across.verdict->block_correlation, lag_one_autocorrelation(z) - 0.01);
 }
 
 }  // namespace

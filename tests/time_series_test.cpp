@@ -76,6 +76,20 @@ TEST(LagOneAutocorrelation, TellsIndependentValuesFromCorrelatedOnes) {
   EXPECT_TRUE(std::isnan(lag_one_autocorrelation(std::vector<double>{one, one, below, below})));
 }
 
+// Pairs across a gap are left out: two alternating runs that meet at equal values have the
+// alternation's autocorrelation once the meeting is flagged, and more without the flag.
+TEST(LagOneAutocorrelation, LeavesPairsAcrossAGapOut) {
+  const std::vector<double> joined = {1, 3, 1, 3, 3, 1, 3, 1};
+  const std::vector<std::uint8_t> follows = {0, 1, 1, 1, 0, 1, 1, 1};
+  EXPECT_NEAR(lag_one_autocorrelation(joined, follows), -7.0 / 8.0, 1e-15);
+  EXPECT_NEAR(lag_one_autocorrelation(joined), -5.0 / 8.0, 1e-15);
+  const std::vector<std::uint8_t> every(8, 1);
+  EXPECT_EQ(lag_one_autocorrelation(joined, every), lag_one_autocorrelation(joined));
+  EXPECT_TRUE(std::isnan(lag_one_autocorrelation(joined, std::vector<std::uint8_t>(8, 0))));
+  EXPECT_THROW(lag_one_autocorrelation(joined, std::vector<std::uint8_t>(7, 1)),
+               std::invalid_argument);
+}
+
 // An error from blocks of at least K values: the levels of shorter blocks left out, none (NaN)
 // until a level of long enough blocks holds kLeastBlocks of them.
 TEST(BlockAverage, AnErrorFromLongBlocksOnlyLeavesTheShortOnesOut) {

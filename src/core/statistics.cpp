@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace carom {
 
@@ -13,17 +14,28 @@ std::pair<double, double> mean_and_variance_of_mean(std::span<const double> valu
   return {mean, squares / (n - 1.0) / n};
 }
 
-double lag_one_autocorrelation(std::span<const double> values) {
+double lag_one_autocorrelation(std::span<const double> values,
+                               std::span<const std::uint8_t> follows) {
   if (values.size() < 3) return std::numeric_limits<double>::quiet_NaN();
+  if (!follows.empty() && follows.size() != values.size()) {
+    throw std::invalid_argument("lag_one_autocorrelation: one flag a value");
+  }
   const auto n = static_cast<double>(values.size());
   double mean = 0.0;
   for (const double x : values) mean += x / n;
   double variance = 0.0, covariance = 0.0;
+  std::size_t pairs = 0;
   for (std::size_t i = 0; i < values.size(); ++i) {
     const double d = values[i] - mean;
     variance += d * d;
-    if (i > 0) covariance += d * (values[i - 1] - mean);
+    if (i > 0 && (follows.empty() || follows[i] != 0)) {
+      covariance += d * (values[i - 1] - mean);
+      ++pairs;
+    }
   }
+  if (pairs == 0) return std::numeric_limits<double>::quiet_NaN();
+  // As many pairs' worth as a series without gaps has (exactly 1 where there are none).
+  if (pairs < values.size() - 1) covariance *= (n - 1.0) / static_cast<double>(pairs);
   // Values that differ only by round-off (a gas that never collides: Z = 1 in every block, to the
   // last bits) have no correlation to speak of.
   const double resolution = 64.0 * std::numeric_limits<double>::epsilon() * std::abs(mean);

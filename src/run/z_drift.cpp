@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <span>
 #include <utility>
 
@@ -103,6 +105,9 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
   BlockErrors errors;
   errors.block_length = record.block_length;
   std::vector<double> z;
+  // Whether each block in z begins where the one before it ended (no gap, no block left out).
+  std::vector<std::uint8_t> follows;
+  double last_end = std::numeric_limits<double>::quiet_NaN();
   std::vector<SymmetricTensor> tensors;
   const auto n = static_cast<double>(simulation.state().size());
   const double volume = box_volume(simulation.state().box);
@@ -117,7 +122,11 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     const double kinetic = n * record.temperatures[i];
     const double block_z = compressibility_factor_of(
         pressure_over<D>(block.counts.virial, to - from, kinetic, volume), kinetic, volume);
-    if (std::isfinite(block_z)) z.push_back(block_z);
+    if (std::isfinite(block_z)) {
+      z.push_back(block_z);
+      follows.push_back(from == last_end ? 1 : 0);
+      last_end = to;
+    }
     // An event-chain block with no move along an axis has no pressure along it (NaN): it holds
     // less than a turn of chains, and the run gives no error from such blocks.
     if (o.pressure_tensor && std::ranges::all_of(*o.pressure_tensor,
@@ -134,7 +143,7 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     const auto [second, second_variance] = mean_and_variance_of_mean(all.last(half));
     const double error = std::sqrt(first_variance + second_variance);
     const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
-    errors.verdict = DriftVerdict{first, second, sigmas, z.size(), lag_one_autocorrelation(z)};
+    errors.verdict = DriftVerdict{first, second, sigmas, z.size(), lag_one_autocorrelation(z, follows)};
     errors.compressibility_factor = std::sqrt(mean_and_variance_of_mean(z).second);
   }
   if (tensors.size() >= 2 * kLeastPerHalf) {

@@ -15,8 +15,12 @@ std::pair<double, double> mean_and_variance_of_mean(std::span<const double> valu
 // The lag-one autocorrelation of `values`: the covariance of consecutive values over their
 // variance (both about the mean of all). Near -1/n for independent values, within about
 // 1/sqrt(n); values correlated over longer than one step give more. NaN for fewer than three
-// values or none that differ by more than round-off.
-double lag_one_autocorrelation(std::span<const double> values);
+// values or none that differ by more than round-off. Where `follows` is given (one flag a
+// value), only the pairs whose second value follows the first (follows[i] != 0: no gap between
+// values i - 1 and i) are counted, scaled up to the n - 1 of a series without gaps; NaN where
+// there are none.
+double lag_one_autocorrelation(std::span<const double> values,
+                               std::span<const std::uint8_t> follows = {});
 
 // The mean of a series of correlated values and its standard error by block averaging (Flyvbjerg
 // and Petersen 1989): values are averaged in pairs, pairs of pairs, ..., and the standard error
