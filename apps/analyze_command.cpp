@@ -17,7 +17,8 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
       "order and solid-like clusters (spheres), the structure factor S(k), the self-intermediate "
       "scattering function F_s(k,t); as JSON and as a report page.");
   analyze->footer(
-      R"(What it computes (2D and 3D; psi6 for disks only, the bond order for spheres only):
+      R"(What it computes, each under its name in the JSON and in --only (2D and 3D; psi6 for disks
+only, the bond order for spheres only):
   rdf    g(r) over every frame, minimum image in a periodic box, bins of d/50 up to 5 d (d the
          mean diameter), so contact is a bin edge; for a monodisperse periodic fluid, g(d+) from a
          least-squares quadratic over the bins within d/10 of contact and Z = 1 + 2 eta g(d+)
@@ -32,10 +33,12 @@ CLI::App* add_analyze_command(CLI::App& app, AnalyzeArguments& args) {
          being every other one closer than 1.5 d (--order-cutoff), minimum image; the solid-like
          spheres (7 or more bonds whose normalised q6 product exceeds 0.7, ten Wolde et al.) and
          their clusters over neighbour bonds: their count and the largest cluster's size
-  S(k)   |sum_j exp(-i k.r_j)|^2 / N on the periodic box's k-grid, k = 2 pi (n_x/L_x, n_y/L_y,
-         ...), over the frames and over shells of |k| of width 2 pi / L_min, up to k = 20 / d;
-         at most 100 k-vectors a shell (an even, fixed choice), one of each k, -k
-  F_s    F_s(k,t) = <cos(k.(r_j(t0+t) - r_j(t0)))> over particles, time origins and the
+  structure_factor
+         S(k) = |sum_j exp(-i k.r_j)|^2 / N on the periodic box's k-grid, k = 2 pi (n_x/L_x,
+         n_y/L_y, ...), over the frames and over shells of |k| of width 2 pi / L_min, up to
+         k = 20 / d; at most 100 k-vectors a shell (an even, fixed choice), one of each k, -k
+  self_scattering
+         F_s(k,t) = <cos(k.(r_j(t0+t) - r_j(t0)))> over particles, time origins and the
          k-vectors of S(k)'s main peak shell, at the MSD's lags; alpha2(t) = d <dr^4> /
          ((d+2) <dr^2>^2) - 1; tau_alpha where F_s first falls below 1/e
 An analysis that does not apply is left out with the reason on standard error. A summary goes to
@@ -84,6 +87,12 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
       ->add_option("--order-cutoff", args.order_cutoff,
                    "The neighbour distance of the Steinhardt bond order (default: 1.5 d)")
       ->type_name("R");
+  analyze
+      ->add_option("--only", args.only,
+                   "Compute only these analyses, by their JSON names: rdf, msd, psi6, "
+                   "steinhardt, structure_factor, self_scattering, separated by commas (default: "
+                   "every one; S(k) and F_s(k,t) take seconds a frame at 10^5 particles)")
+      ->type_name("LIST");
   return analyze;
 }
 
@@ -99,10 +108,12 @@ void print_summary(std::ostream& out, const Analysis& a) {
                      box, s.packing_fraction);
   out << fmt::format("frames: {} of {}, t = {:g} to {:g}\n", a.time.size(), a.frames_in_file,
                      a.time.front(), a.time.back());
-  out << fmt::format("g(r): bins of {:g} to r = {:g}", a.rdf.bin_width, a.rdf.r_max);
-  if (a.contact)
-    out << fmt::format("; contact g(d+) = {:.4f}, Z = {:.4f}", a.contact->g, a.contact->z);
-  out << '\n';
+  if (a.rdf) {
+    out << fmt::format("g(r): bins of {:g} to r = {:g}", a.rdf->bin_width, a.rdf->r_max);
+    if (a.contact)
+      out << fmt::format("; contact g(d+) = {:.4f}, Z = {:.4f}", a.contact->g, a.contact->z);
+    out << '\n';
+  }
   if (a.msd && a.msd->t.size() > 1) {
     out << fmt::format("MSD: {} lags, {:.6g} at t = {:g}\n", a.msd->t.size(), a.msd->msd.back(),
                        a.msd->t.back());
@@ -172,6 +183,14 @@ void analyze_command(const AnalyzeArguments& args) {
   options.fs_k = option_number(args.fs_k, "--fs-k", 0.0);
   options.bond_order.cutoff = option_number(args.order_cutoff, "--order-cutoff", 0.0);
   options.from_centre_of_mass = args.from_centre_of_mass;
+  if (!args.only.empty()) {
+    try {
+      options.only = parse_analysis_selection(args.only);
+      check_selection(options);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(fmt::format("--only: {}", e.what()));
+    }
+  }
   Analysis analysis;
   try {
     analysis = analyze(spec);

@@ -23,8 +23,18 @@ def _positive(name, value):
 _INVARIANTS = tuple(f"{kind}{l}{bar}" for l in (4, 6) for kind in "qw" for bar in ("", "_bar"))
 
 
+def _selection(only):
+    """None (every analysis), or the names as one comma-separated string for the library."""
+    if only is None:
+        return None
+    names = [only] if isinstance(only, str) else list(only)
+    if not names or not all(isinstance(name, str) for name in names):
+        raise ValueError(f"only must name analyses (a string or a list of strings), not {only!r}")
+    return ",".join(names)
+
+
 def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=None, log=None,
-            html=None, k_max=None, fs_k=None, order_cutoff=None, com=False):
+            html=None, k_max=None, fs_k=None, order_cutoff=None, com=False, only=None):
     """`carom analyze` on a .gsd or .xyz trajectory: a dict of its JSON, arrays as numpy arrays.
 
     Keys: "rdf" (r, g, bin_width, r_max, contact: {r, g, Z} or None, and for a trajectory of two
@@ -42,7 +52,9 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     (default d / 50), r_max (5 d), contact_width (d / 10), k_max (20 / d), fs_k (the main peak of
     S(k)) and order_cutoff (1.5 d) are the command's --bin, --r-max, --contact-width, --k-max,
     --fs-k and --order-cutoff; com=True is its --com (the MSD and F_s(k,t) from displacements
-    relative to the centre of mass, which event chains move). `log` adds a `carom run --log`
+    relative to the centre of mass, which event chains move). only: the analyses to compute, by
+    their keys here ("psi6", or ["rdf", "structure_factor"]; the others are None), as the command's
+    --only; every one by default. `log` adds a `carom run --log`
     table to the result and the page; `html` writes the report page there. A broken file raises carom.InputError, bad
     options ValueError.
     """
@@ -51,7 +63,8 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         _positive("bin", bin), _positive("r_max", r_max),
         _positive("contact_width", contact_width), _positive("k_max", k_max),
         _positive("fs_k", fs_k), _positive("order_cutoff", order_cutoff), bool(com),
-        None if log is None else _path(log), None if html is None else _path(html)))
+        None if log is None else _path(log), None if html is None else _path(html),
+        _selection(only)))
     arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean"),
               "structure_factor": ("k", "s"), "self_scattering": ("t", "fs", "alpha2"),
               "snapshot": ("radius", "psi6_modulus", "psi6_phase"),
@@ -61,7 +74,7 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
             if result[section] is not None and result[section][key] is not None:
                 result[section][key] = _np.array(result[section][key], dtype=_np.float64)
     # A mixture's partial g_ab(r), by pair name ("A-B").
-    for name, values in result["rdf"].get("partial", {}).items():
+    for name, values in (result["rdf"] or {}).get("partial", {}).items():
         result["rdf"]["partial"][name] = _np.array(values, dtype=_np.float64)
     order = result["steinhardt"]
     if order is not None:

@@ -18,9 +18,11 @@ void export_analysis(py::module_& m) {
       "analyze",
       [](const std::string& trajectory, double equilibrate, double bin_width, double r_max,
          double contact_width, double k_max, double fs_k, double order_cutoff, bool com,
-         const std::optional<std::string>& log,
-         const std::optional<std::string>& html) {
+         const std::optional<std::string>& log, const std::optional<std::string>& html,
+         const std::optional<std::string>& only) {
         std::string json;
+        AnalysisSelection selection;
+        if (only) selection = parse_analysis_selection(*only);  // ValueError, with the GIL
         {
           // Reading and analysing a long trajectory takes a while: other threads may run.
           py::gil_scoped_release release;
@@ -35,6 +37,7 @@ void export_analysis(py::module_& m) {
           spec.options.fs_k = fs_k;
           spec.options.bond_order.cutoff = order_cutoff;
           spec.options.from_centre_of_mass = com;
+          spec.options.only = selection;
           std::ostringstream out;
           write_analysis_json(out, analyze(spec));
           json = out.str();
@@ -43,7 +46,7 @@ void export_analysis(py::module_& m) {
       },
       py::arg("trajectory"), py::arg("equilibrate"), py::arg("bin_width"), py::arg("r_max"),
       py::arg("contact_width"), py::arg("k_max"), py::arg("fs_k"), py::arg("order_cutoff"),
-      py::arg("com"), py::arg("log"), py::arg("html"));
+      py::arg("com"), py::arg("log"), py::arg("html"), py::arg("only"));
 }
 
 }  // namespace carom::python

@@ -64,6 +64,37 @@ def test_analyze_equals_cli_analyze(cli, tmp_path, trajectory):
     assert np.isnan(self_scattering["alpha2"][0]) and self_scattering["tau_alpha"] > 0
 
 
+ANALYSES = ("rdf", "msd", "psi6", "steinhardt", "structure_factor", "self_scattering")
+
+
+def test_only_some_analyses_as_the_command_line_computes_them(cli, tmp_path, trajectory):
+    """only= computes the analyses named (the rest None), the numbers of the whole analysis, and
+    the command line's --only gives the same JSON; self_scattering without what it needs, or a
+    name that is no analysis, is refused by both."""
+    dim, path, _ = trajectory
+    whole = carom.analyze(path)
+    for only in ("psi6", ["rdf", "structure_factor"], ("msd", "self_scattering", "structure_factor")):
+        names = [only] if isinstance(only, str) else list(only)
+        cli("analyze", path, "--only", ",".join(names), "-o", tmp_path / "cli.json")
+        result = carom.analyze(path, only=only)
+        with open(tmp_path / "cli.json") as f:
+            assert equal(result, json.load(f))
+        for name in ANALYSES:
+            applies = whole[name] is not None
+            assert (result[name] is not None) == (applies and name in names), (only, name)
+            if result[name] is not None:
+                assert equal(result[name], json.loads(json.dumps(whole[name], default=list)))
+    for bad, words in (("sk", "'sk' is not an analysis"), ("psi6,", "'' is not an analysis"),
+                       ("self_scattering,msd", "self_scattering needs structure_factor too")):
+        assert words in cli.error("analyze", path, "--only", bad)
+        with pytest.raises(ValueError, match=words):
+            carom.analyze(path, only=bad.split(","))
+    with pytest.raises(ValueError, match="self_scattering needs msd too"):
+        carom.analyze(path, only="self_scattering", fs_k=6)
+    with pytest.raises(ValueError, match="only must name analyses"):
+        carom.analyze(path, only=[])
+
+
 def test_analyze_refuses_what_it_cannot_do(tmp_path, trajectory):
     _, path, _ = trajectory
     with pytest.raises(carom.InputError, match="missing.gsd"):

@@ -46,6 +46,33 @@ void warn_of_flow(Analysis& analysis, const AnalysisOptions& options) {
       shift, 100.0 * shift / std::sqrt(whole)));
 }
 
+// g(r) over the frames and, where it says Z, its contact value.
+void add_rdf(Analysis& analysis, const std::vector<Frame>& frames, const AnalysisOptions& options) {
+  const TrajectoryShape& shape = analysis.shape;
+  analysis.rdf = radial_distribution(frames, options.rdf);
+  const double d = shape.mean_diameter;
+  if (!shape.monodisperse) {
+    analysis.warnings.emplace_back(
+        "no contact value: the particles' diameters differ (g(r) mixes every pair of sizes)");
+  } else if (overlapping(*analysis.rdf, shape.mean_diameter)) {
+    analysis.warnings.emplace_back(
+        "no contact value: pairs closer than a diameter (by more than 2 %) are counted, so these "
+        "are not hard particles of that diameter");
+  } else if (!shape.periodic) {
+    analysis.warnings.emplace_back(
+        "no Z from the contact value: between walls the fluid is not uniform, so Z = 1 + 2^(D-1) "
+        "eta g(d+) does not hold");
+  } else {
+    analysis.contact = contact_value(*analysis.rdf, d, shape.dimension, shape.packing_fraction,
+                                     options.contact_width > 0.0 ? options.contact_width : 0.1 * d);
+    if (!analysis.contact) {
+      analysis.warnings.emplace_back(
+          "no contact value: fewer than three g(r) bins lie within the fitted range above contact "
+          "(a smaller --bin or a larger --contact-width)");
+    }
+  }
+}
+
 // S(k) on a periodic box's k-grid, and F_s(k,t) and alpha2(t) at its main peak (or at
 // options.fs_k). A k the options ask for and the box cannot have is an error; the defaults'
 // S(k) too large to take is left out with a warning instead.
@@ -54,7 +81,9 @@ void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
   const TrajectoryShape& shape = analysis.shape;
   const bool sheared = std::any_of(frames.begin(), frames.end(),
                                    [](const Frame& frame) { return frame.shear_shift != 0.0; });
-  if (!shape.periodic) {
+  if (!options.only.structure_factor) {
+    // Not asked for (check_selection: F_s then has its k from fs_k).
+  } else if (!shape.periodic) {
     analysis.warnings.emplace_back(
         "no S(k): it is taken on a periodic box's k-grid, and this box has walls");
   } else if (sheared) {
@@ -71,6 +100,7 @@ void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
   const double k = options.fs_k > 0.0          ? options.fs_k
                    : analysis.structure_factor ? analysis.structure_factor->k_peak
                                                : 0.0;
+  if (!options.only.self_scattering) return;
   if (!analysis.msd) {
     analysis.warnings.emplace_back(
         "no F_s(k,t): like the MSD, it needs image flags and frames evenly spaced in time");
@@ -87,10 +117,58 @@ void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
   }
 }
 
+// Each analysis's name and its flag in a selection.
+constexpr std::array<std::pair<std::string_view, bool AnalysisSelection::*>, 6> kAnalyses{{
+    {"rdf", &AnalysisSelection::rdf},
+    {"msd", &AnalysisSelection::msd},
+    {"psi6", &AnalysisSelection::psi6},
+    {"steinhardt", &AnalysisSelection::steinhardt},
+    {"structure_factor", &AnalysisSelection::structure_factor},
+    {"self_scattering", &AnalysisSelection::self_scattering},
+}};
+
 }  // namespace
+
+AnalysisSelection parse_analysis_selection(std::string_view list) {
+  AnalysisSelection none;
+  for (const auto& [name, flag] : kAnalyses) none.*flag = false;
+  AnalysisSelection chosen = none;
+  std::string_view rest = list;
+  while (true) {
+    const std::size_t comma = rest.find(',');
+    const std::string_view name = rest.substr(0, comma);
+    const auto* const found = std::find_if(kAnalyses.begin(), kAnalyses.end(),
+                                           [&](const auto& a) { return a.first == name; });
+    if (found == kAnalyses.end()) {
+      throw std::invalid_argument(fmt::format(
+          "'{}' is not an analysis: the analyses are rdf, msd, psi6, steinhardt, "
+          "structure_factor and self_scattering, separated by commas",
+          name));
+    }
+    chosen.*(found->second) = true;
+    if (comma == std::string_view::npos) break;
+    rest = rest.substr(comma + 1);
+  }
+  return chosen;
+}
+
+void check_selection(const AnalysisOptions& options) {
+  const AnalysisSelection& only = options.only;
+  if (!only.self_scattering) return;
+  if (!only.msd) {
+    throw std::invalid_argument(
+        "self_scattering needs msd too: F_s(k,t) is taken at the MSD's lags");
+  }
+  if (!only.structure_factor && !(options.fs_k > 0.0)) {
+    throw std::invalid_argument(
+        "self_scattering needs structure_factor too, for its main peak, or a wave number (fs_k, "
+        "--fs-k)");
+  }
+}
 
 Analysis analyze(std::vector<Frame> frames, const std::string& name,
                  const AnalysisOptions& options) {
+  check_selection(options);
   if (frames.empty()) throw std::invalid_argument("the trajectory has no frames");
   // Every frame must share the first one's box: g(r) and the MSD are normalised by it.
   const Frame& first = frames.front();
@@ -125,44 +203,26 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
   for (const Frame& frame : frames) analysis.time.push_back(frame.time);
   const TrajectoryShape& shape = analysis.shape;
 
-  analysis.rdf = radial_distribution(frames, options.rdf);
-  const double d = shape.mean_diameter;
-  if (!shape.monodisperse) {
-    analysis.warnings.emplace_back(
-        "no contact value: the particles' diameters differ (g(r) mixes every pair of sizes)");
-  } else if (overlapping(analysis.rdf, shape.mean_diameter)) {
-    analysis.warnings.emplace_back(
-        "no contact value: pairs closer than a diameter (by more than 2 %) are counted, so these "
-        "are not hard particles of that diameter");
-  } else if (!shape.periodic) {
-    analysis.warnings.emplace_back(
-        "no Z from the contact value: between walls the fluid is not uniform, so Z = 1 + 2^(D-1) "
-        "eta g(d+) does not hold");
-  } else {
-    analysis.contact = contact_value(analysis.rdf, d, shape.dimension, shape.packing_fraction,
-                                     options.contact_width > 0.0 ? options.contact_width : 0.1 * d);
-    if (!analysis.contact) {
-      analysis.warnings.emplace_back(
-          "no contact value: fewer than three g(r) bins lie within the fitted range above contact "
-          "(a smaller --bin or a larger --contact-width)");
+  const AnalysisSelection& only = options.only;
+  if (only.rdf) add_rdf(analysis, frames, options);
+  if (only.msd) {
+    try {
+      analysis.msd = mean_square_displacement(frames, options.from_centre_of_mass);
+      analysis.from_centre_of_mass = options.from_centre_of_mass;
+      warn_of_flow(analysis, options);
+    } catch (const std::invalid_argument& e) {
+      analysis.warnings.push_back(std::string("no MSD: ") + e.what());
     }
   }
-  try {
-    analysis.msd = mean_square_displacement(frames, options.from_centre_of_mass);
-    analysis.from_centre_of_mass = options.from_centre_of_mass;
-    warn_of_flow(analysis, options);
-  } catch (const std::invalid_argument& e) {
-    analysis.warnings.push_back(std::string("no MSD: ") + e.what());
-  }
   analysis.snapshot = frames.back();
-  if (shape.dimension == 2) {
+  if (shape.dimension == 2 && only.psi6) {
     try {
       analysis.psi6 = psi6_series(frames);
       analysis.snapshot_psi6 = local_psi6(frames.back());
     } catch (const std::invalid_argument& e) {
       analysis.warnings.push_back(std::string("no psi6: ") + e.what());
     }
-  } else {
+  } else if (shape.dimension == 3 && only.steinhardt) {
     try {
       analysis.steinhardt = bond_order_series(frames, options.bond_order);
     } catch (const std::invalid_argument& e) {
@@ -233,22 +293,27 @@ nlohmann::json to_json(const Analysis& a) {
         {"last_time", a.time.back()}}},
       {"time", a.time},
   };
-  out["rdf"] = {
-      {"r", a.rdf.r},
-      {"g", a.rdf.g},
-      {"bin_width", a.rdf.bin_width},
-      {"r_max", a.rdf.r_max},
-      {"contact", a.contact ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
-                            : json(nullptr)}};
-  // A mixture's partial g_ab(r), and each pair's share of all pairs (sum share g_ab = g).
-  if (!a.rdf.partial.empty()) {
-    json partial = json::object(), weights = json::object();
-    for (std::size_t k = 0; k < a.rdf.partial.size(); ++k) {
-      partial[a.rdf.partial_names[k]] = a.rdf.partial[k];
-      weights[a.rdf.partial_names[k]] = a.rdf.partial_weights[k];
+  out["rdf"] = nullptr;
+  if (a.rdf) {
+    const Rdf& rdf = *a.rdf;
+    out["rdf"] = {
+        {"r", rdf.r},
+        {"g", rdf.g},
+        {"bin_width", rdf.bin_width},
+        {"r_max", rdf.r_max},
+        {"contact", a.contact
+                        ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
+                        : json(nullptr)}};
+    // A mixture's partial g_ab(r), and each pair's share of all pairs (sum share g_ab = g).
+    if (!rdf.partial.empty()) {
+      json partial = json::object(), weights = json::object();
+      for (std::size_t k = 0; k < rdf.partial.size(); ++k) {
+        partial[rdf.partial_names[k]] = rdf.partial[k];
+        weights[rdf.partial_names[k]] = rdf.partial_weights[k];
+      }
+      out["rdf"]["partial"] = partial;
+      out["rdf"]["partial_weights"] = weights;
     }
-    out["rdf"]["partial"] = partial;
-    out["rdf"]["partial_weights"] = weights;
   }
   if (a.msd) {
     const std::optional<double> d =

@@ -8,6 +8,11 @@
 namespace carom {
 
 Analysis analyze(const AnalysisSpec& spec) {
+  try {
+    check_selection(spec.options);  // before a long trajectory is read
+  } catch (const std::invalid_argument& e) {
+    throw AnalysisError(e.what());
+  }
   check_files_apart({spec.trajectory, spec.log}, {spec.json, spec.html});
   std::optional<LogTable> log;
   if (!spec.log.path.empty()) log = read_log_table(spec.log.path);

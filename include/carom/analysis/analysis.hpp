@@ -9,6 +9,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "carom/analysis/bond_order.hpp"
@@ -95,7 +96,26 @@ struct Psi6Series {
 };
 Psi6Series psi6_series(const std::vector<Frame>& frames);
 
+// Which analyses to compute, by their names in the JSON (rdf, msd, psi6, steinhardt,
+// structure_factor, self_scattering): every one that applies by default. The rest cost time at
+// large N (S(k) and F_s(k,t) most: seconds a frame at 65536 disks) and are left out as null.
+struct AnalysisSelection {
+  bool rdf = true, msd = true, psi6 = true, steinhardt = true, structure_factor = true,
+       self_scattering = true;
+  friend bool operator==(const AnalysisSelection&, const AnalysisSelection&) = default;
+};
+// The analyses `list` names, separated by commas ("psi6,structure_factor"): those alone.
+// std::invalid_argument for a name that is none of them, or a list that names none.
+AnalysisSelection parse_analysis_selection(std::string_view list);
+
+struct AnalysisOptions;
+// F_s(k,t) is taken at the MSD's lags and at S(k)'s main peak (unless fs_k names k): a selection
+// of self_scattering without msd, or without structure_factor and fs_k, is refused
+// (std::invalid_argument), before any frame is read.
+void check_selection(const AnalysisOptions& options);
+
 struct AnalysisOptions {
+  AnalysisSelection only;  // every analysis by default
   RdfOptions rdf;
   double contact_width = 0.0;  // the range above contact g(d+) is fitted on; 0: a tenth of d
   double from_time = -1e300;   // frames before this time are left out (equilibration)
@@ -116,7 +136,7 @@ struct Analysis {
   TrajectoryShape shape;
   std::size_t frames_in_file = 0;
   std::vector<double> time;  // of the frames analysed
-  Rdf rdf;
+  std::optional<Rdf> rdf;    // absent only where not selected
   std::optional<ContactValue> contact;
   std::optional<Msd> msd;
   bool from_centre_of_mass = false;  // the MSD's and F_s's displacements (--com)
@@ -133,7 +153,8 @@ struct Analysis {
 // Analyses the frames of the trajectory named `name` from options.from_time on (a frame within a
 // billionth of that time counts as at it). Throws std::invalid_argument when no frame is left,
 // when the frames do not share one box, or for options the trajectory cannot have (a bond-order
-// cutoff given that the box cannot have; the default one is only warned about).
+// cutoff given that the box cannot have; the default one is only warned about), or a selection
+// that leaves out what a selected analysis needs (check_selection).
 Analysis analyze(std::vector<Frame> frames, const std::string& name,
                  const AnalysisOptions& options = {});
 
