@@ -15,12 +15,6 @@ standard deviation of the block means over sqrt(blocks), as a run's block error 
 nothing of slower changes than a block (compare two starts for those).
 beta P d^2 = Z 4 phi / pi for equal disks of diameter d. Several logs give one line each and, for
 more than one, their mean as scripts/plot_loop.py takes a packing's tasks' (mean_of_runs).
-
---tau adds the integrated autocorrelation time of the rows' Z over the window, as
-scripts/decorrelation.py measures it (Sokal's automatic window; resolved where the window closed
-and the rows span 50 times it, else a lower bound, "> "), in time units and, with --cpu-per-unit
-S (the CPU seconds a unit of the run costs), in CPU seconds: how long Z remembers itself, which
-no block error shows.
 """
 import argparse
 import csv
@@ -52,19 +46,6 @@ def window_stress(rows):
     return tuple(statistics.fmean(float(row[key]) for row in rows) for key in ("pxx", "pyy", "pxy"))
 
 
-def window_tau(rows, cpu_per_unit):
-    """The integrated autocorrelation time of the rows' Z, as text: in time units (the rows'
-    interval), and in CPU seconds where cpu_per_unit is given."""
-    from decorrelation import autocorrelation, describe, integrated_time
-    times = [float(row["time"]) for row in rows]
-    interval = (times[-1] - times[0]) / (len(times) - 1)
-    z = [float(row["Z"]) for row in rows]
-    tau, _, resolved, error = integrated_time(autocorrelation(z), len(z))
-    units, cpu = describe(tau, resolved, error, interval, cpu_per_unit or 0.0)
-    return f"tau of Z {units} units" + (f" ({cpu} CPU s)" if cpu_per_unit else "") + \
-        f", {len(z) / tau:.0f} tau spanned"
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("logs", nargs="+", help="run logs (log.csv) with a Z column")
@@ -72,13 +53,7 @@ def main():
     ap.add_argument("--from", dest="start", type=float, required=True, help="window start (time)")
     ap.add_argument("--to", dest="end", type=float, required=True, help="window end (time)")
     ap.add_argument("--blocks", type=int, default=6, help="blocks for the error (default 6)")
-    ap.add_argument("--tau", action="store_true",
-                    help="also the integrated autocorrelation time of the rows' Z")
-    ap.add_argument("--cpu-per-unit", type=float,
-                    help="with --tau: the CPU seconds a time unit of the run costs")
     args = ap.parse_args()
-    if args.cpu_per_unit is not None and not (args.tau and args.cpu_per_unit > 0):
-        ap.error("--cpu-per-unit takes a positive number of CPU seconds, with --tau")
     if args.blocks < 2:
         ap.error(f"--blocks must be 2 or more (an error needs two block means), got {args.blocks}")
     to_bp = 4.0 * args.phi / math.pi
@@ -93,8 +68,6 @@ def main():
         stress = window_stress(rows)
         if stress:
             line += ", pxx {:.4f} pyy {:.4f} pxy {:.4f}".format(*stress)
-        if args.tau:
-            line += ", " + window_tau(rows, args.cpu_per_unit)
         print(line)
     if len(values) > 1:
         mean, err = mean_of_runs(values)

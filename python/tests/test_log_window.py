@@ -6,7 +6,6 @@ import re
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 from conftest import SOURCE_DIR
@@ -47,41 +46,3 @@ def test_a_logs_window_is_the_summarys_measurement(cli, tmp_path):
     # One block gives no error: refused as bad input (exit 2), not a traceback.
     one = window(log, "--phi", "0.6", "--from", "4", "--to", "12", "--blocks", "1")
     assert one.returncode == 2 and "--blocks must be 2 or more" in one.stderr
-
-
-def write_log(path, z, interval):
-    with open(path, "w") as f:
-        f.write("time,Z\n0,\n")
-        for k, value in enumerate(z, start=1):
-            f.write(f"{k * interval!r},{value!r}\n")
-
-
-def ar1(a, n, seed):
-    """x_k = a x_{k-1} + noise: its integrated autocorrelation time is (1 + a) / (1 - a) steps."""
-    rng = np.random.default_rng(seed)
-    x = np.empty(n)
-    x[0] = rng.normal() / np.sqrt(1 - a * a)
-    for k in range(1, n):
-        x[k] = a * x[k - 1] + rng.normal()
-    return 10.0 + 0.01 * x
-
-
-def test_tau_is_the_rows_integrated_autocorrelation_time(tmp_path):
-    """An AR(1) series of Z with a = 0.8 remembers itself for (1 + a) / (1 - a) = 9 rows, 4.5
-    units at rows half a unit apart: found within its error, resolved, and in CPU seconds with
-    --cpu-per-unit. A series far shorter than 50 of its times gives a lower bound."""
-    log = tmp_path / "log.csv"
-    write_log(log, ar1(0.8, 20000, 1), 0.5)
-    done = window(log, "--phi", "0.7", "--from", "0", "--to", "1e9", "--tau",
-                  "--cpu-per-unit", "2")
-    assert done.returncode == 0, done.stderr
-    tau, error, cpu = map(float, re.search(
-        r"tau of Z (\S+) \+- (\S+) units \((\S+) \+- \S+ CPU s\)", done.stdout).groups())
-    assert abs(tau - 4.5) < 3 * error and error < 1.0, done.stdout
-    assert cpu == pytest.approx(2 * tau, rel=1e-2)
-    write_log(log, ar1(0.99, 300, 2), 0.5)
-    short = window(log, "--phi", "0.7", "--from", "0", "--to", "1e9", "--tau")
-    assert short.returncode == 0 and re.search(r"tau of Z > \S+ units", short.stdout), short.stdout
-    assert "CPU s" not in short.stdout
-    alone = window(log, "--phi", "0.7", "--from", "0", "--to", "1e9", "--cpu-per-unit", "2")
-    assert alone.returncode == 2 and "--cpu-per-unit" in alone.stderr
