@@ -88,10 +88,11 @@ Example (a fluid of disks at packing 0.5, its Z near 4.1):
                    "The neighbour distance of the Steinhardt bond order (default: 1.5 d)")
       ->type_name("R");
   analyze
-      ->add_option("--only", args.only,
-                   "Compute only these analyses, by their JSON names: rdf, msd, psi6, "
-                   "steinhardt, structure_factor, self_scattering, separated by commas (default: "
-                   "every one; S(k) and F_s(k,t) take seconds a frame at 10^5 particles)")
+      ->add_option_function<std::string>(
+          "--only", [&args](const std::string& list) { args.only = list; },
+          "Compute only these analyses, by their JSON names: rdf, msd, psi6, steinhardt, "
+          "structure_factor, self_scattering, separated by commas (default: every one; S(k) and "
+          "F_s(k,t) take seconds a frame at 65536 disks)")
       ->type_name("LIST");
   return analyze;
 }
@@ -183,10 +184,9 @@ void analyze_command(const AnalyzeArguments& args) {
   options.fs_k = option_number(args.fs_k, "--fs-k", 0.0);
   options.bond_order.cutoff = option_number(args.order_cutoff, "--order-cutoff", 0.0);
   options.from_centre_of_mass = args.from_centre_of_mass;
-  if (!args.only.empty()) {
+  if (args.only) {
     try {
-      options.only = parse_analysis_selection(args.only);
-      check_selection(options);
+      options.only = parse_analysis_selection(*args.only);
     } catch (const std::invalid_argument& e) {
       throw UsageError(fmt::format("--only: {}", e.what()));
     }

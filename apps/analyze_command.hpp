@@ -1,6 +1,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <optional>
 #include <string>
 
 namespace carom::cli {
@@ -13,7 +14,7 @@ struct AnalyzeArguments {
   std::string from_time, bin_width, r_max, contact_width, order_cutoff;
   bool from_centre_of_mass = false;  // --com
   std::string k_max, fs_k;
-  std::string only;  // --only: the analyses to compute ("": every one)
+  std::optional<std::string> only;  // --only: the analyses to compute (absent: every one)
 };
 
 // Declares `carom analyze` on `app`, filling `args` when parsed.

@@ -109,8 +109,9 @@ int finish(const SweepArguments& args, const SweepPlan& plan, const std::string&
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].status == TaskStatus::done) {
       ++done;
-      drifting += drifted(results[i]) ? 1 : 0;
-      correlated += !drifted(results[i]) && blocks_correlated(results[i]) ? 1 : 0;
+      const bool drift = drifted(results[i]);
+      drifting += drift ? 1 : 0;
+      correlated += !drift && blocks_correlated(results[i]) ? 1 : 0;
       const auto unsettled = unsettled_warning(results[i]);
       if (unsettled && !args.quiet) {
         std::cerr << fmt::format("carom: warning: task {}: {}\n", plan.tasks()[i].name,

@@ -6,8 +6,9 @@ log, or of the global |psi6| from `carom analyze --only psi6`, over a window.
     build/carom analyze frames.gsd --only psi6 -o psi6.json
     /usr/bin/python3 scripts/series_tau.py psi6.json --from 13520 --cpu-per-unit 0.66
 
-A log (`carom run --log log.csv --log-every T`) gives each row's Z over its interval; an analysis
-JSON gives |psi6| of each frame (`psi6.global`, at `psi6.t`). Either series, in (from, to], is
+A log (`carom run --log log.csv --log-every T`) gives each row's Z over the interval that ends at
+its time, taken in (from, to]; an analysis JSON gives |psi6| of each frame (`psi6.global`, at
+`psi6.t`), taken in [from, to] (as `carom analyze --equilibrate` takes frames). Either series is
 measured as scripts/decorrelation.py measures its own: the normalised autocorrelation function
 and tau = 1 + 2 sum_k rho(k) in rows, with Sokal's automatic window (the smallest M with
 M >= 5 tau(M)) and his error, resolved where the window closed and the series spans 50 tau or
@@ -24,7 +25,7 @@ from decorrelation import autocorrelation, describe, integrated_time
 
 
 def log_series(path):
-    """(times, Z) of a run log's interval rows."""
+    """(times, Z) of a run log's interval rows: each over the interval that ends at its time."""
     with open(path, newline="") as f:
         rows = [row for row in csv.DictReader(f) if row.get("Z")]
     return [float(r["time"]) for r in rows], [float(r["Z"]) for r in rows]
@@ -51,25 +52,33 @@ def main():
                     help="the CPU seconds a time unit of the run costs, for tau in CPU seconds")
     args = ap.parse_args()
     if args.cpu_per_unit is not None and not args.cpu_per_unit > 0:
-        ap.error(f"--cpu-per-unit must be a positive number of CPU seconds, not {args.cpu_per_unit}")
-    what, (times, values) = (("|psi6|", psi6_series(args.series)) if args.series.endswith(".json")
+        ap.error(f"--cpu-per-unit must be a positive number of CPU seconds, "
+                 f"not {args.cpu_per_unit}")
+    frames = args.series.endswith(".json")
+    what, (times, values) = (("|psi6|", psi6_series(args.series)) if frames
                              else ("Z", log_series(args.series)))
-    kept = [(t, v) for t, v in zip(times, values) if args.start < t <= args.end]
+    inside = ((lambda t: args.start <= t <= args.end) if frames
+              else (lambda t: args.start < t <= args.end))
+    kept = [(t, v) for t, v in zip(times, values) if inside(t)]
     if len(kept) < 3:
-        sys.exit(f"{args.series}: {len(kept)} rows in ({args.start:g}, {args.end:g}], fewer than 3")
+        sys.exit(f"{args.series}: {len(kept)} rows in the window, fewer than 3")
     times, values = zip(*kept)
     spacings = [b - a for a, b in zip(times, times[1:])]
     interval = (times[-1] - times[0]) / (len(times) - 1)
     if max(spacings) - min(spacings) > 1e-6 * interval:
-        sys.exit(f"{args.series}: rows {min(spacings):g} to {max(spacings):g} apart in the window; "
-                 "tau needs evenly spaced rows")
+        sys.exit(f"{args.series}: rows {min(spacings):g} to {max(spacings):g} apart in the "
+                 "window; tau needs evenly spaced rows")
+    if max(values) == min(values):
+        sys.exit(f"{args.series}: {what} is {values[0]:g} in every row: no fluctuation to "
+                 "correlate")
     tau, _, resolved, error = integrated_time(autocorrelation(values), len(values))
     units, cpu = describe(tau, resolved, error, interval, args.cpu_per_unit or 0.0)
-    line = (f"{args.series}: tau of {what} {units} units" +
-            (f" ({cpu} CPU s)" if args.cpu_per_unit else "") +
-            f" over ({times[0] - interval:g}, {times[-1]:g}], {len(values)} rows {interval:g} apart, "
-            f"{len(values) / tau:.0f} tau spanned, mean {sum(values) / len(values):.5g}")
-    print(line)
+    span = (f"[{times[0]:g}, {times[-1]:g}]" if frames
+            else f"({times[0] - interval:g}, {times[-1]:g}]")
+    print(f"{args.series}: tau of {what} {units} units" +
+          (f" ({cpu} CPU s)" if args.cpu_per_unit else "") +
+          f" over {span}, {len(values)} rows {interval:g} apart, "
+          f"{len(values) / tau:.0f} tau spanned, mean {sum(values) / len(values):.5g}")
 
 
 if __name__ == "__main__":

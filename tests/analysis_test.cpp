@@ -229,6 +229,42 @@ TEST(Analyze, AClusterOfAHundredThousandDisksTakesWhatAUniformFluidDoes) {
   EXPECT_EQ(local_psi6(f).size(), f.position.size());
 }
 
+// A selection of analyses: names as the JSON's, spaces around them let be; an unknown or empty
+// name, or one named twice, refused; F_s without what it is taken from, or an option of an
+// analysis left out, refused; what it leaves out is not computed, and an order parameter of the
+// other dimension named is said to be absent.
+TEST(Analyze, ComputesTheAnalysesASelectionNames) {
+  AnalysisSelection psi6_and_rdf = parse_analysis_selection("psi6, rdf");
+  EXPECT_TRUE(psi6_and_rdf.psi6 && psi6_and_rdf.rdf);
+  EXPECT_FALSE(psi6_and_rdf.msd || psi6_and_rdf.steinhardt || psi6_and_rdf.structure_factor ||
+               psi6_and_rdf.self_scattering);
+  EXPECT_EQ(analysis_names(psi6_and_rdf), (std::vector<std::string>{"rdf", "psi6"}));
+  EXPECT_EQ(analysis_names(AnalysisSelection{}).size(), 6u);
+  for (const char* bad : {"", "psi6,", "S(k)", "psi6,psi6"}) {
+    EXPECT_THROW(parse_analysis_selection(bad), std::invalid_argument) << bad;
+  }
+  AnalysisOptions options;
+  options.only = parse_analysis_selection("self_scattering,msd");
+  EXPECT_THROW(check_selection(options), std::invalid_argument);  // no peak to take k from
+  options.fs_k = 6.0;
+  EXPECT_NO_THROW(check_selection(options));
+  options.only = parse_analysis_selection("psi6");
+  EXPECT_THROW(check_selection(options), std::invalid_argument);  // fs_k would do nothing
+  options = {};
+  options.only = psi6_and_rdf;
+  const Frame f = clustered(2, 400, 30.0, true, 3);
+  const Analysis some = analyze({f, f}, "two.gsd", options);
+  EXPECT_TRUE(some.rdf && some.psi6);
+  EXPECT_FALSE(some.msd || some.structure_factor || some.self_scattering || some.steinhardt);
+  EXPECT_EQ(some.only, analysis_names(psi6_and_rdf));
+  options.only = parse_analysis_selection("steinhardt");
+  const Analysis none = analyze({f}, "one.gsd", options);
+  EXPECT_FALSE(none.rdf || none.psi6 || none.steinhardt);
+  ASSERT_EQ(none.warnings.size(), 1u);
+  EXPECT_EQ(none.warnings[0].rfind("no steinhardt: ", 0), 0u) << none.warnings[0];
+  EXPECT_FALSE(analyze({f}, "one.gsd").only);  // every analysis: no selection to report
+}
+
 TEST(Rdf, AnIdealGasIsUncorrelatedInAPeriodicBoxAndBetweenWalls) {
   // g = 1 everywhere for points placed independently: between walls only if the normalisation
   // counts the pairs the walls cut off (without it g falls by 2 r (a + b) / (pi a b): 30 % at r =

@@ -1504,8 +1504,8 @@ TEST_F(Cli, AnalyzeHelpNamesWhatItsOptionsTake) {
   const Result help = carom({"analyze", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   for (const char* shown : {"--equilibrate T", "--bin WIDTH", "--r-max R", "--contact-width WIDTH",
-                            "--k-max K", "--fs-k K", "--order-cutoff R", "--log FILE", "--only LIST",
-                            "TRAJECTORY FILE"}) {
+                            "--k-max K", "--fs-k K", "--order-cutoff R", "--log FILE",
+                            "--only LIST", "TRAJECTORY FILE"}) {
     EXPECT_NE(help.out.find(shown), std::string::npos) << shown << "\n" << help.out;
   }
   EXPECT_EQ(help.out.find("TEXT"), std::string::npos) << help.out;

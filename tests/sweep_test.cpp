@@ -870,7 +870,7 @@ TEST(SweepPlan, DeepNestingIsRefusedBeforeTheTomlParserRecurses) {
             std::string::npos);
 }
 
-// Item 5: every task has a folder of its own, whatever its values' characters or length.
+// Every task has a folder of its own, whatever its values' characters or length.
 TEST(SweepPlan, TaskFoldersAreDistinctAndFitAFileName) {
   const std::string long_name = std::string(246, 'a') + ".xyz";
   const SweepPlan plan = parse(
@@ -895,7 +895,7 @@ TEST(SweepPlan, TaskFoldersAreDistinctAndFitAFileName) {
       << too_long;
 }
 
-// Item 9: a sweep folder spelled another way (./out, an absolute path, out/) is the same sweep.
+// A sweep folder spelled another way (./out, an absolute path, out/) is the same sweep.
 TEST(SweepTask, AFolderSpelledAnotherWayHoldsTheSameTasks) {
   const Folder folder;
   const SweepPlan plan = parse(kSmallPlan);
@@ -938,7 +938,7 @@ TEST(SweepTask, AStartFileEditedToAnotherFileIsAnotherTask) {
   EXPECT_THROW(run_task(other, 0, folder / "out"), RequestError);
 }
 
-// Item 3: a swept seed reaches every random draw of its tasks, or the plan is refused; the tasks
+// A swept seed reaches every random draw of its tasks, or the plan is refused; the tasks
 // of a state point are never copies of one run.
 TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {
   const Folder folder;
@@ -973,7 +973,7 @@ TEST(SweepPlan, EverySweptSeedMakesIndependentTasks) {
   EXPECT_EQ(refusal(random), "");
 }
 
-// Item 17: a plan is valid exactly when each task's commands are: what carom init and carom run
+// A plan is valid exactly when each task's commands are: what carom init and carom run
 // would refuse, the plan refuses, naming its line and key.
 TEST(SweepPlan, WhatTheTasksCommandsWouldRefuseThePlanRefuses) {
   const std::string start = "[start]\nn = 16\nphi = 0.3\n";
@@ -1009,7 +1009,7 @@ TEST(SweepPlan, WhatTheTasksCommandsWouldRefuseThePlanRefuses) {
   }
 }
 
-// Item 19: results.csv keeps a row a line whatever a value or an error holds.
+// A row of results.csv keeps to its line whatever a value or an error holds.
 TEST(SweepTables, LineBreaksInAnErrorStayInsideItsRow) {
   const Folder folder;
   const SweepPlan plan = parse(kSmallPlan);
@@ -1022,7 +1022,7 @@ TEST(SweepTables, LineBreaksInAnErrorStayInsideItsRow) {
   EXPECT_NE(table.find(",\"first second third, \"\"fourth\"\"\"\n"), std::string::npos) << table;
 }
 
-// Item 23: a sweep of 100,000 state points is tabled and reported (what a stopped sweep does
+// A sweep of 100,000 state points is tabled and reported (what a stopped sweep does
 // before it exits) in a second or so: the state points and the report's series are grouped by
 // hashing, not by a search of those seen so far (minutes).
 TEST(SweepTables, AHundredThousandStatePointsAreTabledQuickly) {

@@ -28,8 +28,10 @@ def _selection(only):
     if only is None:
         return None
     names = [only] if isinstance(only, str) else list(only)
-    if not names or not all(isinstance(name, str) for name in names):
-        raise ValueError(f"only must name analyses (a string or a list of strings), not {only!r}")
+    if not names or not all(isinstance(name, str) for name in names) or \
+            (not isinstance(only, str) and any("," in name for name in names)):
+        raise ValueError(f"only must name analyses (a name, a comma-separated string of them or "
+                         f"a list of names), not {only!r}")
     return ",".join(names)
 
 
@@ -53,10 +55,11 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     S(k)) and order_cutoff (1.5 d) are the command's --bin, --r-max, --contact-width, --k-max,
     --fs-k and --order-cutoff; com=True is its --com (the MSD and F_s(k,t) from displacements
     relative to the centre of mass, which event chains move). only: the analyses to compute, by
-    their keys here ("psi6", or ["rdf", "structure_factor"]; the others are None), as the command's
-    --only; every one by default. `log` adds a `carom run --log`
-    table to the result and the page; `html` writes the report page there. A broken file raises carom.InputError, bad
-    options ValueError.
+    their keys here ("psi6", or ["rdf", "structure_factor"]: the others are None, and
+    result["only"] lists those asked for), as the command's --only; every one by default
+    (result["only"] None). `log` adds a `carom run --log` table to the result and the page;
+    `html` writes the report page there. A broken file raises carom.InputError, bad options
+    ValueError.
     """
     result = _json.loads(_carom.analyze(
         _path(trajectory), -1e300 if equilibrate is None else _number("equilibrate", equilibrate),

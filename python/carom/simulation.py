@@ -59,6 +59,7 @@ class Simulation:
         masses = _per_particle("masses", masses, n, _D["mass"])
         types, typeid = _species(types, typeid, n)
         self._running = False
+        self._warned = set()
         self._core = _carom.Simulation.from_arrays(
             positions, velocities, box, radii, masses, types, typeid, boundary, rule,
             _number("restitution", restitution), _number("tc", tc), engine, sampler,
@@ -68,6 +69,7 @@ class Simulation:
     def _wrap(cls, core):
         simulation = cls.__new__(cls)
         simulation._running = False
+        simulation._warned = set()
         simulation._core = core
         return simulation
 
@@ -107,7 +109,9 @@ class Simulation:
         fields time (float64), i and j (int64; j < 0 is a wall label, -1 left, -2 right, -3
         bottom, -4 top, -5 back, -6 front), as `carom run --events` logs them.
         Where Z drifted over the measurement window, or its blocks are correlated, the run says
-        so, as `carom run` does, with a carom.UnsettledWarning.
+        so with a carom.UnsettledWarning in `carom run`'s words, once a window: the runs after
+        it that extend the same window say nothing more of the same (sim.observables() holds
+        the verdict), until reset_measurement, measure_from or equilibrate opens another.
         """
         return self._run(t, collisions, options)
 
@@ -123,12 +127,16 @@ class Simulation:
             unsettled = core.run(spec, _flag("collisions", collisions))
         finally:
             self._running = False
-        for message in unsettled:
-            _warnings.warn(message, UnsettledWarning, stacklevel=3)
+        if "equilibrate" in options:  # a window opened anew
+            self._warned.clear()
+        for kind, message in unsettled:
+            if kind not in self._warned:
+                self._warned.add(kind)
+                _warnings.warn(message, UnsettledWarning, stacklevel=3)
         return core.collisions() if collisions else None
 
     def advance(self, dt, **options):
-        """Runs for dt more time units (HOOMD's sim.run(steps) habit): sim.run(sim.time + dt, ...).
+        """Runs for dt more time units, as sim.run(sim.time + dt, ...) (HOOMD's sim.run(steps)).
         The end time is the double sim.time + dt, so many small advances can land a hair off
         round times; run(t) names a time exactly. The options are run()'s."""
         dt = _number("dt", dt)
@@ -283,10 +291,12 @@ class Simulation:
     def reset_measurement(self):
         """Opens the measurement window now: counts from zero, the kinetic energy now."""
         self._idle.reset_measurement()
+        self._warned.clear()
 
     def measure_from(self, t):
         """Opens the measurement window at time t (as `carom run --equilibrate t`)."""
         self._idle.measure_from(_number("measure_from", t))
+        self._warned.clear()
 
     def format(self, kind="table"):
         """The command line's output at sim.time: "table", "csv" or "json" (with particles)."""

@@ -92,7 +92,8 @@ PythonSimulation PythonSimulation::from_arrays(
   return PythonSimulation(arrays_start(arrays, settings));
 }
 
-std::vector<std::string> PythonSimulation::run(RunSpec spec, bool collisions) {
+std::vector<std::pair<std::string, std::string>> PythonSimulation::run(RunSpec spec,
+                                                                      bool collisions) {
   RunHooks hooks;
   if (collisions) hooks.collisions = &log_;
   for (;;) {
@@ -104,10 +105,11 @@ std::vector<std::string> PythonSimulation::run(RunSpec spec, bool collisions) {
       outcome = runner_.run(spec, hooks);
     }
     if (outcome.status == RunStatus::reached) {
-      std::vector<std::string> warnings;
-      if (const auto& drift = outcome.report.drift) {
-        for (const auto& warning : {drift->drift_warning(), drift->correlation_warning()}) {
-          if (warning) warnings.push_back(*warning);
+      std::vector<std::pair<std::string, std::string>> warnings;
+      if (const auto& verdict = outcome.report.drift) {
+        if (const auto drift = verdict->drift_warning()) warnings.emplace_back("drift", *drift);
+        if (const auto blocks = verdict->correlation_warning()) {
+          warnings.emplace_back("correlation", *blocks);
         }
       }
       return warnings;

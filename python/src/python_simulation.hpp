@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "carom/io/classic_output.hpp"
@@ -38,8 +39,9 @@ class PythonSimulation {
   // Runs `spec` (Runner::run) with the GIL released; Ctrl-C stops it within milliseconds at a
   // whole instant and raises KeyboardInterrupt (or runs the user's SIGINT handler and goes on).
   // With `collisions`, every collision is logged for collisions(). Returns what the command line
-  // would warn of Z (DriftVerdict's drift and correlation warnings), for Python's warnings.
-  std::vector<std::string> run(RunSpec spec, bool collisions);
+  // would warn of Z, each after its kind ("drift", "correlation": DriftVerdict's warnings), for
+  // Python's warnings.
+  std::vector<std::pair<std::string, std::string>> run(RunSpec spec, bool collisions);
   // The collisions logged since the last drain, as a structured array (time, i, j).
   py::array collisions();
   // A new simulation (the same settings, time 0) of this one's particles at time() compressed

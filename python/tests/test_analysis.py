@@ -73,8 +73,9 @@ def test_only_some_analyses_as_the_command_line_computes_them(cli, tmp_path, tra
     name that is no analysis, is refused by both."""
     dim, path, _ = trajectory
     whole = carom.analyze(path)
-    for only in ("psi6", ["rdf", "structure_factor"], ("msd", "self_scattering", "structure_factor")):
-        names = [only] if isinstance(only, str) else list(only)
+    for only in ("psi6", ["rdf", "structure_factor"],
+                 ("msd", "self_scattering", "structure_factor"), "psi6, rdf"):
+        names = only.replace(" ", "").split(",") if isinstance(only, str) else list(only)
         cli("analyze", path, "--only", ",".join(names), "-o", tmp_path / "cli.json")
         result = carom.analyze(path, only=only)
         with open(tmp_path / "cli.json") as f:
@@ -85,10 +86,18 @@ def test_only_some_analyses_as_the_command_line_computes_them(cli, tmp_path, tra
             if result[name] is not None:
                 assert equal(result[name], json.loads(json.dumps(whole[name], default=list)))
     for bad, words in (("sk", "'sk' is not an analysis"), ("psi6,", "'' is not an analysis"),
+                       ("", "'' is not an analysis"), ("psi6,psi6", "'psi6' is named twice"),
                        ("self_scattering,msd", "self_scattering needs structure_factor too")):
         assert words in cli.error("analyze", path, "--only", bad)
         with pytest.raises(ValueError, match=words):
-            carom.analyze(path, only=bad.split(","))
+            carom.analyze(path, only=bad)
+    # An option of an analysis left out would do nothing: refused by both.
+    assert "fs_k (--fs-k) is an option of self_scattering" in cli.error(
+        "analyze", path, "--only", "psi6", "--fs-k", "4")
+    with pytest.raises(ValueError, match="r_max \\(--r-max\\) is an option of rdf"):
+        carom.analyze(path, only="psi6", r_max=2)
+    with pytest.raises(ValueError, match="only must name analyses"):
+        carom.analyze(path, only=["psi6,rdf"])
     with pytest.raises(ValueError, match="self_scattering needs msd too"):
         carom.analyze(path, only="self_scattering", fs_k=6)
     with pytest.raises(ValueError, match="only must name analyses"):

@@ -243,8 +243,9 @@ def unsettled_warnings(caught):
 def test_a_run_warns_of_unsettled_z_as_the_command_line_does(cli, tmp_path):
     """A cooling granular gas drifts, and 1024 disks by chains at 0.71 (the coexistence region)
     have correlated blocks: sim.run warns of each with carom.UnsettledWarning in the words the
-    command line prints after "carom: warning: "; a steady gas warns of nothing. The warning
-    names the caller's line, of run() and of advance() alike."""
+    command line prints after "carom: warning: ", once a window (a run that extends it says
+    nothing more, one that opens another says it again); a steady gas warns of nothing. The
+    warning names the caller's line, of run() and of advance() alike."""
     cli("init", "--n", "500", "--phi", "0.3", "--boundary", "periodic", "-o", "gas.txt",
         cwd=tmp_path)
     cli("init", "--n", "1024", "--phi", "0.71", "--boundary", "periodic", "-o", "dense.txt",
@@ -252,6 +253,15 @@ def test_a_run_warns_of_unsettled_z_as_the_command_line_does(cli, tmp_path):
     cases = [("gas.txt", 30, dict(restitution=0.5), {}, "Z drifted from"),
              ("dense.txt", 600, dict(sampler="ecmc"), dict(equilibrate=500),
               "Z's blocks of the measurement window are correlated")]
+
+    def caught_running(how, *args, **options):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            how(*args, **options)
+        unsettled = [w for w in caught if issubclass(w.category, carom.UnsettledWarning)]
+        assert all(w.filename == __file__ for w in unsettled)
+        return [str(w.message) for w in unsettled]
+
     for start, t, settings, options, words in cases:
         cli("run", start, str(t), "--format", "json", "-o", "out.json",
             *cli_options({**settings, **options}), cwd=tmp_path)
@@ -259,16 +269,13 @@ def test_a_run_warns_of_unsettled_z_as_the_command_line_does(cli, tmp_path):
                    if line.startswith("carom: warning: ")]
         assert len(printed) == 1 and printed[0].startswith(words), cli.last_stderr
         sim = carom.read(tmp_path / start, **settings)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            sim.run(t, **options)
-        assert unsettled_warnings(caught) == printed
-        assert caught[0].filename == __file__
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            sim.advance(0.0)
-        assert unsettled_warnings(caught) == printed
-        assert caught[0].filename == __file__
+        assert caught_running(sim.run, t, **options) == printed
+        assert caught_running(sim.advance, 0.0) == []  # the same window: said once
+        again = carom.read(tmp_path / start, **settings)
+        if "equilibrate" in options:
+            again.run(options["equilibrate"])
+            again.measure_from(options["equilibrate"])
+        assert caught_running(again.advance, t - again.time) == printed
     steady = carom.read(tmp_path / "gas.txt")
     with warnings.catch_warnings():
         warnings.simplefilter("error", carom.UnsettledWarning)

@@ -57,7 +57,8 @@ def test_tau_of_a_logs_z_and_of_an_analysis_psi6(tmp_path):
     psi6 = 0.7 + 0.01 * ar1(0.8, 20000, 2)
     analysis.write_text(json.dumps({"psi6": {"t": [10.0 * k for k in range(len(psi6))],
                                              "global": psi6.tolist()}}))
-    found = tau_of(analysis)
+    found = tau_of(analysis, "--from", "0")
+    assert "over [0, 199990], 20000 rows" in found.stdout, found.stdout  # frames at instants
     tau, error = map(float, re.search(r"tau of \|psi6\| (\S+) \+- (\S+) units",
                                       found.stdout).groups())
     assert abs(tau - 90.0) < 3 * error, found.stdout
@@ -74,6 +75,8 @@ def test_what_it_cannot_measure_is_refused(tmp_path):
     uneven = tau_of(log)
     assert uneven.returncode != 0 and "evenly spaced" in uneven.stderr
     assert "fewer than 3" in tau_of(log, "--from", "3").stderr
+    log.write_text("time,Z\n0,\n1,1\n2,1\n3,1\n4,1\n")
+    assert "no fluctuation" in tau_of(log).stderr
     spheres = tmp_path / "spheres.json"
     spheres.write_text(json.dumps({"psi6": None}))
     assert "no psi6" in tau_of(spheres).stderr

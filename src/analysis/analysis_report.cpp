@@ -81,26 +81,26 @@ void add_scattering(Analysis& analysis, const std::vector<Frame>& frames,
   const TrajectoryShape& shape = analysis.shape;
   const bool sheared = std::any_of(frames.begin(), frames.end(),
                                    [](const Frame& frame) { return frame.shear_shift != 0.0; });
-  if (!options.only.structure_factor) {
-    // Not asked for (check_selection: F_s then has its k from fs_k).
-  } else if (!shape.periodic) {
-    analysis.warnings.emplace_back(
-        "no S(k): it is taken on a periodic box's k-grid, and this box has walls");
-  } else if (sheared) {
-    analysis.warnings.emplace_back("no S(k): a sheared box's k-grid turns with the shear");
-  } else {
-    try {
-      analysis.structure_factor = structure_factor(
-          frames, options.k_max > 0.0 ? options.k_max : 20.0 / shape.mean_diameter);
-    } catch (const std::invalid_argument& e) {
-      if (options.k_max > 0.0) throw;
-      analysis.warnings.push_back(std::string("no S(k): ") + e.what());
+  if (options.only.structure_factor) {
+    if (!shape.periodic) {
+      analysis.warnings.emplace_back(
+          "no S(k): it is taken on a periodic box's k-grid, and this box has walls");
+    } else if (sheared) {
+      analysis.warnings.emplace_back("no S(k): a sheared box's k-grid turns with the shear");
+    } else {
+      try {
+        analysis.structure_factor = structure_factor(
+            frames, options.k_max > 0.0 ? options.k_max : 20.0 / shape.mean_diameter);
+      } catch (const std::invalid_argument& e) {
+        if (options.k_max > 0.0) throw;
+        analysis.warnings.push_back(std::string("no S(k): ") + e.what());
+      }
     }
   }
+  if (!options.only.self_scattering) return;
   const double k = options.fs_k > 0.0          ? options.fs_k
                    : analysis.structure_factor ? analysis.structure_factor->k_peak
                                                : 0.0;
-  if (!options.only.self_scattering) return;
   if (!analysis.msd) {
     analysis.warnings.emplace_back(
         "no F_s(k,t): like the MSD, it needs image flags and frames evenly spaced in time");
@@ -130,20 +130,27 @@ constexpr std::array<std::pair<std::string_view, bool AnalysisSelection::*>, 6> 
 }  // namespace
 
 AnalysisSelection parse_analysis_selection(std::string_view list) {
-  AnalysisSelection none;
-  for (const auto& [name, flag] : kAnalyses) none.*flag = false;
-  AnalysisSelection chosen = none;
+  AnalysisSelection chosen;
+  for (const auto& [name, flag] : kAnalyses) chosen.*flag = false;
+  std::string names;
+  for (const auto& [name, flag] : kAnalyses) {
+    names += (names.empty() ? "" : ", ") + std::string(name);
+  }
   std::string_view rest = list;
   while (true) {
     const std::size_t comma = rest.find(',');
-    const std::string_view name = rest.substr(0, comma);
+    std::string_view name = rest.substr(0, comma);
+    // "psi6, rdf" as "psi6,rdf"
+    while (!name.empty() && name.front() == ' ') name.remove_prefix(1);
+    while (!name.empty() && name.back() == ' ') name.remove_suffix(1);
     const auto* const found = std::find_if(kAnalyses.begin(), kAnalyses.end(),
                                            [&](const auto& a) { return a.first == name; });
     if (found == kAnalyses.end()) {
       throw std::invalid_argument(fmt::format(
-          "'{}' is not an analysis: the analyses are rdf, msd, psi6, steinhardt, "
-          "structure_factor and self_scattering, separated by commas",
-          name));
+          "'{}' is not an analysis: the analyses are {}, separated by commas", name, names));
+    }
+    if (chosen.*(found->second)) {
+      throw std::invalid_argument(fmt::format("'{}' is named twice", name));
     }
     chosen.*(found->second) = true;
     if (comma == std::string_view::npos) break;
@@ -152,8 +159,42 @@ AnalysisSelection parse_analysis_selection(std::string_view list) {
   return chosen;
 }
 
+std::vector<std::string> analysis_names(const AnalysisSelection& selection) {
+  std::vector<std::string> names;
+  for (const auto& [name, flag] : kAnalyses) {
+    if (selection.*flag) names.emplace_back(name);
+  }
+  return names;
+}
+
 void check_selection(const AnalysisOptions& options) {
   const AnalysisSelection& only = options.only;
+  // An option of an analysis left out would be ignored: refused, as the analysis's name.
+  const struct {
+    bool given;
+    const char* option;
+    bool AnalysisSelection::*of;
+  } settings[] = {
+      {options.rdf.bin_width > 0.0, "bin (--bin)", &AnalysisSelection::rdf},
+      {options.rdf.r_max > 0.0, "r_max (--r-max)", &AnalysisSelection::rdf},
+      {options.contact_width > 0.0, "contact_width (--contact-width)", &AnalysisSelection::rdf},
+      {options.k_max > 0.0, "k_max (--k-max)", &AnalysisSelection::structure_factor},
+      {options.fs_k > 0.0, "fs_k (--fs-k)", &AnalysisSelection::self_scattering},
+      {options.bond_order.cutoff > 0.0, "order_cutoff (--order-cutoff)",
+       &AnalysisSelection::steinhardt},
+  };
+  for (const auto& setting : settings) {
+    if (setting.given && !(only.*setting.of)) {
+      const auto* const of = std::find_if(kAnalyses.begin(), kAnalyses.end(),
+                                          [&](const auto& a) { return a.second == setting.of; });
+      throw std::invalid_argument(fmt::format("{} is an option of {}, which the selection leaves out",
+                                              setting.option, of->first));
+    }
+  }
+  if (options.from_centre_of_mass && !only.msd && !only.self_scattering) {
+    throw std::invalid_argument(
+        "com (--com) is an option of msd and self_scattering, which the selection leaves out");
+  }
   if (!only.self_scattering) return;
   if (!only.msd) {
     throw std::invalid_argument(
@@ -198,6 +239,7 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
   }
   Analysis analysis;
   analysis.trajectory = name;
+  if (options.only != AnalysisSelection{}) analysis.only = analysis_names(options.only);
   analysis.shape = shape_of(frames.front());
   analysis.frames_in_file = in_file;
   for (const Frame& frame : frames) analysis.time.push_back(frame.time);
@@ -215,14 +257,22 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
     }
   }
   analysis.snapshot = frames.back();
-  if (shape.dimension == 2 && only.psi6) {
+  // Each order parameter is of one dimension: left out of the other's analysis silently, unless
+  // a selection names it.
+  const bool named = only != AnalysisSelection{};
+  if (only.psi6 && shape.dimension == 2) {
     try {
       analysis.psi6 = psi6_series(frames);
       analysis.snapshot_psi6 = local_psi6(frames.back());
     } catch (const std::invalid_argument& e) {
       analysis.warnings.push_back(std::string("no psi6: ") + e.what());
     }
-  } else if (shape.dimension == 3 && only.steinhardt) {
+  } else if (only.psi6 && named) {
+    analysis.warnings.emplace_back(
+        "no psi6: the hexatic order psi6 is of disks, and these are spheres (steinhardt is "
+        "theirs)");
+  }
+  if (only.steinhardt && shape.dimension == 3) {
     try {
       analysis.steinhardt = bond_order_series(frames, options.bond_order);
     } catch (const std::invalid_argument& e) {
@@ -230,6 +280,10 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
       if (options.bond_order.cutoff > 0.0) throw;
       analysis.warnings.push_back(std::string("no Steinhardt bond order: ") + e.what());
     }
+  } else if (only.steinhardt && named) {
+    analysis.warnings.emplace_back(
+        "no steinhardt: the Steinhardt bond order is of spheres, and these are disks (psi6 is "
+        "theirs)");
   }
   add_scattering(analysis, frames, options);
   return analysis;
@@ -292,6 +346,7 @@ nlohmann::json to_json(const Analysis& a) {
         {"first_time", a.time.front()},
         {"last_time", a.time.back()}}},
       {"time", a.time},
+      {"only", a.only ? json(*a.only) : json(nullptr)},
   };
   out["rdf"] = nullptr;
   if (a.rdf) {

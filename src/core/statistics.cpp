@@ -34,8 +34,9 @@ double lag_one_autocorrelation(std::span<const double> values,
     }
   }
   if (pairs == 0) return std::numeric_limits<double>::quiet_NaN();
-  // As many pairs' worth as a series without gaps has (exactly 1 where there are none).
-  if (pairs < values.size() - 1) covariance *= (n - 1.0) / static_cast<double>(pairs);
+  // As many pairs' worth as a series without gaps has (a factor of exactly 1 where there are
+  // none).
+  covariance *= (n - 1.0) / static_cast<double>(pairs);
   // Values that differ only by round-off (a gas that never collides: Z = 1 in every block, to the
   // last bits) have no correlation to speak of.
   const double resolution = 64.0 * std::numeric_limits<double>::epsilon() * std::abs(mean);

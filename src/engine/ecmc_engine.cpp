@@ -527,11 +527,15 @@ using QuadMask = std::int64_t __attribute__((vector_size(32)));
   return q;
 }
 [[gnu::always_inline]] inline Quad broadcast(double x) { return Quad{x, x, x, x}; }
-// A bit for each element of `mask` that is set.
+// A bit for each element of `mask` that is set: the high halves of its four words (which hold
+// their signs) gathered into one register and their signs read at once (one shuffle and one
+// movmskps; the two movmskpd of the register's halves cost 16 instructions more a lift at 4096
+// disks, 576 -> 560).
 [[gnu::always_inline]] inline unsigned bits_of(QuadMask mask) {
-  const auto low = reinterpret_cast<__m128d>(__builtin_shufflevector(mask, mask, 0, 1));
-  const auto high = reinterpret_cast<__m128d>(__builtin_shufflevector(mask, mask, 2, 3));
-  return static_cast<unsigned>(_mm_movemask_pd(low) | _mm_movemask_pd(high) << 2);
+  using Octet = std::int32_t __attribute__((vector_size(32)));
+  const auto words = reinterpret_cast<Octet>(mask);
+  const auto signs = reinterpret_cast<__m128>(__builtin_shufflevector(words, words, 1, 3, 5, 7));
+  return static_cast<unsigned>(_mm_movemask_ps(signs));
 }
 // std::nearbyint, element by element, in the default rounding mode, for |x| < 2^51: x plus
 // 1.5 x 2^52 is rounded to a whole number (ties to even) and the addend taken off exactly. (Only

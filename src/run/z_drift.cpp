@@ -17,19 +17,17 @@ std::optional<std::string> DriftVerdict::drift_warning() const {
   if (!drifted()) return std::nullopt;
   return fmt::format(
       "Z drifted from {:.6g} (first half of the measurement window) to {:.6g} (second half), "
-      "{:.1f} standard errors: the system was still changing while measured (equilibrate "
-      "longer: --equilibrate)",
-      first, second, sigmas);
+      "{:.1f} standard errors: {}",
+      first, second, sigmas, kDriftAdvice);
 }
 
 std::optional<std::string> DriftVerdict::correlation_warning() const {
   if (drifted() || !blocks_correlated()) return std::nullopt;
   return fmt::format(
       "Z's blocks of the measurement window are correlated (lag-one autocorrelation {:.2f} over "
-      "{} blocks, where independent ones give 0 +- {:.2f}): Z fluctuates over longer than a "
-      "block, so its standard error understates the uncertainty (measure over a longer window, "
-      "or compare independent runs)",
-      block_correlation, intervals, 1.0 / std::sqrt(static_cast<double>(intervals)));
+      "{} blocks, where independent ones give 0 +- {:.2f}): {}",
+      block_correlation, intervals, 1.0 / std::sqrt(static_cast<double>(intervals)),
+      kCorrelationAdvice);
 }
 
 namespace {
@@ -143,7 +141,8 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     const auto [second, second_variance] = mean_and_variance_of_mean(all.last(half));
     const double error = std::sqrt(first_variance + second_variance);
     const double sigmas = error > 0.0 ? (second - first) / error : 0.0;
-    errors.verdict = DriftVerdict{first, second, sigmas, z.size(), lag_one_autocorrelation(z, follows)};
+    errors.verdict =
+        DriftVerdict{first, second, sigmas, z.size(), lag_one_autocorrelation(z, follows)};
     errors.compressibility_factor = std::sqrt(mean_and_variance_of_mean(z).second);
   }
   if (tensors.size() >= 2 * kLeastPerHalf) {

@@ -68,25 +68,21 @@ void write_summary(std::ostream& out, const SweepPlan& plan,
 }  // namespace
 
 bool drifted(const TaskResult& result) {
-  return std::abs(result.measure(kDriftMeasure)) > DriftVerdict::kWarning;  // NaN: no verdict
+  return DriftVerdict::drifted_by(result.measure(kDriftMeasure));
 }
 
 bool blocks_correlated(const TaskResult& result) {
-  return result.measure(kCorrelationMeasure) > DriftVerdict::kCorrelationWarning;  // NaN: none
+  return DriftVerdict::correlated_by(result.measure(kCorrelationMeasure));
 }
 
 std::optional<std::string> unsettled_warning(double z_drift, double z_correlation) {
-  if (std::abs(z_drift) > DriftVerdict::kWarning) {
-    return fmt::format(
-        "Z drifted by {:.1f} standard errors over its measurement window: it was still changing "
-        "while measured (equilibrate longer)",
-        z_drift);
+  if (DriftVerdict::drifted_by(z_drift)) {
+    return fmt::format("Z drifted by {:.1f} standard errors over its measurement window: {}",
+                       z_drift, DriftVerdict::kDriftAdvice);
   }
-  if (z_correlation > DriftVerdict::kCorrelationWarning) {
-    return fmt::format(
-        "Z's blocks are correlated ({} = {:.2f}): Z fluctuated over longer than a block, so its "
-        "error understates the uncertainty (measure over a longer window, or compare seeds)",
-        kCorrelationMeasure, z_correlation);
+  if (DriftVerdict::correlated_by(z_correlation)) {
+    return fmt::format("Z's blocks are correlated ({} = {:.2f}): {}", kCorrelationMeasure,
+                       z_correlation, DriftVerdict::kCorrelationAdvice);
   }
   return std::nullopt;
 }

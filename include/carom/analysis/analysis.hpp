@@ -97,21 +97,26 @@ struct Psi6Series {
 Psi6Series psi6_series(const std::vector<Frame>& frames);
 
 // Which analyses to compute, by their names in the JSON (rdf, msd, psi6, steinhardt,
-// structure_factor, self_scattering): every one that applies by default. The rest cost time at
-// large N (S(k) and F_s(k,t) most: seconds a frame at 65536 disks) and are left out as null.
+// structure_factor, self_scattering): every one that applies by default. Those not selected are
+// not computed (at large N some take long: S(k) and F_s(k,t) seconds a frame at 65536 disks)
+// and are null in the JSON.
 struct AnalysisSelection {
   bool rdf = true, msd = true, psi6 = true, steinhardt = true, structure_factor = true,
        self_scattering = true;
   friend bool operator==(const AnalysisSelection&, const AnalysisSelection&) = default;
 };
-// The analyses `list` names, separated by commas ("psi6,structure_factor"): those alone.
-// std::invalid_argument for a name that is none of them, or a list that names none.
+// The analyses `list` names, separated by commas ("psi6,structure_factor", or "psi6, rdf"):
+// those alone. std::invalid_argument for a name that is none of them (an empty one too), or one
+// named twice.
 AnalysisSelection parse_analysis_selection(std::string_view list);
+// The names of the analyses a selection holds, in the order above.
+std::vector<std::string> analysis_names(const AnalysisSelection& selection);
 
 struct AnalysisOptions;
 // F_s(k,t) is taken at the MSD's lags and at S(k)'s main peak (unless fs_k names k): a selection
 // of self_scattering without msd, or without structure_factor and fs_k, is refused
-// (std::invalid_argument), before any frame is read.
+// (std::invalid_argument), before any frame is read; so is an option of an analysis the
+// selection leaves out (fs_k without self_scattering, say), which would be ignored.
 void check_selection(const AnalysisOptions& options);
 
 struct AnalysisOptions {
@@ -136,7 +141,9 @@ struct Analysis {
   TrajectoryShape shape;
   std::size_t frames_in_file = 0;
   std::vector<double> time;  // of the frames analysed
-  std::optional<Rdf> rdf;    // absent only where not selected
+  // The analyses selected (AnalysisOptions::only), by name; absent where every one was.
+  std::optional<std::vector<std::string>> only;
+  std::optional<Rdf> rdf;  // absent only where not selected
   std::optional<ContactValue> contact;
   std::optional<Msd> msd;
   bool from_centre_of_mass = false;  // the MSD's and F_s's displacements (--com)
@@ -160,8 +167,9 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
 
 // The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,
 // periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
-// time, rdf {r, g, bin_width, r_max, contact {r, g, Z} or null}, msd {t, msd} or null, psi6 {t,
-// global, local_mean, bonds} or null, structure_factor {k, s, k_peak} or null, self_scattering
+// time, only (the analyses selected, or null for every one), rdf {r, g, bin_width, r_max,
+// contact {r, g, Z} or null} or null, msd {t, msd} or null, psi6 {t, global, local_mean, bonds}
+// or null, structure_factor {k, s, k_peak} or null, self_scattering
 // {k, t, fs, alpha2, tau_alpha} or null, steinhardt {cutoff, bonds, t, q4, q6, w4, w6, q4_bar,
 // q6_bar, w4_bar, w6_bar (frame means), solid_like, largest_cluster, cluster_sizes, last_frame
 // {time, neighbours, q4, ..., w6_bar, solid_bonds, solid_like, cluster} (per particle)} or null,

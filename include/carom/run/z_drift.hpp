@@ -26,7 +26,8 @@ struct DriftVerdict {
   double block_correlation = std::numeric_limits<double>::quiet_NaN();
   // Past this many standard errors a run says it was not equilibrated.
   static constexpr double kWarning = 3.0;
-  bool drifted() const { return std::abs(sigmas) > kWarning; }
+  bool drifted() const { return drifted_by(sigmas); }
+  static bool drifted_by(double sigmas) { return std::abs(sigmas) > kWarning; }  // NaN: not
   // Past this many times 1 / sqrt(blocks) (the spread of independent blocks' autocorrelation),
   // Z remembers itself from one block to the next: its fluctuations outlast a block, and the
   // standard errors over the blocks understate the uncertainty.
@@ -38,7 +39,14 @@ struct DriftVerdict {
   static double correlation_spreads_of(double correlation, double blocks) {
     return correlation * std::sqrt(blocks);
   }
-  bool blocks_correlated() const { return correlation_spreads() > kCorrelationWarning; }
+  bool blocks_correlated() const { return correlated_by(correlation_spreads()); }
+  static bool correlated_by(double spreads) { return spreads > kCorrelationWarning; }  // NaN: not
+  // What each warning advises, in the words of every front end and of the sweep's.
+  static constexpr const char* kDriftAdvice =
+      "the system was still changing while measured (equilibrate longer)";
+  static constexpr const char* kCorrelationAdvice =
+      "Z fluctuates over longer than a block, so its standard error understates the uncertainty "
+      "(measure over a longer window, or compare independent runs)";
   // What every front end says of a verdict, in these words: that Z drifted (where drifted()),
   // and, where it did not, that its blocks are correlated (where blocks_correlated()); nothing
   // where Z settled over independent blocks.
