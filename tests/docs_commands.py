@@ -54,6 +54,9 @@ NOT_RUN = [
     (r"^build/carom sweep examples/hard_disk_loop(_fluid)?\.toml (?!.*--dry-run)",
      "the hard-disk loop at N = 256^2: eight hours on one core"),
     (r"^(/usr/bin/)?python3 scripts/plot_loop\.py", "draws that loop's results"),
+    (r"^(/usr/bin/)?python3 scripts/series_tau\.py (x720|d720|md720)/",
+     "reads that loop's runs at 0.720: hours of CPU each"),
+    (r"^build/carom analyze (x720|md720)/frames\.gsd", "analyses those runs' frames"),
 ]
 
 # Open MPI refuses to start as root unless told that it is meant (a CI machine runs as root); a
