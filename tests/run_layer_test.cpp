@@ -316,8 +316,7 @@ TEST(DriftVerdict, SaysWhenZsBlocksAreCorrelated) {
   ASSERT_TRUE(still.verdict);
   EXPECT_TRUE(std::isnan(still.verdict->block_correlation));
   EXPECT_FALSE(still.verdict->blocks_correlated());
-  EXPECT_EQ(slow.verdict->correlation_spreads(),
-            slow.verdict->block_correlation * std::sqrt(32.0));
+  EXPECT_EQ(slow.verdict->correlation_spreads(), slow.verdict->block_correlation * std::sqrt(32.0));
   // Blocks on either side of a gap (boundaries 16 and 17 missing: the blocks that end at 15 and
   // at 19 are not neighbours) are not a pair: alternating Z with a 6 either side of the gap.
   DriftRecord gapped = record_of([](int i) { return i % 2 == 0 ? 4.0 : 6.0; });

@@ -96,7 +96,7 @@ TEST(BlockAverage, AnErrorFromLongBlocksOnlyLeavesTheShortOnesOut) {
   BlockAverage a;
   for (int i = 0; i < 64; ++i) a.add(i % 2 == 0 ? 1.0 : 3.0);  // alternating: pairs average to 2
   EXPECT_GT(a.error(), 0.0);
-  EXPECT_EQ(a.error(2), 0.0);  // blocks of 2 and 4 (32 and 16 of them), every one 2
+  EXPECT_EQ(a.error(2), 0.0);           // blocks of 2 and 4 (32 and 16 of them), every one 2
   EXPECT_TRUE(std::isnan(a.error(8)));  // 8 blocks of 8: too few
   EXPECT_TRUE(std::isnan(BlockAverage().error(2)));
 }

@@ -93,7 +93,7 @@ PythonSimulation PythonSimulation::from_arrays(
 }
 
 std::vector<std::pair<std::string, std::string>> PythonSimulation::run(RunSpec spec,
-                                                                      bool collisions) {
+                                                                       bool collisions) {
   RunHooks hooks;
   if (collisions) hooks.collisions = &log_;
   for (;;) {

@@ -187,8 +187,8 @@ void check_selection(const AnalysisOptions& options) {
     if (setting.given && !(only.*setting.of)) {
       const auto* const of = std::find_if(kAnalyses.begin(), kAnalyses.end(),
                                           [&](const auto& a) { return a.second == setting.of; });
-      throw std::invalid_argument(fmt::format("{} is an option of {}, which the selection leaves out",
-                                              setting.option, of->first));
+      throw std::invalid_argument(fmt::format(
+          "{} is an option of {}, which the selection leaves out", setting.option, of->first));
     }
   }
   if (options.from_centre_of_mass && !only.msd && !only.self_scattering) {
@@ -356,9 +356,8 @@ nlohmann::json to_json(const Analysis& a) {
         {"g", rdf.g},
         {"bin_width", rdf.bin_width},
         {"r_max", rdf.r_max},
-        {"contact", a.contact
-                        ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
-                        : json(nullptr)}};
+        {"contact", a.contact ? json{{"r", a.contact->r}, {"g", a.contact->g}, {"Z", a.contact->z}}
+                              : json(nullptr)}};
     // A mixture's partial g_ab(r), and each pair's share of all pairs (sum share g_ab = g).
     if (!rdf.partial.empty()) {
       json partial = json::object(), weights = json::object();

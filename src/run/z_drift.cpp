@@ -127,8 +127,8 @@ BlockErrors block_errors(const DriftRecord& record, const Simulation<D>& simulat
     }
     // An event-chain block with no move along an axis has no pressure along it (NaN): it holds
     // less than a turn of chains, and the run gives no error from such blocks.
-    if (o.pressure_tensor && std::ranges::all_of(*o.pressure_tensor,
-                                                 [](double p) { return std::isfinite(p); })) {
+    if (o.pressure_tensor &&
+        std::ranges::all_of(*o.pressure_tensor, [](double p) { return std::isfinite(p); })) {
       tensors.push_back(*o.pressure_tensor);
     }
   }

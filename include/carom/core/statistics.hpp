@@ -32,7 +32,7 @@ class BlockAverage {
   static constexpr std::uint64_t kLeastBlocks = 16;
   void add(double value);
   std::uint64_t count() const { return levels_.empty() ? 0 : levels_.front().count; }
-  double mean() const;   // NaN before any value
+  double mean() const;  // NaN before any value
   // The largest standard error over the levels of blocks of at least `least_block` values that
   // hold kLeastBlocks blocks or more, and the values themselves' when `least_block` is 1 (the
   // levels' blocks are 1, 2, 4, ... values). NaN with fewer than two values, or when no level
