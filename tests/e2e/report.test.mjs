@@ -374,6 +374,19 @@ describe("carom analyze", { skip: !carom && "CAROM_EXE is not set" }, () => {
     });
   });
 
+  test("--only: psi6 alone is plotted, and every section left out says that it was", async () => {
+    run("analyze", "run.gsd", "--only", "psi6", "--html", "only.html");
+    const errors = [], page = await open(join(folder, "only.html"), errors);
+    const analysis = await embedded(page);
+    assert.deepEqual(analysis.only, ["psi6"]);
+    assert.ok((await pointCounts(page, "psi6")).global >= 15);
+    for (const section of ["rdf", "msd", "structure_factor", "self_scattering", "steinhardt"]) {
+      assert.equal(await note(page, section), `Not computed: carom analyze --only psi6 left ${section} out.`);
+    }
+    assert.deepEqual(errors, []);
+    await page.close();
+  });
+
   test("a binary mixture's partial g_ab(r) are plotted, one type's run has none", async () => {
     run("init", "--n", "400", "--phi", "0.4", "--species", "A:0.5:1.0,B:0.5:1.4", "--boundary", "periodic", "-o", "mix.txt");
     run("run", "mix.txt", "2", "--rule", "elastic", "--dump", "mix.gsd", "--every", "0.5", "-o", "mix_end.txt");
