@@ -1,6 +1,7 @@
 // carom analyze's results: running every analysis that applies, and writing them as JSON or as
 // the report page.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <array>
@@ -132,10 +133,6 @@ constexpr std::array<std::pair<std::string_view, bool AnalysisSelection::*>, 6> 
 AnalysisSelection parse_analysis_selection(std::string_view list) {
   AnalysisSelection chosen;
   for (const auto& [name, flag] : kAnalyses) chosen.*flag = false;
-  std::string names;
-  for (const auto& [name, flag] : kAnalyses) {
-    names += (names.empty() ? "" : ", ") + std::string(name);
-  }
   std::string_view rest = list;
   while (true) {
     const std::size_t comma = rest.find(',');
@@ -146,8 +143,9 @@ AnalysisSelection parse_analysis_selection(std::string_view list) {
     const auto* const found = std::find_if(kAnalyses.begin(), kAnalyses.end(),
                                            [&](const auto& a) { return a.first == name; });
     if (found == kAnalyses.end()) {
-      throw std::invalid_argument(fmt::format(
-          "'{}' is not an analysis: the analyses are {}, separated by commas", name, names));
+      throw std::invalid_argument(
+          fmt::format("'{}' is not an analysis: the analyses are {}, separated by commas", name,
+                      fmt::join(analysis_names(AnalysisSelection{}), ", ")));
     }
     if (chosen.*(found->second)) {
       throw std::invalid_argument(fmt::format("'{}' is named twice", name));
