@@ -126,8 +126,10 @@ void print_summary(std::ostream& out, const Analysis& a) {
       local += a.psi6->local_mean[f];
     }
     const auto frames = static_cast<double>(a.psi6->t.size());
-    out << fmt::format("psi6: global {:.4f}, mean local {:.4f} (averaged over frames)\n",
-                       global / frames, local / frames);
+    out << fmt::format(
+        "psi6: global {:.4f}, mean local {:.4f} (averaged over frames); orientation {:.2f} "
+        "degrees (the last frame)\n",
+        global / frames, local / frames, a.psi6->orientation.back());
   }
   if (a.structure_factor) {
     const StructureFactor& sk = *a.structure_factor;

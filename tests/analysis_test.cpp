@@ -507,6 +507,27 @@ TEST(Psi6, TheLocalPhaseTurnsSixTimesAsFastAsTheLattice) {
   }
 }
 
+TEST(Psi6, TheOrientationIsTheLatticesAngleModuloSixtyDegrees) {
+  // The rotated patch above: its bonds make `angle` with the x axis, so its global order does;
+  // 0.6 rad (34.4 degrees) is the same lattice as 34.4 - 60 degrees.
+  for (const double angle : {0.0, 0.05, 0.2, -0.4, 0.6}) {
+    Frame patch = triangular_lattice(16, 16, 1.0, angle);
+    patch.periodic = false;
+    patch.box = {{50, 50, 1}};
+    for (Vec<3>& x : patch.position) {
+      x[0] += 25.0;
+      x[1] += 25.0;
+    }
+    const double degrees = angle * 180.0 / kPi;
+    const double expected = degrees > 30.0 ? degrees - 60.0 : degrees;
+    const Psi6Series series = psi6_series({patch});
+    ASSERT_EQ(series.orientation.size(), 1u);
+    EXPECT_NEAR(series.orientation[0], expected, 0.5) << "angle " << angle;
+    EXPECT_GT(series.orientation[0], -30.0);
+    EXPECT_LE(series.orientation[0], 30.0);
+  }
+}
+
 TEST(Psi6, TheNearestSixAreFoundAsBruteForceFindsThem) {
   for (const bool periodic : {true, false}) {
     for (const Vec<3> box : {Vec<3>{{30, 30, 1}}, Vec<3>{{4, 5, 1}}, Vec<3>{{60, 3, 1}}}) {

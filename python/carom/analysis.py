@@ -43,7 +43,8 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
     types or more partial: {"A-B": g_AB(r), ...} and partial_weights: {"A-B": share of pairs},
     sum share x g_AB = g), "msd" (t, msd, self_diffusion, centre_of_mass_shift,
     from_centre_of_mass) or None,
-    "psi6" (t, global, local_mean) or None (spheres), "steinhardt" or None (disks): per frame t,
+    "psi6" (t, global, local_mean, orientation: the global order's bond angle to the x axis in
+    degrees, in (-30, 30]) or None (spheres), "steinhardt" or None (disks): per frame t,
     the means q4, q6, w4, w6, q4_bar, q6_bar, w4_bar, w6_bar, the counts solid_like and
     largest_cluster, cluster_sizes (an array a frame, largest first), and last_frame (each
     particle's neighbours, q4 ... w6_bar, solid_bonds, solid_like and cluster, -1 if none);
@@ -68,7 +69,7 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         _positive("fs_k", fs_k), _positive("order_cutoff", order_cutoff), bool(com),
         None if log is None else _path(log), None if html is None else _path(html),
         _selection(only)))
-    arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean"),
+    arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean", "orientation"),
               "structure_factor": ("k", "s"), "self_scattering": ("t", "fs", "alpha2"),
               "snapshot": ("radius", "psi6_modulus", "psi6_phase"),
               "steinhardt": ("t",) + _INVARIANTS}

@@ -49,6 +49,10 @@ def test_analyze_equals_cli_analyze(cli, tmp_path, trajectory):
     assert result["rdf"]["g"].dtype == np.float64 and len(result["rdf"]["r"]) == 120
     assert result["time"][0] >= 1
     assert (result["psi6"] is None) == (dim == 3)
+    if dim == 2:
+        orientation = result["psi6"]["orientation"]
+        assert orientation.dtype == np.float64 and orientation.shape == result["time"].shape
+        assert np.all((orientation > -30) & (orientation <= 30))
     assert (result["steinhardt"] is None) == (dim == 2)
     if dim == 3:
         order = result["steinhardt"]

@@ -284,6 +284,16 @@ std::vector<std::complex<double>> local_psi6(const Frame& frame) {
   return local_psi6_in<2>(frame);
 }
 
+namespace {
+
+// arg(psi) / 6 in degrees, in (-30, 30]: arg is in (-pi, pi], and a bond order of six-fold
+// symmetry turns by 60 degrees of bonds as its phase turns by 360.
+double bond_orientation_degrees(std::complex<double> psi) {
+  return std::arg(psi) / 6.0 * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
 Psi6Series psi6_series(const std::vector<Frame>& frames) {
   Psi6Series series;
   for (const Frame& frame : frames) {
@@ -298,6 +308,7 @@ Psi6Series psi6_series(const std::vector<Frame>& frames) {
     series.t.push_back(frame.time);
     series.global.push_back(std::abs(sum) / n);
     series.local_mean.push_back(moduli / n);
+    series.orientation.push_back(bond_orientation_degrees(sum));
   }
   return series;
 }

@@ -381,6 +381,7 @@ nlohmann::json to_json(const Analysis& a) {
   out["psi6"] = a.psi6 ? json{{"t", a.psi6->t},
                               {"global", a.psi6->global},
                               {"local_mean", a.psi6->local_mean},
+                              {"orientation", a.psi6->orientation},
                               {"bonds", "6 nearest neighbours"}}
                        : json(nullptr);
   const auto& sk = a.structure_factor;

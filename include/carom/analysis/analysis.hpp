@@ -90,9 +90,13 @@ std::optional<double> self_diffusion(const Msd& msd, std::size_t dimension);
 // j -> k to the x axis. Throws std::invalid_argument for spheres or fewer than 7 disks.
 std::vector<std::complex<double>> local_psi6(const Frame& frame);
 
-// Per frame: |(1/N) sum_j psi6_j| (global) and (1/N) sum_j |psi6_j| (the mean local order).
+// Per frame: |(1/N) sum_j psi6_j| (global), (1/N) sum_j |psi6_j| (the mean local order) and
+// the orientation of the global order, arg((1/N) sum_j psi6_j) / 6 in degrees, in (-30, 30]:
+// the angle of the bonds of the dominant hexatic order to the x axis, modulo 60 degrees. In a
+// periodic box it is how the order sits in the box, a variable a large ordered system changes
+// only slowly.
 struct Psi6Series {
-  std::vector<double> t, global, local_mean;
+  std::vector<double> t, global, local_mean, orientation;
 };
 Psi6Series psi6_series(const std::vector<Frame>& frames);
 
@@ -168,7 +172,7 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
 // The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,
 // periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
 // time, only (the analyses selected, or null for every one), rdf {r, g, bin_width, r_max,
-// contact {r, g, Z} or null} or null, msd {t, msd} or null, psi6 {t, global, local_mean, bonds}
+// contact {r, g, Z} or null} or null, msd {t, msd} or null, psi6 {t, global, local_mean, orientation, bonds}
 // or null, structure_factor {k, s, k_peak} or null, self_scattering
 // {k, t, fs, alpha2, tau_alpha} or null, steinhardt {cutoff, bonds, t, q4, q6, w4, w6, q4_bar,
 // q6_bar, w4_bar, w6_bar (frame means), solid_like, largest_cluster, cluster_sizes, last_frame
