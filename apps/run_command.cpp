@@ -81,7 +81,7 @@ void check(const RunArguments& args) {
 StartSpec start_spec(const RunArguments& args) {
   StartSpec spec = args.start;
   spec.thermostat = thermostat_request(args.thermostat, spec.temperature, args.thermostat_every,
-                                       args.thermostat_rate, spec.seed);
+                                       args.thermostat_rate, spec.seed, spec.sampler);
   spec.shear = shear_request(args.shear, args.velocity_profile);
   return spec;
 }
@@ -231,8 +231,8 @@ CLI::App* add_run_command(CLI::App& app, RunArguments& args) {
       "a unit of time moves every particle one diameter on average, and lifts take the place of "
       "collisions");
   run->add_option("--chain-length", args.start.chain_length,
-                  "The displacement of each event chain, in mean diameters (default: 0.24 of "
-                  "the box's side, Li et al. 2022)")
+                  "The displacement of each event chain, in mean diameters (default, or 0: "
+                  "0.24 of the box's side, Li et al. 2022)")
       ->check(finite_number());
   add_choice<ThermostatKind>(
       run, "--thermostat", args.thermostat,

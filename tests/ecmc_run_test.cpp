@@ -206,9 +206,25 @@ TEST(EcmcRun, ACheckpointsChainIsChecked) {
         j["particles"][other][2] = 0.5;  // a second particle moving
       },
       "event chains move only the active particle");
+  // A chain that would never end (no turn to another axis), and masses chains cannot move.
+  refused([](nlohmann::json& j) { j["chains"]["chain_end"] = 1e300; }, "more than a chain");
+  refused([](nlohmann::json& j) { j["particles"][0][6] = 2.0; }, "every mass must be 1");
   // Untouched, it is read.
   std::istringstream in(saved.str());
   EXPECT_NO_THROW(read_checkpoint(in, "ck"));
+}
+
+// A lone particle is never lifted and its motion is the centre of mass's (no kinetic
+// temperature to convert the sampler's clock by): an ideal gas of one, Z = 1, beta P = 1 / V.
+TEST(EcmcRun, ALoneParticleIsAnIdealGas) {
+  System<2> one = periodic_gas<2>(1, 0.01);
+  Simulation<2> simulation(one, chains());
+  simulation.run_until(3.0);
+  const Observables<2> o = simulation.observables();
+  EXPECT_EQ(o.compressibility_factor, 1.0);
+  EXPECT_DOUBLE_EQ(o.pressure, 1.0 / box_volume(one.box));
+  ASSERT_TRUE(o.directional_z);
+  for (const double z : *o.directional_z) EXPECT_EQ(z, 1.0);
 }
 
 TEST(EcmcRun, TheDefaultChainLengthIsResolvedAndKept) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <pcg_random.hpp>
 #include <random>
@@ -148,6 +149,55 @@ TEST(TimeSeries, EventChainsLongerThanItsBlocksGiveNoError) {
   EXPECT_TRUE(short_rows[10].empty()) << short_rows[10];  // pressure_error
   const std::vector<std::string> turns = last_row(1.0, 1.0);
   EXPECT_FALSE(turns[12].empty());
+}
+
+// Each row's pressure along an axis is N / V (1 + the lifts along it over the distance moved
+// along it), as the summary's: a row inside one chain moved along one axis only, gives that
+// axis's pressure (the row's own) and none along the other, and one row over the whole run gives
+// the summary's tensor. (Scaled by the time moved along each axis instead, a row of x chains
+// read 2 N / V Z along x and 0 along y.)
+TEST(TimeSeries, EventChainsRowsGiveThePressureAlongEachAxisMovedAlong) {
+  pcg32 rng(5);
+  System<2> gas = carom::testing::random_gas(rng, 64, 0.5, 0.5, 16, 16);
+  gas.box.boundary = Boundary::periodic;
+  for (ParticleRecord& record : gas.records) record.mass = 1.0;
+  const double density = 64.0 / box_volume(gas.box);
+  const auto rows_of = [&](double every, double end) {
+    Settings settings;
+    settings.sampler = {SamplerKind::ecmc, 64.0, 1};  // a chain of 64 diameters lasts 1 unit
+    Simulation<2> simulation(gas, settings);
+    std::ostringstream out;
+    simulation.add_observer(std::make_shared<TimeSeriesWriter<2>>(out, every));
+    simulation.run_until(end);
+    std::vector<std::vector<std::string>> rows;
+    std::stringstream text(out.str());
+    for (std::string line; std::getline(text, line);) {
+      std::vector<std::string> fields;
+      std::stringstream row(line);
+      for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+      if (line.back() == ',') fields.emplace_back();
+      rows.push_back(fields);
+    }
+    return std::pair{rows, simulation.observables()};
+  };
+  // Columns (from 0): 6 pressure, 13 pxx, 14 pyy, 15 pxy.
+  const auto [rows, unused] = rows_of(0.25, 4.0);
+  ASSERT_EQ(rows.size(), 17u);  // t = 0, 0.25, ..., 4
+  EXPECT_NE(TimeSeriesWriter<2>::header(SamplerKind::ecmc).find(",pxy,Kxx,Kyy,Wxx,Wyy,Wxy\n"),
+            std::string::npos);
+  for (std::size_t r = 1; r < rows.size(); ++r) {
+    const bool along_x = !rows[r][13].empty();
+    ASSERT_NE(along_x, !rows[r][14].empty()) << "row " << r;
+    const double p = std::stod(rows[r][along_x ? 13 : 14]);
+    EXPECT_NEAR(p, std::stod(rows[r][6]), 1e-12 * p) << "row " << r;
+    EXPECT_GT(p, density);
+  }
+  const auto [whole, summary] = rows_of(4.0, 4.0);
+  ASSERT_TRUE(summary.pressure_tensor);
+  const std::array<std::size_t, 3> components = tensor_components<2>();  // xx, yy, xy
+  for (std::size_t m = 0; m < 3; ++m) {
+    EXPECT_DOUBLE_EQ(std::stod(whole[1][13 + m]), (*summary.pressure_tensor)[components[m]]) << m;
+  }
 }
 
 }  // namespace

@@ -236,8 +236,9 @@ struct AskedThermostatAndShear {
   std::optional<double> thermostat_every, thermostat_rate, shear;
   bool velocity_profile = ShearRequest{}.profile;
 
-  Thermostat thermostat_at(std::optional<double> kT, std::uint64_t seed) const {
-    return thermostat_request(thermostat, kT, thermostat_every, thermostat_rate, seed);
+  Thermostat thermostat_at(std::optional<double> kT, std::uint64_t seed,
+                           SamplerKind sampler) const {
+    return thermostat_request(thermostat, kT, thermostat_every, thermostat_rate, seed, sampler);
   }
   ShearRequest shear_request() const { return carom::shear_request(shear, velocity_profile); }
 };
@@ -372,13 +373,14 @@ std::string python_keyword(std::string_view key, std::string_view value) {
 void export_specs(py::module_& m) {
   bind_request<RunSpec>(m, "RunSpec", run_keywords(), [](RunSpec spec) { return spec; });
   bind_request<StartSpec>(m, "StartSpec", start_keywords(), [](StartRequest r) {
-    r.spec.thermostat = r.asked.thermostat_at(r.spec.temperature, r.spec.seed);
+    r.spec.thermostat = r.asked.thermostat_at(r.spec.temperature, r.spec.seed, r.spec.sampler);
     r.spec.shear = r.asked.shear_request();
     return r.spec;
   });
   bind_request<InitStart>(m, "InitSpec", init_keywords(), [](InitRequest r) {
     r.settings.rule.rule = r.spec.rule;
-    r.settings.thermostat = r.asked.thermostat_at(r.spec.options.temperature, r.spec.options.seed);
+    r.settings.thermostat = r.asked.thermostat_at(r.spec.options.temperature, r.spec.options.seed,
+                                                  r.settings.sampler.kind);
     r.settings.sampler.seed = r.spec.options.seed;  // the chains' particles too
     return InitStart{r.spec, r.settings, r.asked.shear_request()};
   });

@@ -150,6 +150,9 @@ def test_init_and_arrays_give_the_command_lines_run(cli, tmp_path):
     (["--shear", "0.1"], "--shear needs dynamics (--sampler md)"),
     (["--thermostat", "rescale", "--kT", "1", "--thermostat-every", "1"],
      "--thermostat needs dynamics (--sampler md)"),
+    # Refused for what it is, not for the --kT it lacks (which would not make it work).
+    (["--thermostat", "andersen", "--thermostat-rate", "1"],
+     "--thermostat needs dynamics (--sampler md)"),
     (["--kT", "1"], "--kT needs dynamics (--sampler md)"),
     (["--rule", "elastic"], "--rule needs dynamics (--sampler md)"),
     (["--restitution", "0.9", "--rule", "elastic"], "--restitution needs dynamics"),
@@ -198,6 +201,8 @@ def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
         carom.init(50, 0.3, boundary="periodic", chain_length=3.0)
     with pytest.raises(ValueError, match='tc= needs dynamics'):
         carom.init(50, 0.3, boundary="periodic", sampler="ecmc", tc=0.1)
+    with pytest.raises(ValueError, match='thermostat= needs dynamics'):
+        carom.init(50, 0.3, boundary="periodic", sampler="ecmc", thermostat="rescale")
     # The magnitudes carom's command line takes, in every front end.
     for length in (1e300, 1e-300):
         with pytest.raises(ValueError, match="chain_length= is out of range"):
@@ -212,7 +217,8 @@ def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
     # Chains that a task's run would refuse are refused with the plan, before anything runs.
     for setting, words in (("chain_length = 1e300", "--chain-length is out of range"),
                            ("chain_length = 1e-7", "too late for event chains"),
-                           ("tc = 0.1", "--tc needs dynamics")):
+                           ("tc = 0.1", "--tc needs dynamics"),
+                           ('thermostat = "rescale"', "--thermostat needs dynamics")):
         plan.write_text('[start]\nn = 64\nphi = 0.3\nboundary = "periodic"\n[run]\n'
                         f'sampler = "ecmc"\nend_time = 10\n{setting}\n[sweep]\nseed = [1, 2]\n')
         message = cli.error("sweep", plan, "-o", tmp_path / "out", "--dry-run")

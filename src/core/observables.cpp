@@ -114,6 +114,9 @@ Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurem
     if (o.pressure_tensor) {
       for (double& component : *o.pressure_tensor) component /= kT;
     }
+  } else if (o.elapsed > 0.0 && measurement.counts.pair_collisions == 0) {
+    o.compressibility_factor = 1.0;  // a lone particle: no lift, and no temperature to divide by
+    o.pressure = number_density;
   }
   o.temperature = 1.0;
   if (measurement.counts.fluxes) {

@@ -31,18 +31,28 @@ class CellGrid {
   // `min_width` is the largest distance at which two particles can touch. Cells are a hair
   // wider still, so that a particle whose cell was assigned at a crossing time (subject to
   // round-off) still finds every possible partner in the block around it. The number of cells is
-  // capped at about two per particle, so a huge sparse box costs no memory.
-  CellGrid(const Box<D>& box, double min_width, std::size_t particles)
+  // capped at about two per particle, so a huge sparse box costs no memory. `least_cells`: at
+  // least that many cells along every axis wide enough for them (cells then stretch along the
+  // others: a sparse box of one narrow side needs no more cells than particles).
+  CellGrid(const Box<D>& box, double min_width, std::size_t particles,
+           std::uint32_t least_cells = 1)
       : box_(box), next_(particles, kNone), prev_(particles, kNone), cell_of_(particles, kNone) {
-    const double max_cells = most_cells(particles);
+    std::array<double, D> fewest{};
+    double fewest_total = 1.0;
+    for (std::size_t k = 0; k < D; ++k) {
+      fewest[k] = std::clamp(std::floor(box.size[k] / (min_width * (1.0 + 1e-6))), 1.0,
+                             static_cast<double>(least_cells));
+      fewest_total *= fewest[k];
+    }
+    const double max_cells = std::max(most_cells(particles), fewest_total);
     double width = least_width(box, min_width, particles);
     // Per axis the cap alone is not enough (a thin slab in 3D): widen until the product fits.
     double total = 0.0;
     do {
       total = 1.0;
       for (std::size_t k = 0; k < D; ++k) {
-        count_[k] =
-            static_cast<std::uint32_t>(std::clamp(std::floor(box.size[k] / width), 1.0, max_cells));
+        count_[k] = static_cast<std::uint32_t>(
+            std::clamp(std::floor(box.size[k] / width), fewest[k], max_cells));
         total *= count_[k];
       }
       width *= 1.25;

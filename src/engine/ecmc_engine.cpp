@@ -23,18 +23,13 @@ namespace carom {
 namespace {
 
 // The grid the chains search: cells one largest diameter wide or more, and three or more along
-// every axis wherever the box is wider than three diameters, however sparse the system: a grid
-// allows about two cells a particle, so a sparse one is given the particles' room for the cells
-// a sixth of the narrowest side wide would make.
+// every axis wherever the box is wider than three diameters, however sparse the system (a
+// search looks at a cell and its neighbours, which must be distinct cells); about two cells a
+// particle otherwise, so a sparse box with one narrow side costs no more than a cubic one.
 template <std::size_t D>
 CellGrid<D> chain_grid(const System<D>& system) {
-  double narrowest = system.box.size[0];
-  for (std::size_t k = 1; k < D; ++k) narrowest = std::min(narrowest, system.box.size[k]);
-  const double width = narrowest / 6.0;
-  double cells = 1.0;
-  for (std::size_t k = 0; k < D; ++k) cells *= std::floor(system.box.size[k] / width);
-  const double room = std::max({static_cast<double>(system.size()), 6.0, std::ceil(cells / 2.0)});
-  return CellGrid<D>(system.box, 2.0 * largest_radius(system), static_cast<std::size_t>(room));
+  return CellGrid<D>(system.box, 2.0 * largest_radius(system),
+                     std::max<std::size_t>(system.size(), 6), 3);
 }
 
 // A system as chains start in it: every particle at rest at the latest stored time (the engine
@@ -81,7 +76,8 @@ void check_chain_start(const System<D>& system, const CellGrid<D>& grid) {
     if (grid.cells_along(k) < 3) {
       throw std::invalid_argument(fmt::format(
           "event-chain Monte Carlo needs a box more than three of the largest diameters wide along "
-          "every axis; this one is {} wide along axis {}, and the largest diameter is {}",
+          "every axis (by a part in a million: three cells, each a hair wider than a diameter); "
+          "this one is {} wide along axis {}, and the largest diameter is {}",
           system.box.size[k], "xyz"[k], 2.0 * largest_radius(system)));
     }
   }

@@ -50,13 +50,19 @@ void TimeSeriesWriter<D>::take(const Row& row, std::optional<double> window_star
 }
 
 template <std::size_t D>
-std::string TimeSeriesWriter<D>::header() {
+std::string TimeSeriesWriter<D>::header(SamplerKind sampler) {
   std::string text = kHeader;
   text.pop_back();
-  for (const char* prefix : {"p", "G"}) {
-    for (const std::size_t c : tensor_components<D>()) {
-      text += fmt::format(",{}{}", prefix, kTensorComponents[c]);
-    }
+  const auto columns = [&](const char* prefix, std::span<const std::size_t> components) {
+    for (const std::size_t c : components) text += fmt::format(",{}{}", prefix, kTensorComponents[c]);
+  };
+  constexpr auto all = tensor_components<D>();
+  columns("p", all);
+  if (sampler == SamplerKind::ecmc) {
+    columns("K", std::span(all).first(D));
+    columns("W", all);
+  } else {
+    columns("G", all);
   }
   return text + "\n";
 }
@@ -65,6 +71,7 @@ template <std::size_t D>
 void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
   const System<D>& system = simulation.state();
   Row row{simulation.time(), simulation.current_counts(), 0.0, 0.0, false};
+  const bool chains = simulation.settings().sampler.kind == SamplerKind::ecmc;
   double rate = 0.0;
   std::optional<SymmetricTensor> tensor;
   if (started_ && row.time > last_.time) {
@@ -74,14 +81,11 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
     row.z = o.compressibility_factor;
     row.measured = true;
     rate = o.collision_rate;
-    if (row.totals.fluxes && last_.totals.fluxes) {
+    if (chains) {
+      tensor = o.pressure_tensor;  // beta P_kk from each axis's own moves and lifts
+    } else if (row.totals.fluxes && last_.totals.fluxes) {
       tensor =
           pressure_tensor_between(*row.totals.fluxes, *last_.totals.fluxes, box_volume(system.box));
-      // Event chains' pressures are beta P, as at_unit_temperature gives the row's pressure.
-      if (simulation.settings().sampler.kind == SamplerKind::ecmc) {
-        const double kinetic = simulation.kinetic_temperature();
-        for (double& component : *tensor) component /= kinetic;
-      }
     }
   }
   take(row, window(simulation));
@@ -97,11 +101,20 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
       field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
       field(pressure_.mean()), field(pressure_.error(least_block)), field(z_.mean()),
       field(z_.error(least_block)));
-  const SymmetricTensor moment =
-      c.fluxes ? c.fluxes->stress_moment() : SymmetricTensor{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+  constexpr SymmetricTensor kNone{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   for (const std::size_t k : tensor_components<D>())
     line += "," + field(tensor ? (*tensor)[k] : kNaN);
-  for (const std::size_t k : tensor_components<D>()) line += "," + field(moment[k]);
+  if (chains) {
+    // Both sums, each as it is (the ratio of their differences is a row's P_kk): a log continued
+    // from them gives the rows of a run in one piece.
+    const SymmetricTensor kinetic = c.fluxes ? c.fluxes->kinetic_stress : kNone;
+    const SymmetricTensor lifts = c.fluxes ? c.fluxes->collisional_stress : kNone;
+    for (std::size_t k = 0; k < D; ++k) line += "," + field(kinetic[k]);
+    for (const std::size_t k : tensor_components<D>()) line += "," + field(lifts[k]);
+  } else {
+    const SymmetricTensor moment = c.fluxes ? c.fluxes->stress_moment() : kNone;
+    for (const std::size_t k : tensor_components<D>()) line += "," + field(moment[k]);
+  }
   out_ << line << '\n';
   if (!out_.flush()) throw std::runtime_error("cannot write the time series");
 }
@@ -110,7 +123,8 @@ template <std::size_t D>
 std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclusive,
                                           const Simulation<D>& simulation) {
   LineReader reader{in, 0, {}};
-  if (!reader.next() || reader.line + "\n" != header()) return 0;
+  const bool chains = simulation.settings().sampler.kind == SamplerKind::ecmc;
+  if (!reader.next() || reader.line + "\n" != header(simulation.settings().sampler.kind)) return 0;
   std::uint64_t kept = reader.offset;
   const std::optional<double> window_start = window(simulation);
   constexpr std::size_t kComponents = tensor_components<D>().size();
@@ -123,7 +137,7 @@ std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclu
       if (comma == std::string::npos) break;
       from = comma + 1;
     }
-    if (fields.size() != 13 + 2 * kComponents) break;
+    if (fields.size() != 13 + kComponents + (chains ? D : 0) + kComponents) break;
     const auto number = [](const std::string& text, double& value) {
       char* end = nullptr;
       value = std::strtod(text.c_str(), &end);
@@ -141,13 +155,17 @@ std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclu
       break;
     }
     row.measured = number(fields[6], row.pressure) && number(fields[7], row.z);
-    // The moment's kinetic and collisional parts only matter summed: kept as one.
+    // Dynamics' moment: its kinetic and collisional parts only matter summed, kept as one.
+    // Event chains': each part as written (their moves are along an axis: no kinetic xy).
     Fluxes fluxes;
     fluxes.time = row.time;
-    for (std::size_t m = 0; m < kComponents; ++m) {
-      if (!number(fields[13 + kComponents + m], fluxes.kinetic_stress[tensor_components<D>()[m]])) {
-        return kept;
-      }
+    std::size_t column = 13 + kComponents;
+    const auto take_column = [&](double& value) { return number(fields[column++], value); };
+    for (std::size_t m = 0; m < (chains ? D : kComponents); ++m) {
+      if (!take_column(fluxes.kinetic_stress[tensor_components<D>()[m]])) return kept;
+    }
+    for (std::size_t m = 0; chains && m < kComponents; ++m) {
+      if (!take_column(fluxes.collisional_stress[tensor_components<D>()[m]])) return kept;
     }
     row.totals.fluxes = fluxes;
     take(row, window_start);

@@ -114,7 +114,9 @@ void RunOutputs<D>::update(const RunSpec& spec) {
     auto writer = std::make_shared<TimeSeriesWriter<D>>(log_.file, spec.log_every);
     open(log_, spec.log, spec.log_every,
          [&](std::istream& in) { return writer->resume(in, t, inclusive, simulation_); });
-    if (log_.file.tellp() == 0) log_.file << TimeSeriesWriter<D>::header();
+    if (log_.file.tellp() == 0) {
+      log_.file << TimeSeriesWriter<D>::header(simulation_.settings().sampler.kind);
+    }
     log_.observer = std::move(writer);
     simulation_.add_observer(log_.observer);
   }

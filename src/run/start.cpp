@@ -154,7 +154,9 @@ void check_option_number(double value, const std::string& key) {
 
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
-                              std::uint64_t seed) {
+                              std::uint64_t seed, SamplerKind sampler) {
+  // Refused for what it is before what it lacks: with chains no --kT would make it work.
+  if (kind != ThermostatKind::none && sampler == SamplerKind::ecmc) refuse_thermostat_for_chains();
   if (kind == ThermostatKind::none) {
     if (every || rate) {
       throw RequestError({option("thermostat_every"), " and ", option("thermostat_rate"), " need ",
@@ -236,6 +238,20 @@ void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
 
 }  // namespace
 
+namespace {
+
+// An option event chains cannot take: refused by name, with why.
+[[noreturn]] void refuse_for_chains(MessagePiece what, const std::string& why) {
+  throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"), "): ",
+                      option("sampler", "ecmc"), " ", why});
+}
+
+}  // namespace
+
+void refuse_thermostat_for_chains() {
+  refuse_for_chains(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
+}
+
 void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
                            bool rule_named, bool draws_velocities) {
   if (settings.sampler.kind != SamplerKind::ecmc) {
@@ -245,19 +261,13 @@ void check_sampler_request(const Settings& settings, bool periodic, const ShearR
     }
     return;
   }
-  const MessagePiece chains = option("sampler", "ecmc");
-  const auto refuse = [&](MessagePiece what, const std::string& why) {
-    throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"), "): ",
-                        chains, " ", why});
-  };
+  const auto refuse = refuse_for_chains;
   if (!periodic) {
-    throw RequestError({chains, " needs a periodic box (", option("boundary", "periodic"),
-                        "): its chains have no walls to meet"});
+    throw RequestError({option("sampler", "ecmc"), " needs a periodic box (",
+                        option("boundary", "periodic"), "): its chains have no walls to meet"});
   }
   if (shear.rate != 0.0) refuse(option("shear"), "samples equilibrium, not a flow");
-  if (settings.thermostat.kind != ThermostatKind::none) {
-    refuse(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
-  }
+  if (settings.thermostat.kind != ThermostatKind::none) refuse_thermostat_for_chains();
   if (settings.rule.restitution != 1.0) refuse(option("restitution"), "samples hard particles");
   if (settings.rule.elastic_within != kDefaultTc) {
     refuse(option("tc"), "has no inelastic collisions for it to make elastic");

@@ -206,7 +206,7 @@ void run_options(TaskSpec& spec, const std::vector<PlanSetting>& settings,
   }
   start.shear = shear_request(shear, velocity_profile);
   start.thermostat = thermostat_request(thermostat, start.temperature, thermostat_every,
-                                        thermostat_rate, start.seed);
+                                        thermostat_rate, start.seed, start.sampler);
   // Every task keeps a time series (the error bars of results.csv), its summary and its state.
   const double measured = run.end_time - run.measure_from.value_or(0.0);
   run.log = in_folder(folder, task_files::kLog);

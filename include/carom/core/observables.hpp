@@ -93,7 +93,8 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
 // `number_density` times that Z (NaN along an axis no chain moved along): the displacement along
 // an axis, not the time, is what its lifts are measured against, and a stretch whose chains did
 // not move as far along every axis (part of a turn of chains) weighs them differently. Z, rates
-// and the packing are unchanged.
+// and the packing are unchanged, but for a lone particle, whose motion is its centre of mass's
+// (no kinetic temperature) and which is never lifted: Z = 1 and beta P = `number_density`.
 template <std::size_t D>
 Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement,
                                    double number_density);

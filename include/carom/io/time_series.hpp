@@ -39,10 +39,14 @@ class TimeSeriesWriter final : public Observer<D> {
   TimeSeriesWriter(std::ostream& out, double every)
       : Observer<D>(Trigger::every_time(every)), out_(out), every_(every) {}
   // The header of a log: kHeader's columns, then the pressure tensor over the row's interval
-  // (pxx, pyy, pxy; in 3D pxx, pyy, pzz, pxy, pxz, pyz) and its Einstein-Helfand moment, the
-  // integral of V P_ab since the run began keeping its fluxes (Gxx, ...: running totals, like
-  // virial).
-  static std::string header();
+  // (pxx, pyy, pxy; in 3D pxx, pyy, pzz, pxy, pxz, pyz), then running totals like virial. Of
+  // dynamics: the tensor's Einstein-Helfand moment, the integral of V P_ab since the run began
+  // keeping its fluxes (Gxx, ...). Of event chains, which have no such moment: the two sums their
+  // pressure along each axis is the ratio of, beta P_kk = (N / V) (1 + dW_kk / dK_kk) over an
+  // interval (Observables::directional_z): K_kk = sum of m v_k^2 dt over the moves (the chains'
+  // speed times the distance moved along k: Kxx, ...) and W_ab = sum of r_a dp_b over the lifts
+  // (Wxx, ..., Wxy, ...).
+  static std::string header(SamplerKind sampler);
   void observe(const Simulation<D>& simulation) override;
   // The running means and errors of Z (what a progress line shows).
   const BlockAverage& compressibility() const { return z_; }

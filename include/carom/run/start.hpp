@@ -66,10 +66,15 @@ struct StartSpec {
 // NU] [--seed S]` asks for (Python's the same by keyword); Andersen's without an interval resets
 // particles one at a time, as events. Throws RequestError, naming the options, for a thermostat
 // without its temperature, rescaling without its interval, a rate without Andersen's, an
-// Andersen's without a rate, or values check_thermostat refuses.
+// Andersen's without a rate, or values check_thermostat refuses; first of all for a thermostat of
+// event chains (`sampler`).
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
-                              std::uint64_t seed);
+                              std::uint64_t seed, SamplerKind sampler);
+
+// Throws the RequestError of a thermostat asked of event chains (which need no velocities),
+// whatever else the request lacks.
+[[noreturn]] void refuse_thermostat_for_chains();
 
 // Throws RequestError, naming the options, when `settings` ask for event chains and the run asks
 // for what only dynamics has: a box with walls (`periodic` false), a shear, a thermostat, a
