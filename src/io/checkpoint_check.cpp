@@ -95,9 +95,10 @@ void validate(const Checkpoint<D>& c, int format) {
     // A chain lasts its length over N (one chain of a turn): one that ends later never turns.
     const double lasts = chain_turn_duration(c.settings.sampler, s.size(), D) / D;
     if (!(chain.chain_end - since <= lasts * (1.0 + 1e-6) + 1e-9 * std::abs(chain.chain_end))) {
-      fail(fmt::format("the chain ends at {}, more than a chain ({} time units) after the active "
-                       "particle's stored time {}",
-                       chain.chain_end, lasts, since));
+      fail(
+          fmt::format("the chain ends at {}, more than a chain ({} time units) after the active "
+                      "particle's stored time {}",
+                      chain.chain_end, lasts, since));
     }
     try {
       check_chain_start(s);  // masses, box

@@ -54,7 +54,8 @@ std::string TimeSeriesWriter<D>::header(SamplerKind sampler) {
   std::string text = kHeader;
   text.pop_back();
   const auto columns = [&](const char* prefix, std::span<const std::size_t> components) {
-    for (const std::size_t c : components) text += fmt::format(",{}{}", prefix, kTensorComponents[c]);
+    for (const std::size_t c : components)
+      text += fmt::format(",{}{}", prefix, kTensorComponents[c]);
   };
   constexpr auto all = tensor_components<D>();
   columns("p", all);

@@ -242,8 +242,8 @@ namespace {
 
 // An option event chains cannot take: refused by name, with why.
 [[noreturn]] void refuse_for_chains(MessagePiece what, const std::string& why) {
-  throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"), "): ",
-                      option("sampler", "ecmc"), " ", why});
+  throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"),
+                      "): ", option("sampler", "ecmc"), " ", why});
 }
 
 }  // namespace
