@@ -216,7 +216,8 @@ def test_what_chains_would_ignore_is_refused_from_python_too(cli, tmp_path):
     assert "needs" in cli.error("sweep", plan, "-o", tmp_path / "out")
     # Chains that a task's run would refuse are refused with the plan, before anything runs.
     for setting, words in (("chain_length = 1e300", "--chain-length is out of range"),
-                           ("chain_length = 1e-7", "too late for event chains"),
+                           ("chain_length = 1e-7",
+                            "chain_length = 1e-07: 10 is too late for event chains"),
                            ("tc = 0.1", "--tc needs dynamics"),
                            ('thermostat = "rescale"', "--thermostat needs dynamics")):
         plan.write_text('[start]\nn = 64\nphi = 0.3\nboundary = "periodic"\n[run]\n'

@@ -439,15 +439,23 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
                              s.thermostat,
                              {s.sampler, s.chain_length, s.seed}},
                             periodic, s.shear, s.rule.has_value(), s.temperature.has_value());
-      // Chains of a length given, over carom init's particles: whether they reach the end.
-      if (s.sampler == SamplerKind::ecmc && s.chain_length != 0.0 && !spec.start_file &&
-          spec.initial.n > 0) {
-        check_chain_clock(spec.run.end_time, s.chain_length,
-                          s.chain_length / static_cast<double>(spec.initial.n));
-      }
     }
   } catch (const std::invalid_argument& e) {
     throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());
+  }
+  // Chains of a length given, over carom init's particles: whether they reach the end (about
+  // the length, swept or not).
+  const StartSpec& s = spec.start;
+  if (spec.kind == TaskKind::run && s.sampler == SamplerKind::ecmc && s.chain_length != 0.0 &&
+      !spec.start_file && spec.initial.n > 0) {
+    try {
+      check_chain_clock(spec.run.end_time, s.chain_length,
+                        s.chain_length / static_cast<double>(spec.initial.n));
+    } catch (const std::invalid_argument& e) {
+      const PlanSetting* length = find_setting(action, "chain_length");
+      throw setting_error(plan, &task, length ? *length : named_in(action, e.what()), section,
+                          e.what());
+    }
   }
   spec.idle_seed = why_seed_is_idle(spec, task);
   spec.start_path = spec.start_file.value_or(in_folder(folder, task_files::kStart));
