@@ -490,17 +490,23 @@ TEST(Psi6, ATriangularLatticeIsPerfectlyHexatic) {
   EXPECT_NEAR(series.local_mean[0], 1.0, 1e-12);
 }
 
+// A patch of `sites` x `sites` of triangular lattice turned by `angle` about the origin, moved
+// to the middle of a box with walls of side `side`.
+Frame rotated_patch(std::size_t sites, double angle, double side) {
+  Frame patch = triangular_lattice(sites, sites, 1.0, angle);
+  patch.periodic = false;
+  patch.box = {{side, side, 1}};
+  for (Vec<3>& x : patch.position) {
+    x[0] += side / 2.0;
+    x[1] += side / 2.0;
+  }
+  return patch;
+}
+
 TEST(Psi6, TheLocalPhaseTurnsSixTimesAsFastAsTheLattice) {
   // A rotated patch of lattice in a big box with walls: the inner disks' phase is 6 x angle.
   for (const double angle : {0.05, 0.2, -0.4}) {
-    Frame patch = triangular_lattice(12, 12, 1.0, angle);
-    patch.periodic = false;
-    patch.box = {{40, 40, 1}};
-    for (Vec<3>& x : patch.position) {
-      x[0] += 20.0;
-      x[1] += 20.0;
-    }
-    const auto psi = local_psi6(patch);
+    const auto psi = local_psi6(rotated_patch(12, angle, 40.0));
     const std::size_t centre = 6 * 12 + 6;
     EXPECT_NEAR(std::abs(psi[centre]), 1.0, 1e-12);
     EXPECT_NEAR(std::arg(psi[centre]), 6.0 * angle, 1e-9);
@@ -511,13 +517,7 @@ TEST(Psi6, TheOrientationIsTheLatticesAngleModuloSixtyDegrees) {
   // The rotated patch above: its bonds make `angle` with the x axis, so its global order does;
   // 0.6 rad (34.4 degrees) is the same lattice as 34.4 - 60 degrees.
   for (const double angle : {0.0, 0.05, 0.2, -0.4, 0.6}) {
-    Frame patch = triangular_lattice(16, 16, 1.0, angle);
-    patch.periodic = false;
-    patch.box = {{50, 50, 1}};
-    for (Vec<3>& x : patch.position) {
-      x[0] += 25.0;
-      x[1] += 25.0;
-    }
+    const Frame patch = rotated_patch(16, angle, 50.0);
     const double degrees = angle * 180.0 / kPi;
     const double expected = degrees > 30.0 ? degrees - 60.0 : degrees;
     const Psi6Series series = psi6_series({patch});
