@@ -26,7 +26,8 @@ only, the bond order for spheres only):
   msd    mean-square displacement of the unwrapped positions (image flags), averaged over every
          particle and time origin; frames must be evenly spaced in time
   psi6   |<psi6>| per frame and the mean local |psi6_j|, psi6_j = (1/6) sum of exp(6 i theta_jk)
-         over the 6 nearest neighbours k of disk j
+         over the 6 nearest neighbours k of disk j, and the orientation arg<psi6> / 6 in degrees
+         in (-30, 30] (the bonds' angle to x, modulo 60; noise where |<psi6>| is near 0)
   steinhardt
          per frame, the means over the spheres of q4, q6, w4, w6 (Steinhardt) and of their
          Lechner-Dellago averages over each sphere and its neighbours, the neighbours of a sphere

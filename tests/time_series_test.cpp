@@ -181,7 +181,7 @@ TEST(TimeSeries, EventChainsRowsGiveThePressureAlongEachAxisMovedAlong) {
     return std::pair{rows, simulation.observables()};
   };
   // Columns (from 0): 6 pressure, 13 pxx, 14 pyy, 15 pxy.
-  const auto [rows, unused] = rows_of(0.25, 4.0);
+  const auto rows = rows_of(0.25, 4.0).first;
   ASSERT_EQ(rows.size(), 17u);  // t = 0, 0.25, ..., 4
   EXPECT_NE(TimeSeriesWriter<2>::header(SamplerKind::ecmc).find(",pxy,Kxx,Kyy,Wxx,Wyy,Wxy\n"),
             std::string::npos);

@@ -296,3 +296,22 @@ def test_every_output_reads_back(cli, tmp_path):
     # The pressure tensor in beta P, as the pressure: its trace over D is about the pressure.
     trace = (float(last["pxx"]) + float(last["pyy"])) / 2
     assert trace == pytest.approx(float(last["pressure"]), rel=0.05)
+
+
+def test_a_log_it_cannot_continue_is_refused_and_kept(cli, tmp_path):
+    """An event-chain log of carom before 1.9 (dynamics' Gxx, ... columns, where chains now keep
+    Kxx, ... and Wxx, ...) cannot be continued: a resumed run refuses it (exit 2) rather than
+    starting it again and losing its rows."""
+    start, log, checkpoint = tmp_path / "start.txt", tmp_path / "log.csv", tmp_path / "run.ckpt"
+    cli("init", "--n", "64", "--phi", "0.3", "--boundary", "periodic", "-o", start)
+    cli("run", start, "2", "--sampler", "ecmc", "--log", log, "--log-every", "0.5",
+        "--checkpoint", checkpoint, "-q", "-o", tmp_path / "end.txt")
+    header, *rows = log.read_text().splitlines()
+    assert header.endswith(",pxx,pyy,pxy,Kxx,Kyy,Wxx,Wyy,Wxy")
+    old = header.replace(",Kxx,Kyy,Wxx,Wyy,Wxy", ",Gxx,Gyy,Gxy")
+    log.write_text("\n".join([old] + [",".join(row.split(",")[:-2]) for row in rows]) + "\n")
+    before = log.read_bytes()
+    message = cli.error("run", "--resume", checkpoint, "4", "--log", log, "--log-every", "0.5",
+                        "-q", "-o", tmp_path / "end.txt")
+    assert "cannot continue" in message and "event-chain log of carom before 1.9" in message
+    assert log.read_bytes() == before

@@ -30,13 +30,14 @@ def test_a_logs_window_is_the_summarys_measurement(cli, tmp_path):
     measured, error = map(float, re.search(r"Z (\S+) \+- ([^,]+),", done.stdout).groups())
     assert measured == pytest.approx(z, rel=1e-5)  # the five digits printed
     assert 0.0 < error < 0.1 * z
-    # The rows' mean pressure tensor, near the run's own (the chains' rows weigh each axis's
-    # chains unequally, so not equal to it).
+    # The window's pressure tensor, the run's own (from the chains' running sums, as the
+    # summary takes it: the means of the rows' would weigh each axis's chains unequally), to the
+    # four decimals printed.
     tensor = json.loads(summary.read_text())["pressure_tensor"]
     stress = re.search(r"pxx (\S+) pyy (\S+) pxy (\S+)", done.stdout)
     assert stress, done.stdout
     for printed, key in zip(map(float, stress.groups()), ("xx", "yy", "xy")):
-        assert printed == pytest.approx(tensor[key], abs=0.05)
+        assert printed == pytest.approx(tensor[key], abs=6e-5)
     # Two logs: each, and their mean.
     both = window(log, log, "--phi", "0.6", "--from", "4", "--to", "12")
     assert both.returncode == 0 and "mean of 2" in both.stdout

@@ -130,7 +130,17 @@ Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurem
     }
     o.directional_z = z;
     if (o.pressure_tensor) {
-      for (std::size_t k = 0; k < D; ++k) (*o.pressure_tensor)[k] = number_density * z[k];
+      SymmetricTensor& p = *o.pressure_tensor;
+      for (std::size_t k = 0; k < D; ++k) p[k] = number_density * z[k];
+      // Off the diagonal, the lifts' sym(r dp) over the moves along both axes: the lifts of
+      // moves along a give r_b dp_a, those along b r_a dp_b, each over its own displacement.
+      for (const std::size_t c : tensor_components<D>()) {
+        if (c < 3) continue;
+        const auto [a, b] = kTensorAxes[c];
+        const double moved = fluxes.kinetic_stress[a] + fluxes.kinetic_stress[b];
+        p[c] = moved > 0.0 ? number_density * 2.0 * fluxes.collisional_stress[c] / moved
+                           : std::numeric_limits<double>::quiet_NaN();
+      }
     }
   }
   return o;

@@ -40,8 +40,8 @@ class CellGrid {
     std::array<double, D> fewest{};
     double fewest_total = 1.0;
     for (std::size_t k = 0; k < D; ++k) {
-      fewest[k] = std::clamp(std::floor(box.size[k] / (min_width * (1.0 + 1e-6))), 1.0,
-                             static_cast<double>(least_cells));
+      fewest[k] = std::clamp(std::floor(box.size[k] / hair_wider(min_width)), 1.0,
+                             static_cast<double>(std::max(least_cells, 1u)));
       fewest_total *= fewest[k];
     }
     const double max_cells = std::max(most_cells(particles), fewest_total);
@@ -87,8 +87,8 @@ class CellGrid {
 
   // No cell of such a grid is narrower than this (the cap on their number may widen them).
   static double least_width(const Box<D>& box, double min_width, std::size_t particles) {
-    return std::max(min_width * (1.0 + 1e-6), std::pow(box_volume(box) / most_cells(particles),
-                                                       1.0 / static_cast<double>(D)));
+    return std::max(hair_wider(min_width), std::pow(box_volume(box) / most_cells(particles),
+                                                    1.0 / static_cast<double>(D)));
   }
 
   std::size_t cell_count() const { return head_.size(); }
@@ -359,6 +359,9 @@ class CellGrid {
   }
 
  private:
+  // A cell's least width: a hair wider than the range at which particles touch (above).
+  static constexpr double hair_wider(double min_width) { return min_width * (1.0 + 1e-6); }
+
   static constexpr std::size_t power_of_three(std::size_t k) {
     return k == 0 ? 1 : 3 * power_of_three(k - 1);
   }

@@ -28,8 +28,7 @@ namespace {
 // particle otherwise, so a sparse box with one narrow side costs no more than a cubic one.
 template <std::size_t D>
 CellGrid<D> chain_grid(const System<D>& system) {
-  return CellGrid<D>(system.box, 2.0 * largest_radius(system),
-                     std::max<std::size_t>(system.size(), 6), 3);
+  return CellGrid<D>(system.box, 2.0 * largest_radius(system), system.size(), 3);
 }
 
 // A system as chains start in it: every particle at rest at the latest stored time (the engine

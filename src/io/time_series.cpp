@@ -102,18 +102,18 @@ void TimeSeriesWriter<D>::observe(const Simulation<D>& simulation) {
       field(row.pressure, row.measured), field(row.z, row.measured), field(rate, row.measured),
       field(pressure_.mean()), field(pressure_.error(least_block)), field(z_.mean()),
       field(z_.error(least_block)));
-  constexpr SymmetricTensor kNone{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
+  constexpr SymmetricTensor kAbsent{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN};
   for (const std::size_t k : tensor_components<D>())
     line += "," + field(tensor ? (*tensor)[k] : kNaN);
   if (chains) {
     // Both sums, each as it is (the ratio of their differences is a row's P_kk): a log continued
     // from them gives the rows of a run in one piece.
-    const SymmetricTensor kinetic = c.fluxes ? c.fluxes->kinetic_stress : kNone;
-    const SymmetricTensor lifts = c.fluxes ? c.fluxes->collisional_stress : kNone;
+    const SymmetricTensor kinetic = c.fluxes ? c.fluxes->kinetic_stress : kAbsent;
+    const SymmetricTensor lifts = c.fluxes ? c.fluxes->collisional_stress : kAbsent;
     for (std::size_t k = 0; k < D; ++k) line += "," + field(kinetic[k]);
     for (const std::size_t k : tensor_components<D>()) line += "," + field(lifts[k]);
   } else {
-    const SymmetricTensor moment = c.fluxes ? c.fluxes->stress_moment() : kNone;
+    const SymmetricTensor moment = c.fluxes ? c.fluxes->stress_moment() : kAbsent;
     for (const std::size_t k : tensor_components<D>()) line += "," + field(moment[k]);
   }
   out_ << line << '\n';
@@ -124,8 +124,16 @@ template <std::size_t D>
 std::uint64_t TimeSeriesWriter<D>::resume(std::istream& in, double t, bool inclusive,
                                           const Simulation<D>& simulation) {
   LineReader reader{in, 0, {}};
-  const bool chains = simulation.settings().sampler.kind == SamplerKind::ecmc;
-  if (!reader.next() || reader.line + "\n" != header(simulation.settings().sampler.kind)) return 0;
+  const SamplerKind sampler = simulation.settings().sampler.kind;
+  const bool chains = sampler == SamplerKind::ecmc;
+  if (!reader.next()) return 0;                 // not even a whole header: written afresh
+  if (reader.line + "\n" != header(sampler)) {  // another log's rows, kept rather than lost
+    throw std::invalid_argument(
+        chains && reader.line + "\n" == header(SamplerKind::md)
+            ? "it is an event-chain log of carom before 1.9 (Gxx, ... where chains now write "
+              "Kxx, ... and Wxx, ...), which this run cannot continue: continue into a new --log"
+            : "its header is not that of this run's log: continue into a new --log");
+  }
   std::uint64_t kept = reader.offset;
   const std::optional<double> window_start = window(simulation);
   constexpr std::size_t kComponents = tensor_components<D>().size();

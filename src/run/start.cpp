@@ -150,6 +150,18 @@ void check_option_number(double value, const std::string& key) {
   }
 }
 
+// An option event chains cannot take: refused by name, with why.
+[[noreturn]] void refuse_for_chains(MessagePiece what, const std::string& why) {
+  throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"),
+                      "): ", option("sampler", "ecmc"), " ", why});
+}
+
+// A thermostat asked of event chains (which have no velocities to hold), whatever else the
+// request lacks.
+[[noreturn]] void refuse_thermostat_for_chains() {
+  refuse_for_chains(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
+}
+
 }  // namespace
 
 Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
@@ -238,20 +250,6 @@ void apply_shear(System<D>& system, const ShearRequest& shear, Rule rule) {
 
 }  // namespace
 
-namespace {
-
-// An option event chains cannot take: refused by name, with why.
-[[noreturn]] void refuse_for_chains(MessagePiece what, const std::string& why) {
-  throw RequestError({std::move(what), " needs dynamics (", option("sampler", "md"),
-                      "): ", option("sampler", "ecmc"), " ", why});
-}
-
-}  // namespace
-
-void refuse_thermostat_for_chains() {
-  refuse_for_chains(option("thermostat"), "samples at kT = 1 and has no velocities to hold");
-}
-
 void check_sampler_request(const Settings& settings, bool periodic, const ShearRequest& shear,
                            bool rule_named, bool draws_velocities) {
   if (settings.sampler.kind != SamplerKind::ecmc) {
@@ -261,22 +259,25 @@ void check_sampler_request(const Settings& settings, bool periodic, const ShearR
     }
     return;
   }
-  const auto refuse = refuse_for_chains;
   if (!periodic) {
     throw RequestError({option("sampler", "ecmc"), " needs a periodic box (",
                         option("boundary", "periodic"), "): its chains have no walls to meet"});
   }
-  if (shear.rate != 0.0) refuse(option("shear"), "samples equilibrium, not a flow");
+  if (shear.rate != 0.0) refuse_for_chains(option("shear"), "samples equilibrium, not a flow");
   if (settings.thermostat.kind != ThermostatKind::none) refuse_thermostat_for_chains();
-  if (settings.rule.restitution != 1.0) refuse(option("restitution"), "samples hard particles");
+  if (settings.rule.restitution != 1.0) {
+    refuse_for_chains(option("restitution"), "samples hard particles");
+  }
   if (settings.rule.elastic_within != kDefaultTc) {
-    refuse(option("tc"), "has no inelastic collisions for it to make elastic");
+    refuse_for_chains(option("tc"), "has no inelastic collisions for it to make elastic");
   }
-  if (rule_named) refuse(option("rule"), "moves no two particles at once, under any rule");
+  if (rule_named) {
+    refuse_for_chains(option("rule"), "moves no two particles at once, under any rule");
+  }
   if (settings.engine == EngineKind::reference) {
-    refuse(option("engine", "reference"), "has its own engine");
+    refuse_for_chains(option("engine", "reference"), "has its own engine");
   }
-  if (draws_velocities) refuse(option("temperature"), "samples positions, at kT = 1");
+  if (draws_velocities) refuse_for_chains(option("temperature"), "samples positions, at kT = 1");
   const double length = settings.sampler.chain_length;
   if (!(length >= 0.0) || !std::isfinite(length)) {
     throw RequestError({option("chain_length"), " must be a number above 0 (0: the default)"});

@@ -172,8 +172,8 @@ Analysis analyze(std::vector<Frame> frames, const std::string& name,
 // The analysis as one JSON document: carom_version, trajectory, dimension, particles, box,
 // periodic, packing_fraction, diameter, monodisperse, frames {count, first_time, last_time},
 // time, only (the analyses selected, or null for every one), rdf {r, g, bin_width, r_max,
-// contact {r, g, Z} or null} or null, msd {t, msd} or null, psi6 {t, global, local_mean, orientation, bonds}
-// or null, structure_factor {k, s, k_peak} or null, self_scattering
+// contact {r, g, Z} or null} or null, msd {t, msd} or null, psi6 {t, global, local_mean,
+// orientation, bonds} or null, structure_factor {k, s, k_peak} or null, self_scattering
 // {k, t, fs, alpha2, tau_alpha} or null, steinhardt {cutoff, bonds, t, q4, q6, w4, w6, q4_bar,
 // q6_bar, w4_bar, w6_bar (frame means), solid_like, largest_cluster, cluster_sizes, last_frame
 // {time, neighbours, q4, ..., w6_bar, solid_bonds, solid_like, cluster} (per particle)} or null,

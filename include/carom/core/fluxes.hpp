@@ -14,6 +14,7 @@
 
 #include <array>
 #include <cstddef>
+#include <utility>
 
 #include "carom/core/event.hpp"
 #include "carom/core/system.hpp"
@@ -24,6 +25,9 @@ namespace carom {
 // A symmetric tensor's components in the order xx, yy, zz, xy, xz, yz (the z ones 0 in 2D).
 using SymmetricTensor = std::array<double, 6>;
 inline constexpr std::array<const char*, 6> kTensorComponents{"xx", "yy", "zz", "xy", "xz", "yz"};
+// The two axes of each component, in the order above.
+inline constexpr std::array<std::pair<std::size_t, std::size_t>, 6> kTensorAxes{
+    {{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
 // The components a dimension has, in the order above: xx, yy, xy in 2D, all six in 3D.
 template <std::size_t D>
 constexpr std::array<std::size_t, D == 2 ? 3 : 6> tensor_components() {

@@ -92,7 +92,9 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
 // window's fluxes give Z along each axis. The tensor's diagonal is beta P along each axis,
 // `number_density` times that Z (NaN along an axis no chain moved along): the displacement along
 // an axis, not the time, is what its lifts are measured against, and a stretch whose chains did
-// not move as far along every axis (part of a turn of chains) weighs them differently. Z, rates
+// not move as far along every axis (part of a turn of chains) weighs them differently; off the
+// diagonal, N / V 2 W_ab / (K_aa + K_bb), the lifts' sym(r dp) over the moves along both axes
+// (NaN where neither moved). Z, rates
 // and the packing are unchanged, but for a lone particle, whose motion is its centre of mass's
 // (no kinetic temperature) and which is never lifted: Z = 1 and beta P = `number_density`.
 template <std::size_t D>

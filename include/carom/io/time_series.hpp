@@ -28,8 +28,9 @@ namespace carom {
 // interval since the previous row; the means and errors (BlockAverage) are over the rows whose
 // interval lies in the measurement window (none while equilibrating), the errors from blocks of at
 // least a turn of event chains (chain_turn_duration: none until there are enough). Empty fields:
-// not measured (the first row, or no row yet in the window, or no error yet). Throws
-// std::runtime_error when the stream fails.
+// not measured (the first row, or no row yet in the window, or no error yet; of event chains, a
+// pressure along an axis no chain moved along in the interval). Throws std::runtime_error when
+// the stream fails.
 template <std::size_t D>
 class TimeSeriesWriter final : public Observer<D> {
  public:
@@ -51,9 +52,11 @@ class TimeSeriesWriter final : public Observer<D> {
   // The running means and errors of Z (what a progress line shows).
   const BlockAverage& compressibility() const { return z_; }
   // The length of the leading part of a log holding the header and the rows before `t` (or at
-  // it, when `inclusive`): what a resumed run keeps before appending. The writer takes up the
-  // running totals and averages of the kept rows, so that the rows it appends are those of a run
-  // never interrupted.
+  // it, when `inclusive`): what a resumed run keeps before appending (0 for a file without a
+  // whole line). Throws std::invalid_argument for a log with another header (another sampler's
+  // or dimension's, or an event-chain log of carom before 1.9), whose rows it would lose. The
+  // writer takes up the running totals and averages of the kept rows, so that the rows it appends
+  // are those of a run never interrupted.
   std::uint64_t resume(std::istream& in, double t, bool inclusive, const Simulation<D>& simulation);
 
  private:

@@ -72,10 +72,6 @@ Thermostat thermostat_request(ThermostatKind kind, std::optional<double> kT,
                               std::optional<double> every, std::optional<double> rate,
                               std::uint64_t seed, SamplerKind sampler);
 
-// Throws the RequestError of a thermostat asked of event chains (which need no velocities),
-// whatever else the request lacks.
-[[noreturn]] void refuse_thermostat_for_chains();
-
 // Throws RequestError, naming the options, when `settings` ask for event chains and the run asks
 // for what only dynamics has: a box with walls (`periodic` false), a shear, a thermostat, a
 // restitution below 1, a collision rule or engine named (`rule_named`), or velocities drawn
