@@ -125,7 +125,8 @@ with tempfile.TemporaryDirectory() as folder:
         psi6 = json.load(f)["psi6"]
     check(psi6["global"][0] > 0.999, f"psi6 of the lattice {psi6['global'][0]}")
     # carom init's rows run along x: the lattice's bonds make 0 degrees with the x axis.
-    check(abs(psi6["orientation"][0]) < 1e-6, f"orientation of the lattice {psi6['orientation'][0]}")
+    check(abs(psi6["orientation"][0]) < 1e-6,
+          f"orientation of the lattice {psi6['orientation'][0]}")
     with open(path("analysis.json")) as f:  # the 3D run: no psi6
         check(json.load(f)["psi6"] is None, "psi6 of spheres is absent")
     carom_run("init", "--n", "1000", "--phi", "0.5", "--boundary", "periodic", "-o",

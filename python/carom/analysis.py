@@ -69,7 +69,8 @@ def analyze(trajectory, equilibrate=None, bin=None, r_max=None, contact_width=No
         _positive("fs_k", fs_k), _positive("order_cutoff", order_cutoff), bool(com),
         None if log is None else _path(log), None if html is None else _path(html),
         _selection(only)))
-    arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"), "psi6": ("t", "global", "local_mean", "orientation"),
+    arrays = {"rdf": ("r", "g"), "msd": ("t", "msd"),
+              "psi6": ("t", "global", "local_mean", "orientation"),
               "structure_factor": ("k", "s"), "self_scattering": ("t", "fs", "alpha2"),
               "snapshot": ("radius", "psi6_modulus", "psi6_phase"),
               "steinhardt": ("t",) + _INVARIANTS}
