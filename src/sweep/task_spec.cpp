@@ -78,8 +78,8 @@ bool has_word(const std::string& text, const std::string& word) {
 }
 
 // The setting a library message is about: the one whose option it names first ("--shear needs
-// --rule elastic" is about --shear), else whose key it names ("the restitution must be ..."),
-// else the first.
+// --rule elastic" is about --shear), else whose key it names, as written or in words ("the
+// restitution must be ...", "a longer chain length"), else the first.
 const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std::string& message) {
   const PlanSetting* first_named = nullptr;
   std::size_t first_at = std::string::npos;
@@ -101,7 +101,9 @@ const PlanSetting& named_in(const std::vector<PlanSetting>& settings, const std:
   }
   if (first_named != nullptr) return *first_named;
   for (const PlanSetting& s : settings) {
-    if (has_word(message, s.key)) return s;
+    std::string words = s.key;
+    std::replace(words.begin(), words.end(), '_', ' ');
+    if (has_word(message, s.key) || has_word(message, words)) return s;
   }
   return settings.front();
 }
@@ -439,23 +441,15 @@ TaskSpec task_spec(const SweepPlan& plan, const SweepTask& task, const std::stri
                              s.thermostat,
                              {s.sampler, s.chain_length, s.seed}},
                             periodic, s.shear, s.rule.has_value(), s.temperature.has_value());
+      // Chains of a length given, over carom init's particles: whether they reach the end.
+      if (s.sampler == SamplerKind::ecmc && s.chain_length != 0.0 && !spec.start_file &&
+          spec.initial.n > 0) {
+        check_chain_clock(spec.run.end_time, s.chain_length,
+                          s.chain_length / static_cast<double>(spec.initial.n));
+      }
     }
   } catch (const std::invalid_argument& e) {
     throw setting_error(plan, &task, named_in(action, e.what()), section, e.what());
-  }
-  // Chains of a length given, over carom init's particles: whether they reach the end (about
-  // the length, swept or not).
-  const StartSpec& s = spec.start;
-  if (spec.kind == TaskKind::run && s.sampler == SamplerKind::ecmc && s.chain_length != 0.0 &&
-      !spec.start_file && spec.initial.n > 0) {
-    try {
-      check_chain_clock(spec.run.end_time, s.chain_length,
-                        s.chain_length / static_cast<double>(spec.initial.n));
-    } catch (const std::invalid_argument& e) {
-      const PlanSetting* length = find_setting(action, "chain_length");
-      throw setting_error(plan, &task, length ? *length : named_in(action, e.what()), section,
-                          e.what());
-    }
   }
   spec.idle_seed = why_seed_is_idle(spec, task);
   spec.start_path = spec.start_file.value_or(in_folder(folder, task_files::kStart));

@@ -94,9 +94,9 @@ Observables<D> measure(const System<D>& system, const Measurement& measurement, 
 // an axis, not the time, is what its lifts are measured against, and a stretch whose chains did
 // not move as far along every axis (part of a turn of chains) weighs them differently; off the
 // diagonal, N / V 2 W_ab / (K_aa + K_bb), the lifts' sym(r dp) over the moves along both axes
-// (NaN where neither moved). Z, rates
-// and the packing are unchanged, but for a lone particle, whose motion is its centre of mass's
-// (no kinetic temperature) and which is never lifted: Z = 1 and beta P = `number_density`.
+// (NaN where neither moved). Z, rates and the packing are unchanged, but for a lone particle,
+// whose motion is its centre of mass's (no kinetic temperature) and which is never lifted: Z = 1
+// and beta P = `number_density`.
 template <std::size_t D>
 Observables<D> at_unit_temperature(Observables<D> o, const Measurement& measurement,
                                    double number_density);
