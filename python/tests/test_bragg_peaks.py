@@ -1,0 +1,58 @@
+"""scripts/bragg_peaks.py measures positional order: S(k) / N is 1 at the Bragg peaks of a
+perfect lattice, of order 1 / N in a fluid, and the peaks are the lattice's."""
+
+import re
+import subprocess
+import sys
+
+from conftest import SOURCE_DIR
+
+SCRIPT = SOURCE_DIR / "scripts" / "bragg_peaks.py"
+
+
+def peaks(*args):
+    done = subprocess.run([sys.executable, SCRIPT, *map(str, args)], capture_output=True,
+                          text=True)
+    assert done.returncode == 0, done.stderr
+    header = done.stdout.splitlines()[0]
+    rows = [list(map(float, line.split())) for line in done.stdout.splitlines()
+            if not line.startswith("#")]
+    return header, rows
+
+
+def frames(cli, tmp_path, name, *init):
+    start, movie = tmp_path / f"{name}.txt", tmp_path / f"{name}.gsd"
+    cli("init", "--n", "1024", "--boundary", "periodic", "--seed", "1", *init, "-o", start)
+    cli("run", start, "2", "--sampler", "ecmc", "--dump", movie, "--every", "1", "-q", "-o",
+        tmp_path / "end.txt")
+    return movie
+
+
+def test_a_lattice_is_on_its_peaks_and_a_fluid_on_none(cli, tmp_path):
+    # carom init's lattice at 0.72: 36 rows of 29 sites a side (the last row 9 disks short), the
+    # reciprocal lattice (29, 18), (0, 36), (-29, 18) in whole 2 pi / L. Every disk on a site at
+    # t = 0: S / N is 1 at each peak (near the last frame's, which event chains have moved on).
+    header, rows = peaks(frames(cli, tmp_path, "lattice", "--phi", "0.72"))
+    times = [row[0] for row in rows]
+    assert times == [0.0, 1.0, 2.0]
+    assert all(abs(s - 1.0) < 1e-4 for s in rows[0][1:]), rows[0]
+    assert all(s < rows[0][1] for s in (rows[1][1], rows[2][1]))  # the chains disorder it
+    assert re.search(r"b1 \(\S+, \S+\), b2 \(\S+, \S+\), b3 \(\S+, \S+\)", header), header
+    _, fluid = peaks(frames(cli, tmp_path, "fluid", "--phi", "0.4", "--random"))
+    assert all(row[1] < 0.02 for row in fluid), fluid
+
+
+def test_every_and_from_choose_the_frames(cli, tmp_path):
+    movie = frames(cli, tmp_path, "lattice", "--phi", "0.72")
+    _, rows = peaks(movie, "--every", "2")
+    assert [row[0] for row in rows] == [0.0, 2.0]
+    _, rows = peaks(movie, "--from", "1")
+    assert [row[0] for row in rows] == [1.0, 2.0]
+
+
+def test_a_file_it_cannot_read_is_named(tmp_path):
+    broken = tmp_path / "broken.gsd"
+    broken.write_text("not a gsd file\n")
+    done = subprocess.run([sys.executable, SCRIPT, broken], capture_output=True, text=True)
+    assert done.returncode != 0
+    assert str(broken) in done.stderr and "GSD" in done.stderr
