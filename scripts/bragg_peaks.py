@@ -6,14 +6,15 @@ peaks of a triangular lattice.
 
 S(k) = |sum_j exp(-i k . r_j)|^2 / N on the box's k-grid, k = 2 pi (m / Lx, n / Ly) for whole m
 and n. In the last frame, the strongest k near the first shell of the triangular lattice of the
-frame's density is b1, the strongest about 60 degrees from it b2, and b3 the third of the shell
-(b2 - b1 or b2 + b1). Then for each frame (every K-th, from time T on) S(k) / N at the strongest
-grid point within two steps of each of the three: about 1 for a perfect lattice, of order 1 / N
-for a fluid. A run's positional order has formed where the three stop rising; the orientational
-order (psi6, carom analyze) forms long before it. In a periodic box the lattice's sites are
-|b1 x b2| (m and n the grid's whole numbers), which need not be N: a state whose sites differ
-from N holds vacancies or interstitials. The shear strain is that of b1 and b2 against the
-triangular lattice of the same sites.
+frame's density is b1, the strongest 60 degrees from it b2 (either sign: S(-k) = S(k)), and
+b3 = b2 - b1 the third of the shell. Then for each frame (every K-th, from time T on) S(k) / N
+at the strongest grid point within two steps of each of the three: 1 for a perfect lattice, of
+order 1 / N for a fluid. A run's positional order has formed where the three stop rising; the
+orientational order (psi6, carom analyze) forms long before it. In a periodic box the lattice's
+sites are |b1 x b2| (m and n the grid's whole numbers), which need not be N: a crystal whose
+sites differ from N holds vacancies (more sites) or interstitials (fewer). The shear strain is
+that of b1 and b2 against the triangular lattice of as many sites: (largest - smallest) /
+(largest + smallest) principal stretch.
 
 Disks only (the frame's first two coordinates); the search for b1 and b2 takes --sample disks of
 the last frame (8192 by default), the values every disk.
@@ -65,9 +66,9 @@ def lattice(positions, box, sample, seed=1):
     second = int(np.flatnonzero(apart)[np.argmax(s[apart])])
     b1 = np.array([m[first], n[first]])
     b2 = np.array([m[second], n[second]])
-    difference = np.hypot(*((b2 - b1) / box))
-    b3 = b2 - b1 if difference < 1.2 * radius else b2 + b1
-    return b1, b2, b3
+    if np.hypot(*((b2 - b1) / box)) > 1.2 * radius:  # 120 degrees from b1: -b2 is 60
+        b2 = -b2
+    return b1, b2, b2 - b1
 
 
 def shear_strain(b1, b2, box):

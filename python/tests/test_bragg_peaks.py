@@ -5,6 +5,8 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from conftest import SOURCE_DIR
 
 SCRIPT = SOURCE_DIR / "scripts" / "bragg_peaks.py"
@@ -56,3 +58,44 @@ def test_a_file_it_cannot_read_is_named(tmp_path):
     done = subprocess.run([sys.executable, SCRIPT, broken], capture_output=True, text=True)
     assert done.returncode != 0
     assert str(broken) in done.stderr and "GSD" in done.stderr
+
+
+def perfect_lattice(path, across, rows, shaken):
+    """A triangular lattice that fits its periodic box exactly: `rows` rows (even) of `across`
+    disks of diameter 1 at spacing 1.1 along x, as a one-frame GSD file. Its peaks are at 30, 90
+    and 150 degrees; `shaken` moves every disk at random along 60 degrees, across the peak at
+    150, which then stands above the other two."""
+    import gsd.hoomd
+    import numpy as np
+    spacing = 1.1
+    box = [across * spacing, rows * spacing * np.sqrt(3) / 2]
+    i, j = np.meshgrid(np.arange(across), np.arange(rows), indexing="ij")
+    x = ((i + 0.5 * (j % 2)) * spacing).ravel()
+    y = (j * spacing * np.sqrt(3) / 2).ravel()
+    if shaken:
+        step = 0.05 * np.random.default_rng(1).standard_normal(x.size)
+        x, y = x + step * np.cos(np.pi / 3), y + step * np.sin(np.pi / 3)
+    frame = gsd.hoomd.Snapshot()  # gsd 2.7 (Debian 12): Frame from 3.0 on
+    frame.particles.N = x.size
+    frame.particles.position = np.column_stack(
+        [x - box[0] / 2, y - box[1] / 2, np.zeros(x.size)]).astype(np.float32)
+    frame.configuration.box = [box[0], box[1], 0, 0, 0, 0]
+    frame.configuration.dimensions = 2
+    with gsd.hoomd.open(path, "wb") as trajectory:
+        trajectory.append(frame)
+    return x.size
+
+
+@pytest.mark.parametrize("shaken", [False, True])
+def test_a_lattice_that_fits_its_box_has_as_many_sites_as_disks_and_no_strain(tmp_path, shaken):
+    # Shaken, the strongest peak is at 150 degrees, and the one found 60 degrees on (modulo 180)
+    # at 30: 120 degrees from it, so taken the other way round (as it is, the strain would read
+    # 0.5).
+    movie = tmp_path / "fits.gsd"
+    count = perfect_lattice(movie, 24, 28, shaken)
+    header, rows = peaks(movie)
+    assert f"lattice sites {count} (+0 on the disks), shear strain 0.00000" in header, header
+    assert rows[0][2] > 0.999  # b1's
+    if shaken:
+        assert "b1 (-24, 14)" in header, header
+        assert max(rows[0][3:]) < 0.99
