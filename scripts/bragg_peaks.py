@@ -27,7 +27,7 @@ import gsd.hoomd
 import numpy as np
 
 NEAR = 2  # grid steps either way around a peak, where a frame's peak may have moved
-BLOCK = 512  # k-vectors at a time, so that a block of phases stays small
+BLOCK = 512  # k-vectors at a time: a block of phases holds BLOCK x N complex numbers
 
 
 def structure_factor(positions, box, m, n):
@@ -57,12 +57,16 @@ def first_shell(box, count):
 def lattice(positions, box, sample, seed=1):
     """b1, b2, b3 (whole-number pairs) of the frame, found on `sample` of its disks."""
     m, n, radius = first_shell(box, len(positions))
+    if m.size == 0:
+        raise ValueError("no k-vector of the box's grid lies near the lattice's first shell")
     rng = np.random.default_rng(seed)
     some = positions[rng.choice(len(positions), size=min(sample, len(positions)), replace=False)]
     s = structure_factor(some, box, m, n)
     angle = np.degrees(np.arctan2(n / box[1], m / box[0])) % 180
     first = int(np.argmax(s))
     apart = np.abs((angle - angle[first]) % 180 - 60) < 12
+    if not apart.any():
+        raise ValueError("no k-vector of the box's grid lies 60 degrees from the strongest peak")
     second = int(np.flatnonzero(apart)[np.argmax(s[apart])])
     b1 = np.array([m[first], n[first]])
     b2 = np.array([m[second], n[second]])
@@ -83,9 +87,16 @@ def shear_strain(b1, b2, box):
 
 
 def frame_positions(frame):
+    if any(frame.configuration.box[3:]):
+        raise ValueError("the box is tilted: its k-grid is not the one of a rectangle")
     box = np.array(frame.configuration.box[:2], float)
     positions = np.asarray(frame.particles.position[:, :2], float) + box / 2
     return positions, box
+
+
+def pair(b):
+    """A k-vector's whole numbers, as (m, n)."""
+    return f"({int(b[0])}, {int(b[1])})"
 
 
 def frame_time(frame, index):
@@ -113,14 +124,17 @@ def main(argv=None):
     if len(trajectory) == 0:
         sys.exit(f"bragg_peaks.py: {args.frames}: no frames")
     last = len(trajectory) - 1
-    positions, box = frame_positions(trajectory[last])
-    if len(positions) < 3:
-        sys.exit(f"bragg_peaks.py: {args.frames}: fewer than three disks")
-    b1, b2, b3 = lattice(positions, box, args.sample)
+    try:
+        positions, box = frame_positions(trajectory[last])
+        if len(positions) < 3:
+            raise ValueError("fewer than three disks")
+        b1, b2, b3 = lattice(positions, box, args.sample)
+    except ValueError as error:
+        sys.exit(f"bragg_peaks.py: {args.frames}: {error}")
     sites = abs(int(b1[0] * b2[1] - b1[1] * b2[0]))
-    print(f"# {args.frames}: {len(positions)} disks; peaks of the last frame b1 {tuple(b1)}, "
-          f"b2 {tuple(b2)}, b3 {tuple(b3)} (whole 2 pi / L); lattice sites {sites} "
-          f"({sites - len(positions):+d} on the disks), shear strain "
+    print(f"# {args.frames}: {len(positions)} disks; peaks of the last frame b1 {pair(b1)}, "
+          f"b2 {pair(b2)}, b3 {pair(b3)} (whole 2 pi / L); lattice sites {sites} "
+          f"(sites - disks {sites - len(positions):+d}), shear strain "
           f"{shear_strain(b1, b2, box):.5f}")
     print("# time, S/N at the three peaks' mean, at b1, b2, b3")
     near = [(i, j) for i in range(-NEAR, NEAR + 1) for j in range(-NEAR, NEAR + 1)]
@@ -129,15 +143,23 @@ def main(argv=None):
     chosen = [i for i in range(0, len(trajectory), args.every)]
     if chosen[-1] != last:
         chosen.append(last)
+    shown = 0
     for index in chosen:
         frame = trajectory[index]
         time = frame_time(frame, index)
         if time < args.start:
             continue
-        positions, box = frame_positions(frame)
+        shown += 1
+        try:
+            positions, box = frame_positions(frame)
+        except ValueError as error:
+            sys.exit(f"bragg_peaks.py: {args.frames}, frame {index}: {error}")
         peaks = structure_factor(positions, box, m, n).reshape(3, len(near)).max(axis=1)
         print(f"{time:g} {peaks.mean():.4f} {peaks[0]:.4f} {peaks[1]:.4f} {peaks[2]:.4f}",
               flush=True)
+    if shown == 0:
+        sys.exit(f"bragg_peaks.py: {args.frames}: no frame from time {args.start:g} on (the last "
+                 f"at {frame_time(trajectory[last], last):g})")
 
 
 if __name__ == "__main__":
