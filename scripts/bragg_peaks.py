@@ -140,7 +140,7 @@ def main(argv=None):
     near = [(i, j) for i in range(-NEAR, NEAR + 1) for j in range(-NEAR, NEAR + 1)]
     m = np.array([b[0] + i for b in (b1, b2, b3) for i, _ in near])
     n = np.array([b[1] + j for b in (b1, b2, b3) for _, j in near])
-    chosen = [i for i in range(0, len(trajectory), args.every)]
+    chosen = list(range(0, len(trajectory), args.every))
     if chosen[-1] != last:
         chosen.append(last)
     shown = 0
