@@ -1,7 +1,7 @@
 """Every shell command the documentation shows runs as written, and prints what it is shown to print.
 
 Reads README.md and docs/*.md in order and runs, in one scratch folder per document (with the
-project's examples/ copied in, so that files made by one command are there for the next):
+project's examples/ and scripts/ copied in, so that files made by one command are there for the next):
   - the lines of ```sh blocks (continuations joined, comments dropped), and
   - the `$ ` lines of ```text blocks (a session shown with its output).
 `build/carom` is the carom under test. A command must exit 0, except one whose shown output is
@@ -210,6 +210,7 @@ def main():
         edits = []                                     # (start, end, new lines) of shown outputs
         with tempfile.TemporaryDirectory(prefix="carom-docs-") as folder:
             shutil.copytree(source / "examples", Path(folder) / "examples")
+            shutil.copytree(source / "scripts", Path(folder) / "scripts")
             (Path(folder) / "build").mkdir()
             os.symlink(carom, Path(folder) / "build" / "carom")
             for command, error, shown in listed:
