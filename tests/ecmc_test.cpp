@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <numbers>
 #include <pcg_random.hpp>
 #include <random>
 #include <string>
@@ -474,6 +475,36 @@ TEST(Ecmc, LiftsInOneGoAreTheLiftsOneByOne) {
   check(golden_start<2>(200, 0.05, 0.0, 1.0, random, 5), 20.0, 9, "sparse disks");
   check(golden_start<3>(256, 0.45, 0.0, 1.0, lattice, 8), 12.0, 17, "spheres 0.45");
   check(golden_start<3>(300, 0.25, 0.2, 1.0, random, 9), 3.0, 19, "polydisperse spheres 0.25");
+}
+
+// A cell that fills in the middle of a batch lays the blocks out anew with more lanes, the
+// search then made again (FlightEnd::relaid): still the lifts one by one. Nine equal disks in a
+// box of three cells 1.32 diameters wide a side start with three lanes a cell where no cell holds
+// four; in some starts a fourth comes later.
+TEST(Ecmc, ACellFilledInOneGoLaysTheBlocksOutAnew) {
+  int widened = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    InitialOptions options;
+    options.placement = Placement::random;
+    options.n = 9;
+    options.packing_fraction = 9 * std::numbers::pi / 4.0 / (3.95 * 3.95);  // a side of 3.95
+    options.boundary = Boundary::periodic;
+    options.seed = seed;
+    const System<2> start = make_initial<2>(options);
+    EcmcEngine<2> one_by_one(start, 7.0, pcg32(seed));
+    if (one_by_one.lanes_per_cell() != 3) continue;
+    EcmcEngine<2> in_one_go(start, 7.0, pcg32(seed));
+    Event last{};
+    for (int k = 0; k < 5000; ++k) last = *one_by_one.step(kNever);
+    RunHash want, got;
+    want.add(last);
+    want.add(one_by_one);
+    got.add(lifts_in_batches(in_one_go, 5000, 5000));
+    got.add(in_one_go);
+    ASSERT_EQ(hex(got.value), hex(want.value)) << "seed " << seed;
+    widened += in_one_go.lanes_per_cell() > 3;
+  }
+  EXPECT_GT(widened, 0);
 }
 
 // A lift that grazes its target can stop the mover level with it, or (its distance and the stop
